@@ -1,0 +1,37 @@
+# Dependencies, all from Debian packages (scripts/install-deps.sh installs them).
+# In a cross build, compiled libraries come from the target's multiarch dir
+# (CMAKE_LIBRARY_ARCHITECTURE); header-only ones (Eigen, xsimd) from the host.
+
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+
+find_package(xsimd QUIET)
+if(NOT TARGET xsimd)
+  # The xsimd CMake config lives in the host multiarch dir; in a cross build it
+  # is not searched, and xsimd is header-only and arch-neutral anyway.
+  find_path(TRISTEREO_XSIMD_INCLUDE xsimd/xsimd.hpp PATHS /usr/include NO_CMAKE_FIND_ROOT_PATH)
+  if(TRISTEREO_XSIMD_INCLUDE)
+    add_library(xsimd INTERFACE IMPORTED)
+    set_target_properties(xsimd PROPERTIES INTERFACE_INCLUDE_DIRECTORIES ${TRISTEREO_XSIMD_INCLUDE})
+  endif()
+endif()
+
+find_package(PNG REQUIRED)
+
+set(TRISTEREO_HAVE_GPIOD OFF)
+if(NOT TRISTEREO_WITH_GPIOD STREQUAL "OFF")
+  find_path(TRISTEREO_GPIOD_INCLUDE gpiod.h)
+  find_library(TRISTEREO_GPIOD_LIBRARY gpiod)
+  if(TRISTEREO_GPIOD_INCLUDE AND TRISTEREO_GPIOD_LIBRARY)
+    file(STRINGS ${TRISTEREO_GPIOD_INCLUDE}/gpiod.h _gpiod_v1 REGEX "gpiod_chip_open_by_name")
+    if(_gpiod_v1)
+      set(TRISTEREO_HAVE_GPIOD ON)
+      add_library(tristereo::gpiod UNKNOWN IMPORTED)
+      set_target_properties(tristereo::gpiod PROPERTIES IMPORTED_LOCATION ${TRISTEREO_GPIOD_LIBRARY}
+                            INTERFACE_INCLUDE_DIRECTORIES ${TRISTEREO_GPIOD_INCLUDE})
+    endif()
+  endif()
+  if(TRISTEREO_WITH_GPIOD STREQUAL "ON" AND NOT TRISTEREO_HAVE_GPIOD)
+    message(FATAL_ERROR "TRISTEREO_WITH_GPIOD=ON but libgpiod v1 (libgpiod-dev 1.x) was not found")
+  endif()
+endif()
+message(STATUS "tristereo: GPIO frame markers (libgpiod v1): ${TRISTEREO_HAVE_GPIOD}")

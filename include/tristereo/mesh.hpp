@@ -1,0 +1,51 @@
+// The tritree mesh and the outputs of one frame.
+//
+// Canonical order (identical in the integer path and the float reference, so
+// outputs compare with ==):
+//  - vertices sorted by (y, x): vertex ids are raster order, and the vertices
+//    of row y are the contiguous range [row_start[y], row_start[y + 1]);
+//  - each triangle lists its vertex ids with positive orientation
+//    ((b - a) x (c - a) > 0 in pixel coordinates, x right, y down), rotated so
+//    the smallest id comes first; triangles sorted lexicographically.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "tristereo/image.hpp"
+
+namespace tristereo {
+
+struct Vertex {
+  std::int32_t x = 0;
+  std::int32_t y = 0;
+  bool operator==(const Vertex& o) const { return x == o.x && y == o.y; }
+};
+
+using Triangle = std::array<std::int32_t, 3>;
+
+struct Mesh {
+  int width = 0;
+  int height = 0;
+  std::vector<Vertex> vertices;
+  std::vector<Triangle> triangles;
+  std::vector<std::int32_t> row_start;  // height + 1 entries
+  std::int64_t forced_splits = 0;       // splits done only to keep the mesh conforming
+  std::int64_t criterion_splits = 0;    // splits the criterion asked for
+
+  bool operator==(const Mesh& o) const {
+    return width == o.width && height == o.height && vertices == o.vertices &&
+           triangles == o.triangles && row_start == o.row_start &&
+           forced_splits == o.forced_splits && criterion_splits == o.criterion_splits;
+  }
+};
+
+// Everything one frame produces.
+struct StereoOutput {
+  Mesh mesh;
+  std::vector<std::int16_t> vertex_disp_q4;  // one per mesh vertex
+  ImageS16 disp_q4;                          // dense map, kInvalidDispQ4 = invalid
+};
+
+}  // namespace tristereo

@@ -1,0 +1,68 @@
+// The production (integer) pipeline: configure once, then process frames.
+//
+//   Pipeline p;
+//   p.configure(config);                 // allocates every buffer, starts workers
+//   const StereoOutput& out = p.process(left, right);   // no heap allocation
+//
+// process() accepts gray (1 channel) or RGB (3 channel) 8-bit views of equal
+// size, no larger than the configured maximum, any stride. The returned
+// reference stays valid until the next process()/configure() call.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "tristereo/image.hpp"
+#include "tristereo/kernels.hpp"
+#include "tristereo/mesh.hpp"
+#include "tristereo/params.hpp"
+
+namespace tristereo {
+
+struct PipelineConfig {
+  int max_width = 640;
+  int max_height = 480;
+  StereoParams params;
+  KernelChoice kernels = KernelChoice::kAuto;
+  int threads = 1;           // worker count; 0 = one per CPU in the allowed set
+  std::vector<int> cpus;     // CPUs to pin workers to (empty = allowed set, in order)
+  bool pin_threads = true;   // pin worker i to cpus[i % cpus.size()]
+};
+
+// Wall-clock nanoseconds of one frame's stages (filled by every process()).
+struct FrameTimings {
+  std::int64_t tritree_ns = 0;
+  std::int64_t cost_aggregation_ns = 0;
+  std::int64_t dp_ns = 0;
+  std::int64_t interpolation_ns = 0;
+  std::int64_t total_ns = 0;
+};
+
+class Pipeline {
+ public:
+  Pipeline();
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Validates and allocates. Throws Error; on error the pipeline is unconfigured.
+  void configure(const PipelineConfig& config);
+  bool configured() const;
+  const PipelineConfig& config() const;
+
+  // Throws Error on bad input (sizes, channels, null data, stride).
+  const StereoOutput& process(ImageView<const std::uint8_t> left,
+                              ImageView<const std::uint8_t> right);
+
+  const FrameTimings& last_timings() const;
+  KernelChoice active_kernels() const;
+  int worker_count() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tristereo

@@ -1,0 +1,50 @@
+// The hot loops of the integer path, as a table of function pointers.
+//
+// Each entry has one scalar implementation (the readable reference, in the
+// stage's *_scalar.cpp) and SIMD twins with the identical signature in simd/.
+// simd/dispatch.cpp fills a KernelSet once per Pipeline::configure; nothing in
+// a row loop ever checks the CPU. Kernels never allocate, throw or validate:
+// the bounds quoted on each one are enforced by validate_params/configure.
+#pragma once
+
+#include <cstdint>
+
+namespace tristereo {
+
+struct KernelSet {
+  const char* name = "scalar";
+
+  // acc[k] += min(|left - right_rev[k]|, trunc) for k in [0, n).
+  // Box aggregation. Bound: window pixels * trunc <= 65535 (checked by the
+  // pipeline before it picks this u16 kernel), so acc never wraps.
+  void (*accumulate_abs_diff_u16)(const std::uint8_t* right_rev, std::uint8_t left,
+                                  std::uint8_t trunc, int n, std::uint16_t* acc) = nullptr;
+
+  // acc[k] += weight * min(|left - right_rev[k]|, trunc) for k in [0, n).
+  // Adaptive weights (weight <= 255) or large box windows (weight = 1).
+  // Bound: sum of weights * 255 < 2^26 for a 31x31 window.
+  void (*accumulate_abs_diff_weighted_u32)(const std::uint8_t* right_rev, std::uint8_t left,
+                                           std::uint16_t weight, std::uint8_t trunc, int n,
+                                           std::uint32_t* acc) = nullptr;
+
+  // cost_q4[k] = (sum[k] * inv_q32 * 16 + 2^31) >> 32 (docs/model.md section 2),
+  // inv_q32 = floor(2^32 / sum_of_weights). Result in 0 .. 4080.
+  void (*normalize_costs_u16)(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
+                              std::uint16_t* cost_q4) = nullptr;
+  void (*normalize_costs_u32)(const std::uint32_t* sum, std::uint64_t inv_q32, int n,
+                              std::uint16_t* cost_q4) = nullptr;
+
+  // One DP step (docs/model.md section 3) over n = D disparities:
+  //   g[k] = min_j prev[j] + penalty * |k - j|, ptr[k] = smallest minimising j,
+  //   out[k] = cost_q4[k] + g[k] - min_k g[k].
+  // Bound: prev[k] <= 4080 + 255 * penalty and penalty <= 32000, so
+  // value + 255 * penalty < 2^24 and (value << 8 | j) fits 32 bits.
+  void (*dp_step)(const std::uint16_t* cost_q4, const std::uint32_t* prev,
+                  std::uint32_t penalty, int n, std::uint32_t* out,
+                  std::uint8_t* ptr) = nullptr;
+};
+
+// The portable reference set (always available).
+const KernelSet& scalar_kernel_set();
+
+}  // namespace tristereo
