@@ -1,0 +1,42 @@
+// A small command-line parser: positionals, "--key value" options and flags.
+// Unknown options and missing values are errors, reported with the option name.
+#pragma once
+
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tristereo::cli {
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Args {
+ public:
+  // value_options take a value; flag_options do not. argv[0] is the subcommand.
+  Args(int argc, char** argv, const std::set<std::string>& value_options,
+       const std::set<std::string>& flag_options);
+
+  const std::vector<std::string>& positional() const { return positional_; }
+  bool has(const std::string& name) const { return values_.count(name) || flags_.count(name); }
+  std::string get(const std::string& name, const std::string& fallback) const;
+  int get_int(const std::string& name, int fallback) const;
+  double get_double(const std::string& name, double fallback) const;
+  bool flag(const std::string& name) const { return flags_.count(name) != 0; }
+
+ private:
+  std::vector<std::string> positional_;
+  std::map<std::string, std::string> values_;
+  std::set<std::string> flags_;
+};
+
+int parse_int(const std::string& option, const std::string& text);
+double parse_double(const std::string& option, const std::string& text);
+// "7x5" or "7" (square) -> {w, h}.
+std::pair<int, int> parse_size(const std::string& option, const std::string& text);
+
+}  // namespace tristereo::cli

@@ -1,0 +1,97 @@
+// tristereo eval DISP GT [--gt-scale S] [--mask M] [--samples S.csv]: Middlebury-style scores.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "apps/cli_args.hpp"
+#include "apps/commands.hpp"
+#include "tristereo/eval.hpp"
+#include "tristereo/fixed_point.hpp"
+#include "tristereo/io.hpp"
+
+namespace tristereo::cli {
+
+namespace {
+Image<float> load_disparity_any(const std::string& path, int scale) {
+  const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+  if (ext == ".pfm" || ext == ".PFM") return read_pfm(path);
+  return load_middlebury_gt(path, scale);
+}
+
+void print_stats(const char* label, const BadPixelStats& s) {
+  std::printf("%-10s bad>0.5: %6.2f%%  bad>1: %6.2f%%  bad>2: %6.2f%%  rms: %.3f px  (%lld px, %lld invalid)\n",
+              label, s.bad_0_5, s.bad_1, s.bad_2, s.rms, static_cast<long long>(s.evaluated),
+              static_cast<long long>(s.invalid));
+}
+
+void read_samples(const std::string& path, std::vector<Vertex>& pts, std::vector<std::int16_t>& d) {
+  std::ifstream f(path);
+  if (!f) throw Error(ErrorCode::kIoError, "cannot read '" + path + "'");
+  std::string line;
+  std::getline(f, line);
+  if (line.rfind("x,y,disparity", 0) != 0)
+    throw Error(ErrorCode::kCorruptFile, path + ": expected a 'x,y,disparity' header (tristereo match --samples)");
+  int line_no = 1;
+  while (std::getline(f, line)) {
+    ++line_no;
+    if (line.empty()) continue;
+    std::stringstream ss(line);
+    std::string xs, ys, ds;
+    if (!std::getline(ss, xs, ',') || !std::getline(ss, ys, ',') || !std::getline(ss, ds))
+      throw Error(ErrorCode::kCorruptFile, path + ":" + std::to_string(line_no) + ": expected x,y,disparity");
+    Vertex v;
+    v.x = parse_int("samples x", xs);
+    v.y = parse_int("samples y", ys);
+    pts.push_back(v);
+    if (ds == "inf") {
+      d.push_back(kInvalidDispQ4);
+    } else {
+      const double q = parse_double("samples disparity", ds) * 16.0;
+      if (!(std::fabs(q) < 32000)) throw Error(ErrorCode::kCorruptFile, path + ": disparity out of range");
+      d.push_back(static_cast<std::int16_t>(std::lround(q)));
+    }
+  }
+}
+}  // namespace
+
+int cmd_eval(int argc, char** argv) {
+  Args args(argc, argv, {"gt-scale", "disp-scale", "mask", "samples"}, {"help"});
+  if (args.flag("help")) {
+    std::cout << "usage: tristereo eval DISP GT [--gt-scale S] [--mask M.png] [--samples S.csv]\n\n"
+                 "Bad-pixel percentages (|d - gt| > 0.5, 1, 2 px; invalid counts as bad) and RMS,\n"
+                 "Middlebury v2 style. DISP: PFM (+inf = invalid) or 8-bit PNG (value / --disp-scale).\n"
+                 "GT: PFM or 8-bit PNG (value / --gt-scale, 0 = unknown, skipped).\n"
+                 "--mask: only pixels where the mask is 255 (e.g. Middlebury nonocc.png).\n"
+                 "--samples: also score only the sample positions written by match --samples\n"
+                 "(the paper's Table 2 metric).\n";
+    return 0;
+  }
+  if (args.positional().size() != 2) throw UsageError("eval needs DISP and GT (see --help)");
+  const int gt_scale = args.get_int("gt-scale", 1);
+  const int disp_scale = args.get_int("disp-scale", 1);
+  if (gt_scale < 1 || disp_scale < 1) throw UsageError("--gt-scale and --disp-scale must be >= 1");
+  const Image<float> disp = load_disparity_any(args.positional()[0], disp_scale);
+  const Image<float> gt = load_disparity_any(args.positional()[1], gt_scale);
+  if (disp.width != gt.width || disp.height != gt.height)
+    throw Error(ErrorCode::kSizeMismatch, "disparity and ground truth differ in size");
+  ImageU8 mask;
+  if (args.has("mask")) {
+    mask = read_image_u8(args.get("mask", ""));
+    if (mask.width != gt.width || mask.height != gt.height || mask.channels != 1)
+      throw Error(ErrorCode::kSizeMismatch, "mask must be a gray image of the ground truth's size");
+  }
+  ImageView<const std::uint8_t> mask_view{};
+  if (args.has("mask")) mask_view = mask.view();
+  print_stats("dense", evaluate_disparity(disp.view(), gt.view(), mask_view));
+  if (args.has("samples")) {
+    std::vector<Vertex> pts;
+    std::vector<std::int16_t> d;
+    read_samples(args.get("samples", ""), pts, d);
+    print_stats("samples", evaluate_at_points(gt.view(), pts, d, mask_view));
+  }
+  return 0;
+}
+
+}  // namespace tristereo::cli

@@ -1,0 +1,32 @@
+// Colour to gray conversion (docs/model.md, section 0).
+//
+// The stereo model runs on 8-bit gray images. Colour input is converted with
+// BT.601 luma weights in Q8 with rounding:
+//   Y = (77 R + 150 G + 29 B + 128) >> 8
+// The weights sum to 256, so equal R = G = B gives back the same value (255
+// stays 255) and the result never exceeds 255. The conversion is pure integer
+// arithmetic, hence identical on every platform.
+#pragma once
+
+#include <cstdint>
+
+#include "tristereo/image.hpp"
+
+namespace tristereo {
+
+// One row: `width` RGB triplets in, `width` gray samples out. No checks (a
+// kernel): the caller guarantees both pointers cover `width` pixels.
+void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray);
+
+// Converts a 3-channel view into a 1-channel view of the same size (any
+// strides). Throws Error: kUnsupportedFormat for wrong channel counts,
+// kSizeMismatch for different sizes, kInvalidArgument for null data or a
+// stride shorter than a row. `gray` is untouched when it throws.
+void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray);
+
+// 1 channel: a copy; 3 channels: BT.601 as above; anything else throws
+// Error(kUnsupportedFormat).
+ImageU8 to_gray(const ImageU8& img);
+ImageU8 to_gray(ImageView<const std::uint8_t> img);
+
+}  // namespace tristereo

@@ -1,0 +1,108 @@
+// Image, disparity and mesh files.
+//
+// Readers detect the format from the first bytes (never the extension) and
+// answer bad files with tristereo::Error, never a crash:
+//   kIoError           the file cannot be opened or read (missing, a directory, ...)
+//   kCorruptFile       empty, truncated or malformed contents (bad CRC, short data)
+//   kUnsupportedFormat a valid file we do not read (16-bit PNG in read_image_u8,
+//                      maxval != 255, unknown magic) or one larger than the reader
+//                      limits below; sizes are checked before any pixel allocation.
+// Writers validate everything before creating the file and remove a partial file
+// if writing fails (kIoError).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tristereo/image.hpp"
+#include "tristereo/mesh.hpp"
+
+namespace tristereo {
+
+// Reader limits: headers claiming more are rejected before allocating.
+constexpr int kMaxReadSide = 65535;                          // pixels per side
+constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;  // width * height
+
+// ---------------------------------------------------------------- 8-bit images
+// PNG (libpng) or binary/ASCII PNM (P5/P6/P2/P3, maxval 255 only).
+// Result: 1 channel (gray) or 3 channels (RGB). PNG conversions: palette ->
+// RGB, 1/2/4-bit gray -> 8-bit (scaled to 0..255), alpha and tRNS dropped
+// (no compositing). 16-bit PNG -> kUnsupportedFormat (use read_png_u16).
+ImageU8 read_image_u8(const std::string& path);
+
+// 16-bit single-channel PNG (e.g. a disparity PNG from write_disparity);
+// anything else -> kUnsupportedFormat.
+Image<std::uint16_t> read_png_u16(const std::string& path);
+
+// 8-bit PNG, 1 (gray) or 3 (RGB) channels.
+void write_png_u8(const std::string& path, ImageView<const std::uint8_t> img);
+// 16-bit gray PNG (1 channel).
+void write_png_u16(const std::string& path, ImageView<const std::uint16_t> img);
+// Binary PGM (P5, 1 channel) / PPM (P6, 3 channels), maxval 255.
+void write_pgm(const std::string& path, ImageView<const std::uint8_t> img);
+void write_ppm(const std::string& path, ImageView<const std::uint8_t> img);
+
+// ---------------------------------------------------------------- PFM (float)
+// Middlebury convention: "Pf" (1 channel) or "PF" (3 channels), then
+// "width height", then the scale (negative = little endian), rows stored
+// bottom-to-top. write_pfm always writes scale -1 (little endian); read_pfm
+// reads either endianness, returns rows top-to-bottom, and rejects data
+// shorter than width * height * channels floats (kCorruptFile).
+void write_pfm(const std::string& path, ImageView<const float> img);
+Image<float> read_pfm(const std::string& path);
+
+// ---------------------------------------------------------------- disparity maps
+// Q4 (value / 16 = pixels) -> float pixels; kInvalidDispQ4 -> +infinity (the
+// Middlebury "unknown" value in PFM files). 1 channel only.
+Image<float> disp_q4_to_float(ImageView<const std::int16_t> disp_q4);
+
+// Chooses the format by extension (case-insensitive):
+//  .pfm  float disparity in pixels, invalid = +infinity;
+//  .png  16-bit gray holding the Q4 value itself (value / 16 = disparity),
+//        0 = invalid. A valid disparity of exactly 0 is therefore read back as
+//        invalid; negative disparities cannot be stored (kInvalidArgument).
+// Other extensions -> kInvalidArgument.
+void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4);
+// Reads what write_disparity wrote (.png: 0 -> kInvalidDispQ4; .pfm:
+// non-finite -> kInvalidDispQ4, else round(16 d) half away from zero, which
+// must fit in int16 or kCorruptFile). Format from the magic bytes.
+Image<std::int16_t> read_disparity(const std::string& path);
+
+// 8-bit RGB PNG visualisation: disparities d_min .. d_min + num_disp - 1 map
+// (clamped) onto disparity_color(); invalid pixels are black.
+void write_disparity_color(const std::string& path, ImageView<const std::int16_t> disp_q4,
+                           int d_min, int num_disp);
+// The colour map: t_q10 in 0..1024 (clamped) -> RGB. Piecewise linear through
+// five hand-picked stops, dark blue -> violet -> red -> orange -> pale yellow,
+// with BT.601 luma never decreasing (rising at every stop), so near = bright
+// even in gray print.
+void disparity_color(int t_q10, std::uint8_t rgb[3]);
+
+// ---------------------------------------------------------------- PLY mesh
+// Pinhole camera of the left view (Middlebury calib.txt conventions).
+struct CameraParams {
+  double focal_px;   // focal length, pixels
+  double baseline;   // distance between the optical centres (output unit, e.g. mm)
+  double cx;         // principal point, pixels
+  double cy;
+  double doffs = 0;  // x-difference of the principal points (right - left), pixels
+};
+
+// Writes the 2.5D mesh as PLY ("binary_little_endian 1.0" or "ascii 1.0").
+// Vertex: float x, y, z + uchar red, green, blue (colour from the left image,
+// gray or RGB, which must have the mesh's size). Face: "list uchar int
+// vertex_indices", the mesh's orientation (counter-clockwise with y down).
+//  camera == nullptr: (x, y, d) in pixels, d = disp_q4 / 16.
+//  camera given:      Z = baseline * f / (d + doffs), X = (x - cx) Z / f,
+//                     Y = (y - cy) Z / f (camera frame, y down).
+// A vertex whose disparity is kInvalidDispQ4 (or, with a camera, whose
+// d + doffs <= 0) is still written, so indices stay those of the mesh, at
+// (x, y, 0) in pixel mode or (0, 0, 0) in metric mode; every face touching
+// it is dropped. Throws kSizeMismatch / kInvalidArgument on inconsistent input.
+void write_mesh_ply(const std::string& path, const Mesh& mesh,
+                    const std::vector<std::int16_t>& vertex_disp_q4,
+                    ImageView<const std::uint8_t> left_gray_or_rgb,
+                    const CameraParams* camera, bool binary);
+
+}  // namespace tristereo

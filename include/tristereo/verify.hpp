@@ -1,0 +1,39 @@
+// Bit-exactness check a user can run on their own board and images: the float
+// reference against every kernel set this CPU can run, at several thread counts.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tristereo/image.hpp"
+#include "tristereo/kernels.hpp"
+#include "tristereo/params.hpp"
+
+namespace tristereo {
+
+struct VerifyCase {
+  KernelChoice kernels = KernelChoice::kScalar;
+  int threads = 1;
+  bool identical = false;
+  std::string first_difference;  // empty when identical
+};
+
+struct VerifyReport {
+  bool bit_exact = false;          // every case identical to the reference
+  std::vector<VerifyCase> cases;
+  std::string reference_digest;    // hex digest of the reference outputs
+};
+
+// thread_counts empty = {1, number of allowed CPUs}.
+VerifyReport verify_bit_exact(const ImageU8& left, const ImageU8& right, const StereoParams& params,
+                              std::vector<int> thread_counts = {});
+
+// First difference between two frame outputs ("" when identical), e.g.
+// "dense map differs at (12, 40): 176 vs 192".
+struct StereoOutput;
+std::string first_difference(const StereoOutput& expected, const StereoOutput& actual);
+
+// 64-bit FNV-1a digests of the outputs, in hex (stable across platforms).
+std::string digest_hex(const StereoOutput& out);
+
+}  // namespace tristereo

@@ -1,0 +1,20 @@
+#include "src/kernels/kernel_set.hpp"
+#include "src/kernels/kernels_scalar.hpp"
+
+namespace tristereo {
+
+const KernelSet& scalar_kernel_set() {
+  static const KernelSet set = [] {
+    KernelSet s;
+    s.name = "scalar";
+    s.accumulate_abs_diff_u16 = accumulate_abs_diff_u16_scalar;
+    s.accumulate_abs_diff_weighted_u32 = accumulate_abs_diff_weighted_u32_scalar;
+    s.normalize_costs_u16 = normalize_costs_u16_scalar;
+    s.normalize_costs_u32 = normalize_costs_u32_scalar;
+    s.dp_step = dp_step_scalar;
+    return s;
+  }();
+  return set;
+}
+
+}  // namespace tristereo

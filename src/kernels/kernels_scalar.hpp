@@ -1,0 +1,21 @@
+// Scalar kernels: the readable reference for every entry of KernelSet.
+// SIMD twins in simd/ have the same signatures and must produce identical output.
+#pragma once
+
+#include <cstdint>
+
+namespace tristereo {
+
+void accumulate_abs_diff_u16_scalar(const std::uint8_t* right_rev, std::uint8_t left,
+                                    std::uint8_t trunc, int n, std::uint16_t* acc);
+void accumulate_abs_diff_weighted_u32_scalar(const std::uint8_t* right_rev, std::uint8_t left,
+                                             std::uint16_t weight, std::uint8_t trunc, int n,
+                                             std::uint32_t* acc);
+void normalize_costs_u16_scalar(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
+                                std::uint16_t* cost_q4);
+void normalize_costs_u32_scalar(const std::uint32_t* sum, std::uint64_t inv_q32, int n,
+                                std::uint16_t* cost_q4);
+void dp_step_scalar(const std::uint16_t* cost_q4, const std::uint32_t* prev,
+                    std::uint32_t penalty, int n, std::uint32_t* out, std::uint8_t* ptr);
+
+}  // namespace tristereo

@@ -1,0 +1,65 @@
+// Once configured, process() performs no heap allocation (any thread count,
+// sparse or dense, box or adaptive weights, frames smaller than the maximum).
+#include <gtest/gtest.h>
+
+#include "support/alloc_counter.hpp"
+#include "support/scenes.hpp"
+#include "tristereo/pipeline.hpp"
+#include "tristereo/synth.hpp"
+
+namespace tristereo {
+namespace {
+
+TEST(NoAlloc, ProcessDoesNotAllocate) {
+  SynthParams sp;
+  sp.width = 200;
+  sp.height = 150;
+  sp.num_disp = 32;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  sp.width = 120;
+  sp.height = 90;
+  const SyntheticScene small = make_synthetic_scene(sp);
+  ImageU8 rgb_l(200, 150, 3), rgb_r(200, 150, 3);
+  for (std::size_t i = 0; i < s.left.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      rgb_l.pixels[i * 3 + c] = s.left.pixels[i];
+      rgb_r.pixels[i * 3 + c] = s.right.pixels[i];
+    }
+  for (int threads : {1, 2, 3}) {
+    for (bool dense : {false, true}) {
+      for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
+        PipelineConfig c;
+        c.max_width = 200;
+        c.max_height = 150;
+        c.params.num_disp = 32;
+        c.params.dense = dense;
+        c.params.cost.weights = w;
+        c.threads = threads;
+        c.pin_threads = false;
+        Pipeline pipe;
+        pipe.configure(c);
+        test::start_counting_allocations();
+        for (int f = 0; f < 3; ++f) {
+          pipe.process(s.left.view(), s.right.view());
+          pipe.process(small.left.view(), small.right.view());
+          pipe.process(rgb_l.view(), rgb_r.view());
+        }
+        const std::int64_t n = test::stop_counting_allocations();
+        EXPECT_EQ(n, 0) << "threads=" << threads << " dense=" << dense << " weights=" << to_string(w);
+        // The frames really were processed.
+        EXPECT_GT(pipe.last_timings().total_ns, 0);
+      }
+    }
+  }
+}
+
+TEST(NoAlloc, CounterSeesAllocations) {
+  // Guards the guard: a counter that never counts would make the test above vacuous.
+  test::start_counting_allocations();
+  auto* p = new std::vector<int>(100);
+  delete p;
+  EXPECT_GE(test::stop_counting_allocations(), 2);
+}
+
+}  // namespace
+}  // namespace tristereo

@@ -1,0 +1,128 @@
+// The contract's central claim: the integer pipeline equals the float reference
+// bit for bit (mesh, sample disparities, dense map) on every input.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "support/scenes.hpp"
+#include "tristereo/pipeline.hpp"
+#include "tristereo/reference.hpp"
+#include "tristereo/synth.hpp"
+#include "tristereo/verify.hpp"
+
+namespace tristereo {
+namespace {
+
+StereoOutput run_integer(const ImageU8& l, const ImageU8& r, const StereoParams& p, int threads = 1,
+                         KernelChoice k = KernelChoice::kAuto) {
+  PipelineConfig c;
+  c.max_width = l.width;
+  c.max_height = l.height;
+  c.params = p;
+  c.threads = threads;
+  c.kernels = k;
+  c.pin_threads = false;
+  Pipeline pipe;
+  pipe.configure(c);
+  return pipe.process(l.view(), r.view());
+}
+
+void expect_bit_exact(const ImageU8& l, const ImageU8& r, const StereoParams& p, const std::string& what) {
+  const StereoOutput ref = run_reference(l, r, p);
+  const StereoOutput got = run_integer(l, r, p);
+  const std::string diff = first_difference(ref, got);
+  EXPECT_EQ(diff, "") << what;
+  // A non-trivial result: the mesh has interior vertices and the map is not constant.
+  EXPECT_GE(ref.mesh.vertices.size(), 4u) << what;
+}
+
+class MiddleburyBitExact : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MiddleburyBitExact, SparseAndDenseBoxAndAdaptive) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
+  const test::MiddleburyPair m = test::load_middlebury(GetParam());
+  for (bool dense : {false, true}) {
+    for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
+      StereoParams p;
+      p.num_disp = m.ndisp;
+      p.dense = dense;
+      p.cost.weights = w;
+      expect_bit_exact(m.left, m.right, p,
+                       m.name + (dense ? " dense " : " sparse ") + to_string(w));
+    }
+  }
+}
+
+TEST_P(MiddleburyBitExact, OtherThresholdsAndPolicies) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
+  const test::MiddleburyPair m = test::load_middlebury(GetParam());
+  StereoParams p;
+  p.num_disp = m.ndisp;
+  p.tritree.psnr_deci_db = 300;
+  p.tritree.max_area_px2 = 400;
+  p.dp.gap = GapPolicy::kInvSquare;
+  p.dp.subpixel = false;
+  p.cost.truncation = 40;
+  expect_bit_exact(m.left, m.right, p, m.name + " 30 dB inv_sq");
+  p.tritree.psnr_deci_db = 450;
+  p.dp.gap = GapPolicy::kConstant;
+  p.cost.window_w = 9;
+  p.cost.window_h = 3;
+  expect_bit_exact(m.left, m.right, p, m.name + " 45 dB const 9x3");
+}
+
+INSTANTIATE_TEST_SUITE_P(All, MiddleburyBitExact,
+                         ::testing::ValuesIn(test::middlebury_names()),
+                         [](const auto& info) { return info.param; });
+
+TEST(SyntheticBitExact, DefaultSceneSparseAndDense) {
+  SynthParams sp;
+  sp.width = 320;
+  sp.height = 240;
+  sp.num_disp = 32;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  for (bool dense : {false, true}) {
+    StereoParams p;
+    p.num_disp = 32;
+    p.dense = dense;
+    expect_bit_exact(s.left, s.right, p, dense ? "synthetic dense" : "synthetic sparse");
+  }
+}
+
+// >= 1000 random small images x random valid parameter sets.
+TEST(RandomBitExact, ThousandImagesAndParameterSets) {
+  test::Rng rng(20261122);
+  int cases = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const int w = rng.uniform(2, 40), h = rng.uniform(2, 30);
+    const ImageU8 left = test::random_image(rng, w, h);
+    const ImageU8 right = test::shifted_view(rng, left, rng.uniform(0, 6), rng.uniform(0, 10));
+    const StereoParams p = test::random_params(rng, 24);
+    const StereoOutput ref = run_reference(left, right, p);
+    const StereoOutput got = run_integer(left, right, p, 1 + i % 3);
+    const std::string diff = first_difference(ref, got);
+    ASSERT_EQ(diff, "") << "case " << i << ": " << w << "x" << h << " D=" << p.num_disp
+                        << " dmin=" << p.d_min << " dense=" << p.dense
+                        << " psnr=" << p.tritree.psnr_deci_db << " amax=" << p.tritree.max_area_px2
+                        << " win=" << p.cost.window_w << "x" << p.cost.window_h
+                        << " weights=" << to_string(p.cost.weights) << " tc=" << p.cost.truncation
+                        << " lambda=" << p.dp.lambda_q4 << " gap=" << to_string(p.dp.gap)
+                        << " subpixel=" << p.dp.subpixel;
+    ++cases;
+  }
+  EXPECT_EQ(cases, 1000);
+}
+
+TEST(RandomBitExact, RgbInputUsesTheSameGrayRule) {
+  test::Rng rng(7);
+  ImageU8 l(37, 23, 3), r(37, 23, 3);
+  for (auto& v : l.pixels) v = static_cast<std::uint8_t>(rng.uniform(0, 255));
+  for (std::size_t i = 0; i < r.pixels.size(); ++i)
+    r.pixels[i] = static_cast<std::uint8_t>(i >= 6 ? l.pixels[i - 6] : 0);
+  StereoParams p;
+  p.num_disp = 8;
+  expect_bit_exact(l, r, p, "rgb");
+}
+
+}  // namespace
+}  // namespace tristereo

@@ -1,0 +1,81 @@
+#include "support/scenes.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
+#include "tristereo/eval.hpp"
+#include "tristereo/io.hpp"
+
+namespace tristereo::test {
+
+std::string middlebury_dir() { return std::string(TRISTEREO_DATA_DIR) + "/middlebury"; }
+
+bool middlebury_available() {
+  return std::filesystem::exists(middlebury_dir() + "/datasets.tsv");
+}
+
+std::vector<std::string> middlebury_names() { return {"tsukuba", "venus", "teddy", "cones"}; }
+
+MiddleburyPair load_middlebury(const std::string& name) {
+  MiddleburyPair p;
+  p.name = name;
+  for (const MiddleburyScene& s : read_datasets_tsv(middlebury_dir() + "/datasets.tsv"))
+    if (s.name == name) {
+      p.ndisp = s.ndisp;
+      p.gt_scale = s.gt_scale;
+    }
+  const std::string dir = middlebury_dir() + "/" + name + "/";
+  p.left = read_image_u8(dir + "left.png");
+  p.right = read_image_u8(dir + "right.png");
+  p.gt = load_middlebury_gt(dir + "disp_left.png", p.gt_scale);
+  p.nonocc = read_image_u8(dir + "nonocc.png");
+  p.all = read_image_u8(dir + "all.png");
+  return p;
+}
+
+ImageU8 random_image(Rng& rng, int w, int h) {
+  ImageU8 img(w, h, 1);
+  const int gx = rng.uniform(-8, 8), gy = rng.uniform(-8, 8), base = rng.uniform(0, 255);
+  const int noise = rng.uniform(0, 3) == 0 ? 0 : rng.uniform(1, 60);
+  const int step_x = rng.uniform(0, w), step_v = rng.uniform(-100, 100);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      int v = base + gx * x + gy * y + (x >= step_x ? step_v : 0);
+      if (noise) v += rng.uniform(-noise, noise);
+      img.at(x, y) = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
+    }
+  return img;
+}
+
+ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise) {
+  ImageU8 r(left.width, left.height, 1);
+  for (int y = 0; y < left.height; ++y)
+    for (int x = 0; x < left.width; ++x) {
+      const int sx = std::clamp(x + shift, 0, left.width - 1);
+      int v = left.at(sx, y) + (noise ? rng.uniform(-noise, noise) : 0);
+      r.at(x, y) = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
+    }
+  return r;
+}
+
+StereoParams random_params(Rng& rng, int max_ndisp) {
+  StereoParams p;
+  p.num_disp = rng.uniform(1, max_ndisp);
+  p.d_min = rng.uniform(-5, 5);
+  p.dense = rng.uniform(0, 3) == 0;
+  p.tritree.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
+  p.tritree.max_area_px2 = rng.uniform(0, 1) ? rng.uniform(1, 40) : rng.uniform(1, kMaxAreaLimitPx2);
+  p.cost.window_w = 2 * rng.uniform(0, 7) + 1;
+  p.cost.window_h = 2 * rng.uniform(0, 7) + 1;
+  p.cost.weights = rng.uniform(0, 1) ? Weights::kBox : Weights::kAdaptive;
+  p.cost.truncation = rng.uniform(0, 2) ? 255 : rng.uniform(1, 255);
+  p.cost.asw_gamma_color = rng.uniform(1, 40);
+  p.cost.asw_gamma_proximity = rng.uniform(1, 200);
+  p.dp.lambda_q4 = rng.uniform(0, 4) == 0 ? rng.uniform(0, kMaxLambdaQ4) : rng.uniform(0, 600);
+  p.dp.gap = static_cast<GapPolicy>(rng.uniform(0, 2));
+  p.dp.subpixel = rng.uniform(0, 1) == 1;
+  return p;
+}
+
+}  // namespace tristereo::test

@@ -1,0 +1,65 @@
+// Test inputs: the Middlebury scenes of ../shared/data and small random images.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tristereo/image.hpp"
+#include "tristereo/params.hpp"
+
+namespace tristereo::test {
+
+struct MiddleburyPair {
+  std::string name;
+  int ndisp = 0;
+  int gt_scale = 1;
+  ImageU8 left, right;      // as stored (RGB)
+  Image<float> gt;          // disparity in px, 0 = unknown
+  ImageU8 nonocc, all;      // 255 = evaluated
+};
+
+// Root of ../shared/data/middlebury. When it is missing the tests that need it
+// fail, unless TRISTEREO_ALLOW_MISSING_DATA=1 makes them skip (a fresh clone).
+std::string middlebury_dir();
+bool middlebury_available();
+std::vector<std::string> middlebury_names();  // tsukuba venus teddy cones
+MiddleburyPair load_middlebury(const std::string& name);
+
+// Deterministic small PRNG (identical sequence on every platform).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : s_(seed * 0x9E3779B97F4A7C15ULL + 1) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+  int uniform(int lo, int hi) {  // inclusive
+    return lo + static_cast<int>(next() % static_cast<std::uint64_t>(hi - lo + 1));
+  }
+
+ private:
+  std::uint64_t s_;
+};
+
+// A random gray image mixing smooth gradients, noise and steps (so the tritree
+// both splits and stops), and its right view shifted by `shift` with noise.
+ImageU8 random_image(Rng& rng, int w, int h);
+ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise);
+// Random valid parameters (every field inside validate_params' ranges).
+StereoParams random_params(Rng& rng, int max_ndisp);
+
+}  // namespace tristereo::test
+
+// Skips (with TRISTEREO_ALLOW_MISSING_DATA=1) or fails when the shared data is absent.
+#define TRISTEREO_REQUIRE_MIDDLEBURY()                                                   \
+  do {                                                                                   \
+    if (!::tristereo::test::middlebury_available()) {                                    \
+      const char* allow = std::getenv("TRISTEREO_ALLOW_MISSING_DATA");                   \
+      if (allow && std::string(allow) == "1") GTEST_SKIP() << "no ../shared/data";       \
+      FAIL() << "Middlebury data not found at " << ::tristereo::test::middlebury_dir()   \
+             << " (set TRISTEREO_ALLOW_MISSING_DATA=1 to skip)";                         \
+    }                                                                                    \
+  } while (0)
