@@ -7,6 +7,7 @@
 #include "apps/match_outputs.hpp"
 #include "tristereo/eval.hpp"
 #include "tristereo/io.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/synth.hpp"
 #include "tristereo/verify.hpp"

@@ -9,6 +9,7 @@
 #include "apps/commands.hpp"
 #include "tristereo/eval.hpp"
 #include "tristereo/fixed_point.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/io.hpp"
 
 namespace tristereo::cli {
@@ -24,6 +25,16 @@ void print_stats(const char* label, const BadPixelStats& s) {
   std::printf("%-10s bad>0.5: %6.2f%%  bad>1: %6.2f%%  bad>2: %6.2f%%  rms: %.3f px  (%lld px, %lld invalid)\n",
               label, s.bad_0_5, s.bad_1, s.bad_2, s.rms, static_cast<long long>(s.evaluated),
               static_cast<long long>(s.invalid));
+}
+
+std::string stats_json(const BadPixelStats& s) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "{\"bad_0_5\": %.4f, \"bad_1\": %.4f, \"bad_2\": %.4f, \"rms\": %.4f, "
+                "\"evaluated\": %lld, \"invalid\": %lld}",
+                s.bad_0_5, s.bad_1, s.bad_2, s.rms, static_cast<long long>(s.evaluated),
+                static_cast<long long>(s.invalid));
+  return buf;
 }
 
 void read_samples(const std::string& path, std::vector<Vertex>& pts, std::vector<std::int16_t>& d) {
@@ -57,7 +68,7 @@ void read_samples(const std::string& path, std::vector<Vertex>& pts, std::vector
 }  // namespace
 
 int cmd_eval(int argc, char** argv) {
-  Args args(argc, argv, {"gt-scale", "disp-scale", "mask", "samples"}, {"help"});
+  Args args(argc, argv, {"gt-scale", "disp-scale", "mask", "samples", "json"}, {"help"});
   if (args.flag("help")) {
     std::cout << "usage: tristereo eval DISP GT [--gt-scale S] [--mask M.png] [--samples S.csv]\n\n"
                  "Bad-pixel percentages (|d - gt| > 0.5, 1, 2 px; invalid counts as bad) and RMS,\n"
@@ -65,7 +76,8 @@ int cmd_eval(int argc, char** argv) {
                  "GT: PFM or 8-bit PNG (value / --gt-scale, 0 = unknown, skipped).\n"
                  "--mask: only pixels where the mask is 255 (e.g. Middlebury nonocc.png).\n"
                  "--samples: also score only the sample positions written by match --samples\n"
-                 "(the paper's Table 2 metric).\n";
+                 "(the paper's Table 2 metric).\n"
+                 "--json OUT.json: also write the numbers as JSON.\n";
     return 0;
   }
   if (args.positional().size() != 2) throw UsageError("eval needs DISP and GT (see --help)");
@@ -84,12 +96,22 @@ int cmd_eval(int argc, char** argv) {
   }
   ImageView<const std::uint8_t> mask_view{};
   if (args.has("mask")) mask_view = mask.view();
-  print_stats("dense", evaluate_disparity(disp.view(), gt.view(), mask_view));
+  const BadPixelStats dense = evaluate_disparity(disp.view(), gt.view(), mask_view);
+  print_stats("dense", dense);
+  std::string json = "{\n  \"dense\": " + stats_json(dense);
   if (args.has("samples")) {
     std::vector<Vertex> pts;
     std::vector<std::int16_t> d;
     read_samples(args.get("samples", ""), pts, d);
-    print_stats("samples", evaluate_at_points(gt.view(), pts, d, mask_view));
+    const BadPixelStats at = evaluate_at_points(gt.view(), pts, d, mask_view);
+    print_stats("samples", at);
+    json += ",\n  \"samples\": " + stats_json(at);
+  }
+  json += "\n}\n";
+  if (args.has("json")) {
+    std::ofstream f(args.get("json", ""));
+    f << json;
+    if (!f) throw Error(ErrorCode::kIoError, "cannot write '" + args.get("json", "") + "'");
   }
   return 0;
 }

@@ -11,6 +11,7 @@
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/reference.hpp"
+#include "tristereo/status.hpp"
 
 namespace tristereo::cli {
 

@@ -5,6 +5,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
 #include "tristereo/io.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
 
 namespace tristereo::cli {

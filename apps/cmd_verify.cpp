@@ -5,6 +5,7 @@
 #include "apps/commands.hpp"
 #include "apps/stereo_options.hpp"
 #include "tristereo/io.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/verify.hpp"
 
 namespace tristereo::cli {

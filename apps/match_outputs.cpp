@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tristereo/fixed_point.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/io.hpp"
 
 namespace tristereo::cli {

@@ -2,7 +2,14 @@
 # In a cross build, compiled libraries come from the target's multiarch dir
 # (CMAKE_LIBRARY_ARCHITECTURE); header-only ones (Eigen, xsimd) from the host.
 
-find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+if(CMAKE_CROSSCOMPILING)
+  # Header-only and arch-neutral: take the host's Eigen, searched outside the
+  # target roots so that a board sysroot without Eigen still works.
+  find_package(Eigen3 3.3 REQUIRED NO_MODULE PATHS /usr/share/eigen3/cmake
+               NO_DEFAULT_PATH NO_CMAKE_FIND_ROOT_PATH)
+else()
+  find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+endif()
 
 find_package(xsimd QUIET)
 if(NOT TARGET xsimd)

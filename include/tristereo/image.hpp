@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace tristereo {
@@ -25,6 +26,12 @@ struct ImageView {
                                 static_cast<std::ptrdiff_t>(y) * stride_bytes);
   }
   bool empty() const { return data == nullptr || width <= 0 || height <= 0; }
+
+  // A mutable view converts to a read-only one.
+  template <typename U = T, typename = std::enable_if_t<!std::is_const<U>::value>>
+  operator ImageView<const U>() const {
+    return {data, width, height, channels, stride_bytes};
+  }
 };
 
 template <typename T>

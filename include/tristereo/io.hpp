@@ -75,8 +75,8 @@ void write_disparity_color(const std::string& path, ImageView<const std::int16_t
                            int d_min, int num_disp);
 // The colour map: t_q10 in 0..1024 (clamped) -> RGB. Piecewise linear through
 // five hand-picked stops, dark blue -> violet -> red -> orange -> pale yellow,
-// with BT.601 luma never decreasing (rising at every stop), so near = bright
-// even in gray print.
+// with BT.601 luma 23, 66, 109, 168, 239 at the stops (linear between them up
+// to per-channel rounding), so near = bright even in gray print.
 void disparity_color(int t_q10, std::uint8_t rgb[3]);
 
 // ---------------------------------------------------------------- PLY mesh

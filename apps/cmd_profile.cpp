@@ -1,0 +1,496 @@
+// tristereo profile: per-frame latency distribution of the pipeline.
+//
+// Frames are prepared before the clock starts (a ring of synthetic frames, a
+// pair, or a folder sequence, converted to gray), the pipeline is configured
+// once, then W warm-up frames and N measured frames run back to back. Each
+// measured frame stores one FrameSample into a preallocated FrameLog; all
+// statistics are computed after the loop, so the loop itself allocates only
+// what the pipeline and (with --mesh-output) the PLY writer allocate.
+#include "apps/cmd_profile.hpp"
+
+#include <dirent.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "apps/cli_args.hpp"
+#include "apps/stereo_options.hpp"
+#include "platform/clock.hpp"
+#include "platform/cpu_features.hpp"
+#include "platform/frame_marker_driver.hpp"
+#include "platform/gpio.hpp"
+#include "platform/realtime.hpp"
+#include "src/profile/latency_stats.hpp"
+#include "src/profile/profile_report.hpp"
+#include "tristereo/gray.hpp"
+#include "tristereo/io.hpp"
+#include "tristereo/pipeline.hpp"
+#include "tristereo/status.hpp"
+#include "tristereo/synth.hpp"
+
+namespace tristereo::cli {
+
+namespace {
+
+const char* kProfileHelp = R"(usage: tristereo profile [options]
+
+Runs the pipeline on a stream of frames and reports the per-frame latency of each
+stage (min, p50, p90, p99, max, mean, std in ms), fps, CPU time per frame and peak
+memory. Frames are prepared before timing starts. See docs/profiling.md.
+
+Frames:
+  --frames N           measured frames (default 100)
+  --warmup W           frames run first and not measured (default 5)
+  --source synthetic|pair|folder   (default: pair if --left, folder if --folder,
+                       else synthetic)
+  --width W --height H synthetic frame size (default 640x480)
+  --left L --right R   one rectified pair, processed again every frame
+  --folder DIR         a sequence DIR/left_0000.png, DIR/right_0000.png, ... (numbering
+                       from 0 or 1, cycled if shorter than warm-up + frames)
+  --left-pattern P     file name pattern with one %d-style field (default left_%04d.png)
+  --right-pattern P    (default right_%04d.png)
+Real time and markers:
+  --realtime [PRIO]    SCHED_FIFO at PRIO (1..99, default 80) for the frame loop and the
+                       workers, and mlockall; needs root or CAP_SYS_NICE + CAP_IPC_LOCK
+  --gpio CHIP:LINE[,CHIP:LINE...]   frame line high during each frame; further lines
+                       high during the stages, in report order
+  --mesh-output        time writing the mesh as binary PLY (to a temp file) as a stage
+Reports:
+  --csv FILE           one row per measured frame (ms)
+  --json FILE          the summary (config, per-stage stats, fps, memory, machine)
+  --quiet              no progress line and no table on stdout
+(For profile, --ndisp is optional and defaults to 64.)
+)";
+
+constexpr int kDefaultNumDisp = 64;
+constexpr int kDefaultRealtimePriority = 80;
+constexpr int kMaxWarmup = 100000;
+// Synthetic frames are generated into a ring this long, then cycled: enough
+// for the mesh to change every frame without the frames dominating memory.
+constexpr int kSyntheticRing = 8;
+// Folder frames are preloaded up to this many bytes, then cycled.
+constexpr std::size_t kFolderBudgetBytes = std::size_t{256} << 20;
+
+bool is_unsigned_number(const char* s) {
+  if (!s || !*s) return false;
+  for (; *s; ++s)
+    if (*s < '0' || *s > '9') return false;
+  return true;
+}
+
+// Adapts argv to cli::Args: "--realtime [PRIO]" has an optional value, which
+// Args does not model, so it becomes the flag plus --realtime-priority=PRIO;
+// and --ndisp gets the profiler's default (match and verify require it).
+std::vector<std::string> normalize_args(int argc, char** argv) {
+  std::vector<std::string> out;
+  bool has_ndisp = false;
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--ndisp" || a.rfind("--ndisp=", 0) == 0) has_ndisp = true;
+    if (a == "--realtime") {
+      out.push_back(a);
+      if (i + 1 < argc && is_unsigned_number(argv[i + 1]))
+        out.push_back(std::string("--realtime-priority=") + argv[++i]);
+    } else if (a.rfind("--realtime=", 0) == 0) {
+      out.push_back("--realtime");
+      out.push_back("--realtime-priority=" + a.substr(11));
+    } else {
+      out.push_back(a);
+    }
+  }
+  if (!has_ndisp) {
+    out.push_back("--ndisp");
+    out.push_back(std::to_string(kDefaultNumDisp));
+  }
+  return out;
+}
+
+int bounded_int(const Args& a, const char* name, int fallback, int lo, int hi) {
+  const int v = a.get_int(name, fallback);
+  if (v < lo || v > hi)
+    throw UsageError(std::string("--") + name + " " + std::to_string(v) + " is outside " +
+                     std::to_string(lo) + ".." + std::to_string(hi));
+  return v;
+}
+
+// Expands a file-name pattern with exactly one integer field (%d, %i, %u, with
+// optional 0 flag and width, e.g. %04d); "%%" is a literal percent. Anything
+// else is rejected, so a user pattern never reaches printf as a format.
+std::string expand_pattern(const std::string& option, const std::string& pattern, int index) {
+  std::string out;
+  int fields = 0;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') {
+      out += pattern[i];
+      continue;
+    }
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      out += '%';
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    const bool zero = j < pattern.size() && pattern[j] == '0';
+    if (zero) ++j;
+    int width = 0;
+    while (j < pattern.size() && pattern[j] >= '0' && pattern[j] <= '9' && width < 100)
+      width = width * 10 + (pattern[j++] - '0');
+    if (j >= pattern.size() || (pattern[j] != 'd' && pattern[j] != 'i' && pattern[j] != 'u') ||
+        width > 32)
+      throw UsageError(option + " '" + pattern +
+                       "': only one %d-style field (e.g. %04d) is allowed");
+    std::string digits = std::to_string(index);
+    if (static_cast<int>(digits.size()) < width)
+      digits.insert(0, static_cast<std::size_t>(width) - digits.size(), zero ? '0' : ' ');
+    out += digits;
+    ++fields;
+    i = j;
+  }
+  if (fields != 1)
+    throw UsageError(option + " '" + pattern + "' must contain exactly one %d-style field, found " +
+                     std::to_string(fields));
+  return out;
+}
+
+bool file_exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
+
+// The frames of the run, already gray and of one size; frame i of the run
+// (warm-up included) uses slot i % size().
+struct FrameRing {
+  std::vector<ImageU8> left, right;
+  int width = 0, height = 0;
+  std::size_t size() const { return left.size(); }
+};
+
+void add_pair(FrameRing& ring, const ImageU8& l, const ImageU8& r, const std::string& what) {
+  if (l.width != r.width || l.height != r.height)
+    throw Error(ErrorCode::kSizeMismatch,
+                what + ": left is " + std::to_string(l.width) + "x" + std::to_string(l.height) +
+                    " but right is " + std::to_string(r.width) + "x" + std::to_string(r.height));
+  if (ring.size() == 0) {
+    ring.width = l.width;
+    ring.height = l.height;
+  } else if (l.width != ring.width || l.height != ring.height) {
+    throw Error(ErrorCode::kSizeMismatch,
+                what + " is " + std::to_string(l.width) + "x" + std::to_string(l.height) +
+                    " but the first frame is " + std::to_string(ring.width) + "x" +
+                    std::to_string(ring.height));
+  }
+  ring.left.push_back(to_gray(l));
+  ring.right.push_back(to_gray(r));
+}
+
+FrameRing synthetic_frames(int width, int height, int num_disp, int count) {
+  FrameRing ring;
+  for (int f = 0; f < count; ++f) {
+    SynthParams sp;
+    sp.width = width;
+    sp.height = height;
+    sp.num_disp = num_disp;
+    sp.frame = f;
+    const SyntheticScene scene = make_synthetic_scene(sp);
+    add_pair(ring, scene.left, scene.right, "synthetic frame " + std::to_string(f));
+  }
+  return ring;
+}
+
+FrameRing folder_frames(const std::string& dir, const std::string& left_pattern,
+                        const std::string& right_pattern, int wanted) {
+  DIR* d = opendir(dir.c_str());
+  if (!d)
+    throw Error(ErrorCode::kIoError, "cannot read folder '" + dir + "': " + std::strerror(errno));
+  closedir(d);
+  const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  auto left_path = [&](int i) { return base + expand_pattern("--left-pattern", left_pattern, i); };
+  auto right_path = [&](int i) {
+    return base + expand_pattern("--right-pattern", right_pattern, i);
+  };
+  // Sequences are numbered from 0 or from 1.
+  const int first = file_exists(left_path(0)) ? 0 : 1;
+  if (!file_exists(left_path(first)))
+    throw Error(ErrorCode::kIoError, "folder '" + dir + "' has no first frame: neither '" +
+                                         left_path(0) + "' nor '" + left_path(1) + "' exists");
+  FrameRing ring;
+  std::size_t bytes = 0;
+  for (int i = first; static_cast<int>(ring.size()) < wanted && file_exists(left_path(i)); ++i) {
+    const ImageU8 l = read_image_u8(left_path(i));
+    const ImageU8 r = read_image_u8(right_path(i));
+    add_pair(ring, l, r, "frame '" + left_path(i) + "'");
+    bytes += 2 * ring.left.back().pixels.size();
+    if (bytes >= kFolderBudgetBytes) break;
+  }
+  return ring;
+}
+
+// A PLY target for --mesh-output: a fresh temp file, removed at the end.
+class TempFile {
+ public:
+  TempFile() {
+    const char* tmp = std::getenv("TMPDIR");
+    std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/tristereo_profile_XXXXXX";
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    const int fd = mkstemp(buf.data());
+    if (fd < 0)
+      throw Error(ErrorCode::kIoError,
+                  "cannot create a temp file '" + templ + "': " + std::strerror(errno));
+    close(fd);
+    path_ = buf.data();
+  }
+  ~TempFile() { unlink(path_.c_str()); }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// "\r"-updated status line on a terminal, at most ~10 updates per second;
+// silent when stderr is not a terminal (logs, CI) or with --quiet.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool quiet) : enabled_(!quiet && isatty(STDERR_FILENO)) {}
+  void update(const char* phase, int done, int total, std::int64_t last_ns) {
+    if (!enabled_) return;
+    const std::int64_t now = monotonic_ns();
+    if (done < total && now - last_print_ns_ < 100000000) return;
+    last_print_ns_ = now;
+    std::fprintf(stderr, "\r%s %d/%d  last frame %.2f ms   ", phase, done, total,
+                 static_cast<double>(last_ns) / 1e6);
+    std::fflush(stderr);
+  }
+  void clear() {
+    if (enabled_) std::fprintf(stderr, "\r%60s\r", "");
+  }
+
+ private:
+  bool enabled_;
+  std::int64_t last_print_ns_ = 0;
+};
+
+// Fails before the run, not after it, when a report cannot be written, and
+// leaves an existing file untouched until the run has succeeded.
+void check_writable(const std::string& option, const std::string& path) {
+  if (path.empty()) return;
+  const bool existed = access(path.c_str(), F_OK) == 0;
+  std::FILE* f = std::fopen(path.c_str(), "a");  // "a": creates, never truncates
+  if (!f)
+    throw Error(ErrorCode::kIoError,
+                option + ": cannot write '" + path + "': " + std::strerror(errno));
+  std::fclose(f);
+  if (!existed) unlink(path.c_str());
+}
+
+template <typename WriteFn>
+void write_report(const std::string& path, WriteFn write) {
+  if (path.empty()) return;
+  std::ofstream f(path);
+  if (f) write(f);
+  f.close();
+  if (!f) throw Error(ErrorCode::kIoError, "writing '" + path + "' failed");
+}
+
+}  // namespace
+
+int cmd_profile(int argc, char** argv) {
+  const std::vector<std::string> normalized = normalize_args(argc, argv);
+  std::vector<char*> nargv;
+  for (const std::string& s : normalized) nargv.push_back(const_cast<char*>(s.c_str()));
+
+  std::set<std::string> values = {
+      "frames",        "warmup", "source", "left", "right", "folder", "left-pattern",
+      "right-pattern", "width",  "height", "gpio", "json",  "csv",    "realtime-priority"};
+  std::set<std::string> flags = {"realtime", "mesh-output", "quiet", "help"};
+  add_stereo_options(values, flags);
+  const Args args(static_cast<int>(nargv.size()), nargv.data(), values, flags);
+  if (args.flag("help")) {
+    std::cout << kProfileHelp << stereo_options_help();
+    return 0;
+  }
+  if (!args.positional().empty())
+    throw UsageError("profile takes no positional arguments, got '" + args.positional()[0] + "'");
+
+  // ---- options (all checked before anything is loaded or opened)
+  const int frames = bounded_int(args, "frames", 100, 1, static_cast<int>(FrameLog::kMaxFrames));
+  const int warmup = bounded_int(args, "warmup", 5, 0, kMaxWarmup);
+  const std::string source = args.get("source", args.has("folder") ? "folder"
+                                                : args.has("left") ? "pair"
+                                                                   : "synthetic");
+  if (source != "synthetic" && source != "pair" && source != "folder")
+    throw UsageError("--source '" + source + "' is not one of synthetic, pair, folder");
+  if (source != "synthetic" && (args.has("width") || args.has("height")))
+    throw UsageError("--width/--height set the synthetic frame size; with --source " + source +
+                     " the size comes from the images");
+  if (source == "pair" && (!args.has("left") || !args.has("right")))
+    throw UsageError("--source pair needs --left L and --right R");
+  if (source == "folder" && !args.has("folder"))
+    throw UsageError("--source folder needs --folder DIR");
+  if (source != "pair" && (args.has("left") || args.has("right")))
+    throw UsageError("--left/--right belong to --source pair (use --left-pattern with --folder)");
+  const std::string left_pattern = args.get("left-pattern", "left_%04d.png");
+  const std::string right_pattern = args.get("right-pattern", "right_%04d.png");
+  expand_pattern("--left-pattern", left_pattern, 0);
+  expand_pattern("--right-pattern", right_pattern, 0);
+  const bool realtime = args.flag("realtime");
+  if (!realtime && args.has("realtime-priority"))
+    throw UsageError("--realtime-priority needs --realtime");
+  const int rt_priority = args.get_int("realtime-priority", kDefaultRealtimePriority);
+  if (realtime) validate_realtime_priority(rt_priority);
+  const bool mesh_output = args.flag("mesh-output");
+  const bool quiet = args.flag("quiet");
+  const std::string gpio_text = args.get("gpio", "");
+  std::vector<GpioLineSpec> gpio_lines;
+  if (args.has("gpio")) {
+    gpio_lines = parse_gpio_specs(gpio_text);
+    if (!gpio_supported())
+      throw Error(ErrorCode::kPlatform,
+                  "--gpio " + gpio_text +
+                      ": this build has no GPIO support (libgpiod v1 was not "
+                      "found at build time; install libgpiod-dev and reconfigure)");
+  }
+  const int synth_w = bounded_int(args, "width", 640, 2, kMaxImageSide);
+  const int synth_h = bounded_int(args, "height", 480, 2, kMaxImageSide);
+  // Validates every model option (and --ndisp) before frames are prepared.
+  PipelineConfig config = stereo_config_from_args(args, synth_w, synth_h);
+
+  // ---- frames, prepared before any timing
+  const int run_frames = warmup + frames;
+  FrameRing ring;
+  if (source == "synthetic") {
+    ring = synthetic_frames(synth_w, synth_h, config.params.num_disp,
+                            std::min(run_frames, kSyntheticRing));
+  } else if (source == "pair") {
+    add_pair(ring, read_image_u8(args.get("left", "")), read_image_u8(args.get("right", "")),
+             "the pair");
+  } else {
+    ring = folder_frames(args.get("folder", ""), left_pattern, right_pattern, run_frames);
+  }
+  config.max_width = ring.width;
+  config.max_height = ring.height;
+
+  const std::string csv_path = args.get("csv", ""), json_path = args.get("json", "");
+  check_writable("--csv", csv_path);
+  check_writable("--json", json_path);
+  std::unique_ptr<TempFile> ply;
+  if (mesh_output) ply = std::make_unique<TempFile>();
+
+  // ---- markers, scheduling, pipeline
+  std::unique_ptr<FrameMarker> marker;
+  if (!gpio_lines.empty()) marker = open_gpio_marker(gpio_lines, "tristereo-profile");
+  FrameMarkerDriver markers(marker.get());
+  // Before configure(): the pipeline's workers are created there and inherit
+  // the calling thread's SCHED_FIFO policy (PTHREAD_INHERIT_SCHED).
+  // The guard puts this thread back to its old policy and unlocks memory on
+  // every exit path; it is declared before the pipeline, so it runs after
+  // the workers have been joined.
+  struct RealtimeGuard {
+    bool on = false;
+    ThreadScheduling saved = current_thread_scheduling();
+    ~RealtimeGuard() {
+      if (!on) return;
+      restore_thread_scheduling(saved);
+      unlock_memory();
+    }
+  } rt_guard;
+  if (realtime) {
+    enable_realtime(rt_priority);
+    rt_guard.on = true;
+  }
+
+  Pipeline pipeline;
+  pipeline.configure(config);
+  FrameLog log(static_cast<std::size_t>(frames));
+  ProgressLine progress(quiet);
+  constexpr int kMeshStage = static_cast<int>(ProfileStage::kMeshOutput);
+
+  std::vector<ImageView<const std::uint8_t>> lefts, rights;
+  for (std::size_t k = 0; k < ring.size(); ++k) {
+    lefts.push_back(std::as_const(ring.left[k]).view());
+    rights.push_back(std::as_const(ring.right[k]).view());
+  }
+
+  // ---- the frame loop
+  std::int64_t loop_start_ns = 0;
+  for (int i = 0; i < run_frames; ++i) {
+    const bool measured = i >= warmup;
+    if (i == warmup) loop_start_ns = monotonic_ns();
+    const std::size_t slot = static_cast<std::size_t>(i) % ring.size();
+    const std::int64_t cpu0 = process_cpu_ns();
+    const std::int64_t t0 = monotonic_ns();
+    markers.frame_begin();
+    const StereoOutput& out = pipeline.process(lefts[slot], rights[slot]);
+    std::int64_t mesh_ns = 0;
+    if (mesh_output) {
+      markers.stage_begin(kMeshStage);
+      const std::int64_t m0 = monotonic_ns();
+      write_mesh_ply(ply->path(), out.mesh, out.vertex_disp_q4, lefts[slot], nullptr, true);
+      mesh_ns = monotonic_ns() - m0;
+      markers.stage_end(kMeshStage);
+    }
+    markers.frame_end();
+    const std::int64_t t1 = monotonic_ns();
+    const std::int64_t cpu1 = process_cpu_ns();
+
+    if (measured) {
+      const FrameTimings& t = pipeline.last_timings();
+      FrameSample s;
+      s.stage_ns[static_cast<int>(ProfileStage::kTritree)] = t.tritree_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kCostAggregation)] = t.cost_aggregation_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kDp)] = t.dp_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kInterpolation)] = t.interpolation_ns;
+      s.stage_ns[kMeshStage] = mesh_ns;
+      s.total_ns = t1 - t0;
+      s.cpu_ns = cpu1 - cpu0;
+      log.push(s);
+      progress.update("frame", i - warmup + 1, frames, s.total_ns);
+    } else {
+      progress.update("warm-up", i + 1, warmup, t1 - t0);
+    }
+  }
+  const std::int64_t wall_ns = monotonic_ns() - loop_start_ns;
+  progress.clear();
+
+  // ---- reports
+  ProfileRunConfig rc;
+  rc.source = source;
+  rc.width = ring.width;
+  rc.height = ring.height;
+  rc.num_disp = config.params.num_disp;
+  rc.d_min = config.params.d_min;
+  rc.dense = config.params.dense;
+  rc.weights = to_string(config.params.cost.weights);
+  rc.window_w = config.params.cost.window_w;
+  rc.window_h = config.params.cost.window_h;
+  rc.psnr_db = config.params.tritree.psnr_deci_db / 10.0;
+  rc.max_area_px2 = config.params.tritree.max_area_px2;
+  rc.threads = pipeline.worker_count();
+  rc.kernels = to_string(pipeline.active_kernels());
+  rc.cpus = config.cpus;
+  rc.realtime = realtime;
+  rc.realtime_priority = realtime ? rt_priority : 0;
+  rc.gpio = gpio_text;
+  rc.mesh_output = mesh_output;
+  rc.warmup_frames = warmup;
+  rc.frames = frames;
+  const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
+  const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine);
+
+  write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, mesh_output); });
+  write_report(json_path, [&](std::ostream& os) { write_profile_json(os, report); });
+  if (!quiet) write_profile_table(std::cout, report);
+  return 0;
+}
+
+}  // namespace tristereo::cli

@@ -1,0 +1,136 @@
+// Kernel micro-benchmarks: every KernelSet entry x every kernel set this CPU can
+// run x D in {16, 64, 128, 256}, named kernel/set/D (e.g. dp_step/avx2/64).
+// items_per_second counts disparity evaluations (one element of the kernel's n).
+//
+//   bench_kernels --benchmark_filter='accumulate.*/64$'
+//
+// For a scalar baseline without the compiler's auto-vectoriser, configure with
+// -DTRISTEREO_SCALAR_NO_AUTOVEC=ON (simd/README.md).
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "src/kernels/dispatch.hpp"
+#include "src/kernels/kernel_set.hpp"
+#include "tristereo/kernels.hpp"
+
+namespace tristereo {
+namespace {
+
+constexpr int kRows = 16;  // distinct inputs per iteration, like 16 window pixels
+
+struct Inputs {
+  std::vector<std::uint8_t> right;   // kRows rows of D (+ slack for misalignment)
+  std::vector<std::uint8_t> left;    // kRows
+  std::vector<std::uint16_t> sum16;  // D
+  std::vector<std::uint32_t> sum32;  // D
+  std::vector<std::uint16_t> cost;   // D
+  std::vector<std::uint32_t> prev;   // D
+  explicit Inputs(int d) : right(kRows * (d + 1)), left(kRows), sum16(d), sum32(d), cost(d), prev(d) {
+    std::mt19937 rng(42);
+    for (auto& v : right) v = static_cast<std::uint8_t>(rng());
+    for (auto& v : left) v = static_cast<std::uint8_t>(rng());
+    for (auto& v : sum16) v = static_cast<std::uint16_t>(rng() % (25 * 255));
+    for (auto& v : sum32) v = rng() % (961 * 255 * 255);
+    for (auto& v : cost) v = static_cast<std::uint16_t>(rng() % 4081);
+    for (auto& v : prev) v = rng() % (4080 + 255 * 400);
+  }
+  // Row r starts at an odd offset so loads are misaligned, as in a real row.
+  const std::uint8_t* row(int r, int d) const { return right.data() + r * (d + 1) + 1; }
+};
+
+void bench_accumulate_u16(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint16_t> acc(d);
+  for (auto _ : state) {
+    for (int r = 0; r < kRows; ++r) ks->accumulate_abs_diff_u16(in.row(r, d), in.left[r], 40, d, acc.data());
+    benchmark::DoNotOptimize(acc.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kRows * d);
+}
+
+void bench_accumulate_weighted_u32(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint32_t> acc(d);
+  for (auto _ : state) {
+    for (int r = 0; r < kRows; ++r)
+      ks->accumulate_abs_diff_weighted_u32(in.row(r, d), in.left[r], static_cast<std::uint16_t>(100 + r), 255, d, acc.data());
+    benchmark::DoNotOptimize(acc.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kRows * d);
+}
+
+void bench_normalize_u16(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint16_t> out(d);
+  const std::uint64_t inv = (std::uint64_t{1} << 32) / 25;
+  for (auto _ : state) {
+    ks->normalize_costs_u16(in.sum16.data(), inv, d, out.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * d);
+}
+
+void bench_normalize_u32(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint16_t> out(d);
+  const std::uint64_t inv = (std::uint64_t{1} << 32) / (961 * 255);
+  for (auto _ : state) {
+    ks->normalize_costs_u32(in.sum32.data(), inv, d, out.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * d);
+}
+
+void bench_dp_step(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint32_t> prev = in.prev, out(d);
+  std::vector<std::uint8_t> ptr(d);
+  for (auto _ : state) {
+    // Chained like a row: out (<= 4080 + 255 * 400) becomes the next prev.
+    ks->dp_step(in.cost.data(), prev.data(), 400, d, out.data(), ptr.data());
+    prev.swap(out);
+    benchmark::DoNotOptimize(ptr.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * d);
+}
+
+void register_all() {
+  using Fn = void (*)(benchmark::State&, const KernelSet*, int);
+  const std::pair<const char*, Fn> kernels[] = {
+      {"accumulate_abs_diff_u16", bench_accumulate_u16},
+      {"accumulate_abs_diff_weighted_u32", bench_accumulate_weighted_u32},
+      {"normalize_costs_u16", bench_normalize_u16},
+      {"normalize_costs_u32", bench_normalize_u32},
+      {"dp_step", bench_dp_step},
+  };
+  for (const auto& [kernel, fn] : kernels) {
+    for (KernelChoice set : available_kernel_sets()) {
+      const KernelSet* ks = &kernel_set_for(set);
+      for (int d : {16, 64, 128, 256}) {
+        const std::string name = std::string(kernel) + "/" + to_string(set) + "/" + std::to_string(d);
+        benchmark::RegisterBenchmark(name.c_str(), fn, ks, d);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tristereo
+
+int main(int argc, char** argv) {
+  tristereo::register_all();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,79 @@
+#!/bin/sh
+# Cross-builds tristereo for ARM and runs the whole test suite under qemu-user.
+#
+# Usage: scripts/cross-test.sh [aarch64|armhf|all]     (default: all)
+# Environment:
+#   TRISTEREO_CROSS_BUILD_ROOT  where build-cross-<target>/ go (default: the repo)
+#   TRISTEREO_CROSS_JOBS        parallel compile and test jobs (default: 2)
+#   TRISTEREO_CROSS_BENCH       ON to build bench/ for the target too (default OFF:
+#                               benchmarks mean nothing under an emulator)
+#   TRISTEREO_CROSS_REQUIRE_SIMD  ON (default) fails the configure step if the
+#                               NEON kernels cannot be built, instead of testing
+#                               a scalar-only build
+#   TRISTEREO_CROSS_SKIP_DEPS   1 to skip scripts/install-cross-deps.sh
+#
+# Each target uses its CMake preset (aarch64-release, armhf-release), so the
+# toolchain file and its qemu emulator setting make plain ctest run the ARM
+# binaries. Exit status: 0 only if every target configured, built and passed.
+set -u
+
+repo=$(cd "$(dirname "$0")/.." && pwd)
+targets="${1:-all}"
+case "$targets" in
+  all) targets="aarch64 armhf" ;;
+  aarch64|armhf) ;;
+  *) echo "cross-test: unknown target '$targets' (expected aarch64, armhf or all)" >&2; exit 2 ;;
+esac
+build_root="${TRISTEREO_CROSS_BUILD_ROOT:-$repo}"
+jobs="${TRISTEREO_CROSS_JOBS:-2}"
+bench="${TRISTEREO_CROSS_BENCH:-OFF}"
+require_simd="${TRISTEREO_CROSS_REQUIRE_SIMD:-ON}"
+cd "$repo" || exit 1  # cmake --preset reads CMakePresets.json from here
+
+if [ "${TRISTEREO_CROSS_SKIP_DEPS:-0}" != "1" ]; then
+  # shellcheck disable=SC2086
+  sh "$repo/scripts/install-cross-deps.sh" $targets || { echo "cross-test: installing cross dependencies failed" >&2; exit 1; }
+fi
+
+summary=""
+failed=0
+now() { date +%s; }
+
+for t in $targets; do
+  dir="$build_root/build-cross-$t"
+  log_prefix="cross-test[$t]"
+  status="passed"
+  t0=$(now)
+  echo "==== $log_prefix: configure ($dir)"
+  if ! cmake --preset "$t-release" -B "$dir" \
+       -DTRISTEREO_BUILD_BENCH="$bench" -DTRISTEREO_REQUIRE_SIMD="$require_simd"; then
+    status="CONFIGURE FAILED"
+  fi
+  t1=$(now)
+  if [ "$status" = "passed" ]; then
+    echo "==== $log_prefix: build"
+    cmake --build "$dir" -j "$jobs" || status="BUILD FAILED"
+  fi
+  t2=$(now)
+  tests="-"
+  if [ "$status" = "passed" ]; then
+    echo "==== $log_prefix: ctest under qemu"
+    ctest_log="$dir/cross-ctest.log"
+    ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" 2>&1 | tee "$ctest_log"
+    # tee hides ctest's exit status from a POSIX shell; its summary line tells.
+    tests=$(grep -E '^[0-9]+% tests passed' "$ctest_log" | tail -n 1)
+    case "$tests" in
+      "100% tests passed"*) ;;
+      *) status="TESTS FAILED" ;;
+    esac
+    [ -n "$tests" ] || tests="no ctest summary"
+  fi
+  t3=$(now)
+  [ "$status" = "passed" ] || failed=1
+  summary="$summary
+  $t: $status | configure $((t1 - t0)) s, build $((t2 - t1)) s, tests $((t3 - t2)) s | $tests"
+done
+
+echo
+echo "==== cross-test summary (jobs=$jobs, bench=$bench)$summary"
+exit "$failed"

@@ -1,0 +1,23 @@
+// The neon instantiation of every kernel in simd/kernels-inl.hpp. This is the
+// only translation unit built with the neon flags (see simd/CMakeLists.txt), so
+// nothing here may be an inline non-template function shared with other code.
+#include "simd/kernels-inl.hpp"
+#include "src/kernels/kernel_set.hpp"
+
+namespace tristereo {
+namespace simd {
+
+TRISTEREO_SIMD_KERNELS_FOR_ARCH(, xsimd::neon)
+
+// Fills the caller's table (no KernelSet is constructed in this TU).
+void fill_kernel_set_neon(KernelSet& set) {
+  set.name = "neon";
+  set.accumulate_abs_diff_u16 = &AccumulateAbsDiffU16<xsimd::neon>::call;
+  set.accumulate_abs_diff_weighted_u32 = &AccumulateAbsDiffWeightedU32<xsimd::neon>::call;
+  set.normalize_costs_u16 = &NormalizeCostsU16<xsimd::neon>::call;
+  set.normalize_costs_u32 = &NormalizeCostsU32<xsimd::neon>::call;
+  set.dp_step = &DpStep<xsimd::neon>::call;
+}
+
+}  // namespace simd
+}  // namespace tristereo

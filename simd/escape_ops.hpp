@@ -1,0 +1,258 @@
+// Escape hatches: the few lane operations the kernels need that xsimd 8.1.0
+// either lacks (mulhi, truncating narrow) or implements badly for our types
+// (SSE2 integer min and 16-bit multiply fall back to select chains or a scalar
+// loop; AVX2 zip_lo/zip_hi interleave within 128-bit halves, not across).
+//
+// Every operation has:
+//   - a scalar twin on one lane (`*_lane`), which is its exact definition;
+//   - a generic version for any Arch, built from xsimd ops or, where xsimd has
+//     nothing, by applying the scalar twin lane by lane through memory;
+//   - per-arch overrides with intrinsics, selected by tag dispatch on the arch
+//     hierarchy (avx2 derives from generic, neon64 from neon), compiled only
+//     when the arch's headers are enabled in this translation unit.
+// All functions are templates on Arch, so an SSE2 and an AVX2 instantiation are
+// distinct symbols and the linker can never merge code built with different
+// arch flags. The per-arch kernel tests (tests/simd_kernels_test.cpp) reach
+// every override through the kernels and compare them with the scalar kernels.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+namespace tristereo {
+namespace simd {
+namespace escape {
+
+template <class T, class A>
+using batch = xsimd::batch<T, A>;
+
+// ---------------------------------------------------------------- scalar twins
+// Internal linkage: these are compiled into every arch object with its flags
+// and must never be merged across objects by the linker.
+namespace {
+inline std::uint8_t min_u8_lane(std::uint8_t a, std::uint8_t b) { return a < b ? a : b; }
+inline std::uint16_t mullo_u16_lane(std::uint16_t a, std::uint16_t b) {
+  return static_cast<std::uint16_t>(std::uint32_t{a} * b);
+}
+inline std::uint16_t mulhi_u16_lane(std::uint16_t a, std::uint16_t b) {
+  return static_cast<std::uint16_t>((std::uint32_t{a} * b) >> 16);
+}
+// Packed DP keys: plain unsigned min (see min_key below for the SSE2 contract).
+inline std::uint32_t min_key_lane(std::uint32_t a, std::uint32_t b) { return a < b ? a : b; }
+// Narrowing keeps the low bits (C++ conversion to an unsigned type).
+inline std::uint16_t narrow_u32_lane(std::uint32_t a) { return static_cast<std::uint16_t>(a); }
+inline std::uint8_t narrow_u16_lane(std::uint16_t a) { return static_cast<std::uint8_t>(a); }
+}  // namespace
+
+namespace detail {
+
+// Applies a lane function through memory: the portable fallback.
+template <class T, class A, class F>
+batch<T, A> apply_lanes(const batch<T, A>& a, const batch<T, A>& b, F f) {
+  constexpr std::size_t n = batch<T, A>::size;
+  alignas(64) T x[n];
+  alignas(64) T y[n];
+  a.store_aligned(x);
+  b.store_aligned(y);
+  for (std::size_t i = 0; i < n; ++i) x[i] = f(x[i], y[i]);
+  return batch<T, A>::load_aligned(x);
+}
+
+// Two wide batches -> one narrow batch holding their lanes in order, low bits kept.
+template <class N, class W, class A, class F>
+batch<N, A> narrow_lanes(const batch<W, A>& a, const batch<W, A>& b, F f) {
+  constexpr std::size_t n = batch<W, A>::size;
+  alignas(64) W x[2 * n];
+  alignas(64) N y[2 * n];
+  a.store_aligned(x);
+  b.store_aligned(x + n);
+  for (std::size_t i = 0; i < 2 * n; ++i) y[i] = f(x[i]);
+  return batch<N, A>::load_aligned(y);
+}
+
+// ---- min of u8
+template <class A>
+batch<std::uint8_t, A> min_u8(const batch<std::uint8_t, A>& a, const batch<std::uint8_t, A>& b,
+                              const xsimd::generic&) {
+  return xsimd::min(a, b);  // native on AVX2 and NEON
+}
+// ---- 16-bit multiply, low half
+template <class A>
+batch<std::uint16_t, A> mullo_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::generic&) {
+  return a * b;  // native on AVX2 and NEON
+}
+// ---- 16-bit multiply, high half
+template <class A>
+batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::generic&) {
+  return apply_lanes(a, b, mulhi_u16_lane);
+}
+// ---- min of packed DP keys
+template <class A>
+batch<std::uint32_t, A> min_key(const batch<std::uint32_t, A>& a,
+                                const batch<std::uint32_t, A>& b, const xsimd::generic&) {
+  return xsimd::min(a, b);  // native unsigned min on AVX2 and NEON
+}
+// ---- truncating narrows
+template <class A>
+batch<std::uint16_t, A> narrow_u32(const batch<std::uint32_t, A>& a,
+                                   const batch<std::uint32_t, A>& b, const xsimd::generic&) {
+  return narrow_lanes<std::uint16_t>(a, b, narrow_u32_lane);
+}
+template <class A>
+batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::generic&) {
+  return narrow_lanes<std::uint8_t>(a, b, narrow_u16_lane);
+}
+// ---- order fix before an interleave with zero (widening): identity where
+// zip_lo/zip_hi are true full-width interleaves (SSE2, NEON).
+template <class T, class A>
+batch<T, A> zip_order(const batch<T, A>& a, const xsimd::generic&) {
+  return a;
+}
+
+#if XSIMD_WITH_SSE2
+template <class A>
+batch<std::uint8_t, A> min_u8(const batch<std::uint8_t, A>& a, const batch<std::uint8_t, A>& b,
+                              const xsimd::sse2&) {
+  return _mm_min_epu8(a, b);
+}
+template <class A>
+batch<std::uint16_t, A> mullo_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::sse2&) {
+  return _mm_mullo_epi16(a, b);
+}
+template <class A>
+batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::sse2&) {
+  return _mm_mulhi_epu16(a, b);
+}
+// SSE2 has no 32-bit min at all (pminud is SSE4.1) and xsimd 8.1 builds the
+// unsigned one from two sign flips and a <= made of < and ==. DP keys stay below
+// 2^31 (value < 2^23 before the 8-bit index; the kernel adds at most 4 steps
+// of 255 * 32000 << 8 on top, see dp_step in kernels-inl.hpp), so a signed
+// compare orders them like an unsigned one.
+template <class A>
+batch<std::uint32_t, A> min_key(const batch<std::uint32_t, A>& a,
+                                const batch<std::uint32_t, A>& b, const xsimd::sse2&) {
+  const __m128i a_gt_b = _mm_cmpgt_epi32(a, b);
+  return _mm_or_si128(_mm_and_si128(a_gt_b, b), _mm_andnot_si128(a_gt_b, a));
+}
+// packs_epi32 saturates signed values; sign-extending the low 16 bits first
+// makes every value representable, so the pack is an exact truncation.
+template <class A>
+batch<std::uint16_t, A> narrow_u32(const batch<std::uint32_t, A>& a,
+                                   const batch<std::uint32_t, A>& b, const xsimd::sse2&) {
+  const __m128i a16 = _mm_srai_epi32(_mm_slli_epi32(a, 16), 16);
+  const __m128i b16 = _mm_srai_epi32(_mm_slli_epi32(b, 16), 16);
+  return _mm_packs_epi32(a16, b16);
+}
+template <class A>
+batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::sse2&) {
+  const __m128i low = _mm_set1_epi16(0x00ff);
+  return _mm_packus_epi16(_mm_and_si128(a, low), _mm_and_si128(b, low));
+}
+#endif
+
+#if XSIMD_WITH_AVX2
+template <class A>
+batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::avx2&) {
+  return _mm256_mulhi_epu16(a, b);
+}
+// AVX2 packs work within each 128-bit half; the qword permute (0, 2, 1, 3)
+// puts the halves back in lane order.
+constexpr int kQwordOrder0213 = 0xD8;
+template <class A>
+batch<std::uint16_t, A> narrow_u32(const batch<std::uint32_t, A>& a,
+                                   const batch<std::uint32_t, A>& b, const xsimd::avx2&) {
+  const __m256i a16 = _mm256_srai_epi32(_mm256_slli_epi32(a, 16), 16);
+  const __m256i b16 = _mm256_srai_epi32(_mm256_slli_epi32(b, 16), 16);
+  return _mm256_permute4x64_epi64(_mm256_packs_epi32(a16, b16), kQwordOrder0213);
+}
+template <class A>
+batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::avx2&) {
+  const __m256i low = _mm256_set1_epi16(0x00ff);
+  return _mm256_permute4x64_epi64(
+      _mm256_packus_epi16(_mm256_and_si256(a, low), _mm256_and_si256(b, low)), kQwordOrder0213);
+}
+// xsimd 8.1's AVX2 zip_lo/zip_hi are the in-lane unpacks: zip_lo(x, 0) widens
+// elements 0-7 and 16-23. Pre-permuting the qwords makes them a true widening.
+template <class T, class A>
+batch<T, A> zip_order(const batch<T, A>& a, const xsimd::avx2&) {
+  return _mm256_permute4x64_epi64(a, kQwordOrder0213);
+}
+#endif
+
+#if XSIMD_WITH_NEON
+template <class A>
+batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::neon&) {
+  const uint32x4_t lo = vmull_u16(vget_low_u16(a), vget_low_u16(b));
+  const uint32x4_t hi = vmull_u16(vget_high_u16(a), vget_high_u16(b));
+  return vcombine_u16(vshrn_n_u32(lo, 16), vshrn_n_u32(hi, 16));
+}
+template <class A>
+batch<std::uint16_t, A> narrow_u32(const batch<std::uint32_t, A>& a,
+                                   const batch<std::uint32_t, A>& b, const xsimd::neon&) {
+  return vcombine_u16(vmovn_u32(a), vmovn_u32(b));
+}
+template <class A>
+batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b, const xsimd::neon&) {
+  return vcombine_u8(vmovn_u16(a), vmovn_u16(b));
+}
+#endif
+
+}  // namespace detail
+
+// ---------------------------------------------------------------- public escapes
+template <class A>
+batch<std::uint8_t, A> min_u8(const batch<std::uint8_t, A>& a, const batch<std::uint8_t, A>& b) {
+  return detail::min_u8(a, b, A{});
+}
+template <class A>
+batch<std::uint16_t, A> mullo_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b) {
+  return detail::mullo_u16(a, b, A{});
+}
+template <class A>
+batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b) {
+  return detail::mulhi_u16(a, b, A{});
+}
+template <class A>
+batch<std::uint32_t, A> min_key(const batch<std::uint32_t, A>& a,
+                                const batch<std::uint32_t, A>& b) {
+  return detail::min_key(a, b, A{});
+}
+template <class A>
+batch<std::uint16_t, A> narrow_u32(const batch<std::uint32_t, A>& a,
+                                   const batch<std::uint32_t, A>& b) {
+  return detail::narrow_u32(a, b, A{});
+}
+template <class A>
+batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
+                                  const batch<std::uint16_t, A>& b) {
+  return detail::narrow_u16(a, b, A{});
+}
+
+// Widens unsigned lanes to twice their width: lo gets elements 0 .. n/2-1,
+// hi gets n/2 .. n-1 (zip with zero, little-endian lane layout).
+template <class T, class W, class A>
+void widen(const batch<T, A>& a, batch<W, A>& lo, batch<W, A>& hi) {
+  static_assert(sizeof(W) == 2 * sizeof(T), "widen doubles the lane width");
+  const batch<T, A> ordered = detail::zip_order(a, A{});
+  const batch<T, A> zero(T{0});
+  lo = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_lo(ordered, zero));
+  hi = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_hi(ordered, zero));
+}
+
+}  // namespace escape
+}  // namespace simd
+}  // namespace tristereo

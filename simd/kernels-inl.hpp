@@ -1,0 +1,388 @@
+// Bodies of the SIMD kernels declared in simd/kernels.hpp. Included only by
+// simd/arch_<arch>.cpp, each compiled with its own arch flags.
+//
+// Conventions shared by all kernels:
+//   - Pointers are arbitrary (unaligned); n is any value in 1 .. 256.
+//   - Tails: full blocks run straight from the caller's memory; the remainder
+//     runs the *same* block code once more on zero-padded stack copies and only
+//     the valid part is copied back (libyuv's "any" pattern). There is no
+//     second tail algorithm, and nothing is read or written past n.
+//   - Lane layout is little-endian (x86, AArch64, ARMv7 little-endian): the
+//     low 16 bits of a u32 lane are the even u16 lane of the same register.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include <xsimd/xsimd.hpp>
+
+#include "simd/escape_ops.hpp"
+#include "simd/kernels.hpp"
+#include "src/kernels/kernels_scalar.hpp"
+
+namespace tristereo {
+namespace simd {
+namespace detail {
+
+template <class T, class A>
+using batch = xsimd::batch<T, A>;
+
+// Largest n any kernel is given (D <= 256, docs/model.md section 5).
+constexpr int kMaxLanes = 256;
+
+// The same kernel one register width down, for remainders too short for a
+// full register: AVX2 hands them to the SSE2 instantiation (always compiled
+// beside it on x86-64) instead of padding 31 elements out to 32. `void` = none.
+template <class A>
+struct Narrower {
+  using type = void;
+};
+template <>
+struct Narrower<xsimd::avx2> {
+  using type = xsimd::sse2;
+};
+
+// Runs block(in + k, io + k) over every full block of Lanes elements. The
+// remainder goes to narrow(in + k, io + k, m) when the arch has a narrower
+// twin (pass nullptr otherwise), else the same block runs once more on padded
+// copies. `io` is read and written (accumulators) or only written (outputs);
+// either way only its first n elements are touched.
+template <int Lanes, class In, class Io, class Block, class Narrow>
+void for_blocks(const In* in, int n, Io* io, Block block, Narrow narrow) {
+  int k = 0;
+  for (; k + Lanes <= n; k += Lanes) block(in + k, io + k);
+  if (k == n) return;
+  if constexpr (!std::is_same<Narrow, std::nullptr_t>::value) {
+    narrow(in + k, io + k, n - k);
+  } else {
+    const std::size_t m = static_cast<std::size_t>(n - k);
+    alignas(64) In in_pad[Lanes] = {};
+    alignas(64) Io io_pad[Lanes] = {};
+    std::memcpy(in_pad, in + k, m * sizeof(In));
+    std::memcpy(io_pad, io + k, m * sizeof(Io));
+    block(in_pad, io_pad);
+    std::memcpy(io + k, io_pad, m * sizeof(Io));
+  }
+}
+
+// nullptr, or a lambda forwarding a remainder to Kernel<Narrower<A>>.
+template <template <class> class Kernel, class A, class Fwd>
+auto narrower_or_null(Fwd fwd) {
+  using Half = typename Narrower<A>::type;
+  if constexpr (std::is_void<Half>::value) {
+    (void)fwd;
+    return nullptr;
+  } else {
+    return [fwd](auto in, auto io, int m) { fwd(&Kernel<Half>::call, in, io, m); };
+  }
+}
+
+// min(|left - right|, trunc) on u8 lanes: |a - b| = (a -sat b) | (b -sat a),
+// one of which is zero.
+template <class A>
+batch<std::uint8_t, A> truncated_abs_diff(const batch<std::uint8_t, A>& left,
+                                          const batch<std::uint8_t, A>& right,
+                                          const batch<std::uint8_t, A>& trunc) {
+  return escape::min_u8(xsimd::ssub(left, right) | xsimd::ssub(right, left), trunc);
+}
+
+// ---- Q32 reciprocal normalisation, exactly as the scalar 64-bit expression.
+// cost = bits 32..47 of (sum * inv * 16 + 2^31) mod 2^64
+//      = bits 28..43 of (p + 2^27), p = sum * inv   (mod 2^60 changes none of them).
+// With 16-bit limbs sum = s0 + s1 2^16 and inv = i0 + i1 2^16 + i2 2^32 (+ higher
+// limbs, which only reach bits >= 48), p is a sum of 16x16 -> 32-bit products
+// placed at columns of 2^16. Let col1 be everything landing at 2^16 (plus the
+// rounding 2^27 = 2^11 * 2^16) and col2 everything at 2^32; the column at 2^0
+// is < 2^16 and carries nothing. Then
+//   cost = ((col1 >> 12) + (col2 << 4)) mod 2^16,
+// and col2 is only needed mod 2^12, so products at 2^48 and above drop out.
+constexpr int kLimbBits = 16;
+constexpr int kColumnShift = 12;                    // 28 - kLimbBits
+constexpr std::uint32_t kColumnHalf = 1u << 11;     // 2^27 / 2^kLimbBits
+constexpr std::uint32_t kColumnLow = (1u << kColumnShift) - 1;
+constexpr std::uint32_t kLimbMask = 0xffffu;
+constexpr int kCol2Shift = kLimbBits - kColumnShift;  // 4: (col2 * 2^32) >> 28
+
+// ---- DP keys: (value << 8) | index, as in src/dp/dp_kernels_scalar.cpp.
+constexpr int kIndexBits = 8;
+// Value written into the lanes past n of the last batch. Real keys are at most
+// ((4080 + 255 * 32000) << 8) | 255 = 2'089'996'735 < kPadKey, so pad lanes never
+// win a min against a real key, and kPadKey plus four penalty steps
+// (4 * 32000 << 8) stays below 2^31 (the SSE2 signed-min contract).
+constexpr std::uint32_t kPadKey = 0x7D000000u;
+
+// Lane-index generators for xsimd::make_batch_constant.
+template <std::size_t S>
+struct ShiftUpIdx {  // lane i takes lane i - S; the first S lanes keep their own
+  static constexpr std::uint32_t get(std::size_t i, std::size_t) {
+    return static_cast<std::uint32_t>(i >= S ? i - S : i);
+  }
+};
+template <std::size_t S>
+struct ShiftDownIdx {  // lane i takes lane i + S; the last S lanes keep their own
+  static constexpr std::uint32_t get(std::size_t i, std::size_t n) {
+    return static_cast<std::uint32_t>(i + S < n ? i + S : i);
+  }
+};
+struct LastIdx {
+  static constexpr std::uint32_t get(std::size_t, std::size_t n) {
+    return static_cast<std::uint32_t>(n - 1);
+  }
+};
+struct FirstIdx {
+  static constexpr std::uint32_t get(std::size_t, std::size_t) { return 0; }
+};
+
+template <class G, class A>
+batch<std::uint32_t, A> permute(const batch<std::uint32_t, A>& x) {
+  return xsimd::swizzle(x, xsimd::make_batch_constant<batch<std::uint32_t, A>, G>());
+}
+
+// In-register min-plus scan (Hillis-Steele): after the step of size s, lane i
+// holds min over j in (i - 2s, i] of key[j] + (i - j) * step. Lanes with no
+// partner at distance s compare with themselves plus s steps, which never wins.
+// Up/Down are ShiftUpIdx (forward pass, j <= i) or ShiftDownIdx (backward).
+template <template <std::size_t> class Shift, class A>
+batch<std::uint32_t, A> min_plus_scan(batch<std::uint32_t, A> x, std::uint32_t step) {
+  constexpr std::size_t lanes = batch<std::uint32_t, A>::size;
+  static_assert(lanes >= 2 && lanes <= 8, "scan written for 2 .. 8 key lanes");
+  x = escape::min_key(x, permute<Shift<1>>(x) + batch<std::uint32_t, A>(step));
+  if constexpr (lanes > 2)
+    x = escape::min_key(x, permute<Shift<2>>(x) + batch<std::uint32_t, A>(2 * step));
+  if constexpr (lanes > 4)
+    x = escape::min_key(x, permute<Shift<4>>(x) + batch<std::uint32_t, A>(4 * step));
+  return x;
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------- cost kernels
+
+template <class Arch>
+void AccumulateAbsDiffU16<Arch>::call(const std::uint8_t* right_rev, std::uint8_t left,
+                                      std::uint8_t trunc, int n, std::uint16_t* acc) {
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int half = static_cast<int>(b16::size);
+  const b8 vleft(left);
+  const b8 vtrunc(trunc);
+  detail::for_blocks<static_cast<int>(b8::size)>(
+      right_rev, n, acc, [&](const std::uint8_t* r, std::uint16_t* a) {
+        b16 lo, hi;
+        escape::widen(detail::truncated_abs_diff(vleft, b8::load_unaligned(r), vtrunc), lo, hi);
+        // Wrapping add: the pipeline guarantees window * trunc <= 65535.
+        (b16::load_unaligned(a) + lo).store_unaligned(a);
+        (b16::load_unaligned(a + half) + hi).store_unaligned(a + half);
+      },
+      detail::narrower_or_null<AccumulateAbsDiffU16, Arch>([&](auto f, auto r, auto a, int m) {
+        f(r, left, trunc, m, a);
+      }));
+}
+
+template <class Arch>
+void AccumulateAbsDiffWeightedU32<Arch>::call(const std::uint8_t* right_rev, std::uint8_t left,
+                                              std::uint16_t weight, std::uint8_t trunc, int n,
+                                              std::uint32_t* acc) {
+  // weight * 255 must fit the 16-bit product; the model's weights are <= 255.
+  constexpr std::uint16_t kMaxWeight16 = 0xffff / 0xff;  // 257
+  if (weight > kMaxWeight16) {
+    accumulate_abs_diff_weighted_u32_scalar(right_rev, left, weight, trunc, n, acc);
+    return;
+  }
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  using b32 = xsimd::batch<std::uint32_t, Arch>;
+  constexpr int quarter = static_cast<int>(b32::size);
+  const b8 vleft(left);
+  const b8 vtrunc(trunc);
+  const b16 vweight(weight);
+  detail::for_blocks<static_cast<int>(b8::size)>(
+      right_rev, n, acc, [&](const std::uint8_t* r, std::uint32_t* a) {
+        b16 d16[2];
+        escape::widen(detail::truncated_abs_diff(vleft, b8::load_unaligned(r), vtrunc), d16[0],
+                      d16[1]);
+        for (int h = 0; h < 2; ++h) {
+          b32 lo, hi;
+          escape::widen(escape::mullo_u16(d16[h], vweight), lo, hi);
+          std::uint32_t* out = a + 2 * h * quarter;
+          (b32::load_unaligned(out) + lo).store_unaligned(out);
+          (b32::load_unaligned(out + quarter) + hi).store_unaligned(out + quarter);
+        }
+      },
+      detail::narrower_or_null<AccumulateAbsDiffWeightedU32, Arch>(
+          [&](auto f, auto r, auto a, int m) { f(r, left, weight, trunc, m, a); }));
+}
+
+template <class Arch>
+void NormalizeCostsU16<Arch>::call(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
+                                   std::uint16_t* cost_q4) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  // sum has one limb: col1 = hi(s*i0) + lo(s*i1) + half, col2 = hi(s*i1) + lo(s*i2).
+  const b16 i0(static_cast<std::uint16_t>(inv_q32));
+  const b16 i1(static_cast<std::uint16_t>(inv_q32 >> detail::kLimbBits));
+  const b16 i2(static_cast<std::uint16_t>(inv_q32 >> (2 * detail::kLimbBits)));
+  const b16 low(static_cast<std::uint16_t>(detail::kColumnLow));
+  const b16 half(static_cast<std::uint16_t>(detail::kColumnHalf));
+  detail::for_blocks<static_cast<int>(b16::size)>(
+      sum, n, cost_q4, [&](const std::uint16_t* s_ptr, std::uint16_t* c_ptr) {
+        const b16 s = b16::load_unaligned(s_ptr);
+        const b16 a = escape::mulhi_u16(s, i0);
+        const b16 b = escape::mullo_u16(s, i1);
+        const b16 col2 = escape::mulhi_u16(s, i1) + escape::mullo_u16(s, i2);
+        // col1 = a + b + half can reach 2^17: shift the parts separately and
+        // carry the sum of their low 12 bits.
+        const b16 col1_shifted = (a >> detail::kColumnShift) + (b >> detail::kColumnShift) +
+                                 (((a & low) + (b & low) + half) >> detail::kColumnShift);
+        (col1_shifted + (col2 << detail::kCol2Shift)).store_unaligned(c_ptr);
+      },
+      detail::narrower_or_null<NormalizeCostsU16, Arch>(
+          [&](auto f, auto s_ptr, auto c_ptr, int m) { f(s_ptr, inv_q32, m, c_ptr); }));
+}
+
+template <class Arch>
+void NormalizeCostsU32<Arch>::call(const std::uint32_t* sum, std::uint64_t inv_q32, int n,
+                                   std::uint16_t* cost_q4) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  using b32 = xsimd::batch<std::uint32_t, Arch>;
+  constexpr int quarter = static_cast<int>(b32::size);
+  const b16 i0(static_cast<std::uint16_t>(inv_q32));
+  const b16 i1(static_cast<std::uint16_t>(inv_q32 >> detail::kLimbBits));
+  const b16 i2(static_cast<std::uint16_t>(inv_q32 >> (2 * detail::kLimbBits)));
+  const b32 mask(detail::kLimbMask);
+  const b32 half(detail::kColumnHalf);
+  // Viewed as u16 lanes, each sum is (s0, s1); one 16-bit multiply by an inv
+  // limb gives both s0*i and s1*i, one column apart, in the low and high halves
+  // of the same u32 lane. Columns are summed in u32 lanes, so nothing overflows.
+  auto costs = [&](const b32& s) {
+    const b16 v = xsimd::bitwise_cast<b16>(s);
+    const b32 lo0 = xsimd::bitwise_cast<b32>(escape::mullo_u16(v, i0));
+    const b32 hi0 = xsimd::bitwise_cast<b32>(escape::mulhi_u16(v, i0));
+    const b32 lo1 = xsimd::bitwise_cast<b32>(escape::mullo_u16(v, i1));
+    const b32 hi1 = xsimd::bitwise_cast<b32>(escape::mulhi_u16(v, i1));
+    const b32 lo2 = xsimd::bitwise_cast<b32>(escape::mullo_u16(v, i2));
+    const b32 col1 = (hi0 & mask) + (lo1 & mask) + (lo0 >> detail::kLimbBits) + half;
+    const b32 col2 = (hi1 & mask) + (hi0 >> detail::kLimbBits) + (lo1 >> detail::kLimbBits) +
+                     (lo2 & mask);
+    return (col1 >> detail::kColumnShift) + (col2 << detail::kCol2Shift);
+  };
+  detail::for_blocks<static_cast<int>(b16::size)>(
+      sum, n, cost_q4, [&](const std::uint32_t* s_ptr, std::uint16_t* c_ptr) {
+        escape::narrow_u32(costs(b32::load_unaligned(s_ptr)),
+                           costs(b32::load_unaligned(s_ptr + quarter)))
+            .store_unaligned(c_ptr);
+      },
+      detail::narrower_or_null<NormalizeCostsU32, Arch>(
+          [&](auto f, auto s_ptr, auto c_ptr, int m) { f(s_ptr, inv_q32, m, c_ptr); }));
+}
+
+// ---------------------------------------------------------------- DP step
+
+// Same packed-key algorithm as dp_step_scalar, vectorised:
+//   forward:  f[k] = min(own[k], f[k-1] + step): a min-plus scan inside each
+//             batch, then min with (carry + (i+1) * step), carry = f of the
+//             previous batch's last lane;
+//   backward: b[k] = min(f[k], b[k+1] + step), the mirror image, batches from
+//             the end, carry = b of the next batch's first lane;
+//   final:    out = cost + (b >> 8) - min g, ptr = b & 0xff, in chunks of one
+//             u8 register (4 key batches) so the indices narrow in registers.
+// min over keys is associative, so the scan gives the same keys as the serial
+// loop; lanes past n hold kPadKey-based keys and cannot change lanes below n
+// (any path through them is longer, and their g is >= g[n-1]).
+template <class Arch>
+void DpStep<Arch>::call(const std::uint16_t* cost_q4, const std::uint32_t* prev,
+                        std::uint32_t penalty, int n, std::uint32_t* out, std::uint8_t* ptr) {
+  using bk = xsimd::batch<std::uint32_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  constexpr int lanes = static_cast<int>(bk::size);
+  constexpr int chunk = static_cast<int>(b8::size);  // = 4 * lanes
+  using Half = typename detail::Narrower<Arch>::type;
+  if constexpr (!std::is_void<Half>::value) {
+    // One narrower final chunk covers the row: the wide passes would be mostly padding.
+    if (n <= chunk / 2) return DpStep<Half>::call(cost_q4, prev, penalty, n, out, ptr);
+  }
+  alignas(64) std::uint32_t keys[detail::kMaxLanes + chunk];
+
+  const std::uint32_t step = penalty << detail::kIndexBits;
+  const int batches = (n + lanes - 1) / lanes;
+  const int chunks = (n + chunk - 1) / chunk;
+
+  alignas(64) std::uint32_t lane_tmp[lanes];
+  for (int i = 0; i < lanes; ++i) lane_tmp[i] = static_cast<std::uint32_t>(i);
+  const bk iota = bk::load_aligned(lane_tmp);
+  for (int i = 0; i < lanes; ++i) lane_tmp[i] = static_cast<std::uint32_t>(i + 1) * step;
+  const bk ramp_up = bk::load_aligned(lane_tmp);
+  for (int i = 0; i < lanes; ++i) lane_tmp[i] = static_cast<std::uint32_t>(lanes - i) * step;
+  const bk ramp_down = bk::load_aligned(lane_tmp);
+
+  // Forward pass.
+  bk carry(detail::kPadKey);
+  for (int b = 0; b < batches; ++b) {
+    const int k = b * lanes;
+    bk values;
+    if (k + lanes <= n) {
+      values = bk::load_unaligned(prev + k);
+    } else {
+      for (int i = 0; i < lanes; ++i) lane_tmp[i] = detail::kPadKey >> detail::kIndexBits;
+      std::memcpy(lane_tmp, prev + k, static_cast<std::size_t>(n - k) * sizeof(std::uint32_t));
+      values = bk::load_aligned(lane_tmp);
+    }
+    bk x = (values << detail::kIndexBits) | (iota + bk(static_cast<std::uint32_t>(k)));
+    x = detail::min_plus_scan<detail::ShiftUpIdx>(x, step);
+    x = escape::min_key(x, carry + ramp_up);
+    x.store_aligned(keys + k);
+    carry = detail::permute<detail::LastIdx>(x);
+  }
+
+  // Backward pass, tracking the smallest key (its value is min g).
+  carry = bk(detail::kPadKey);
+  bk smallest(detail::kPadKey);
+  for (int b = batches - 1; b >= 0; --b) {
+    const int k = b * lanes;
+    bk x = detail::min_plus_scan<detail::ShiftDownIdx>(bk::load_aligned(keys + k), step);
+    x = escape::min_key(x, carry + ramp_down);
+    x.store_aligned(keys + k);
+    carry = detail::permute<detail::FirstIdx>(x);
+    smallest = escape::min_key(smallest, x);
+  }
+  smallest.store_aligned(lane_tmp);
+  std::uint32_t min_key = lane_tmp[0];
+  for (int i = 1; i < lanes; ++i) min_key = lane_tmp[i] < min_key ? lane_tmp[i] : min_key;
+  const bk min_g(min_key >> detail::kIndexBits);
+
+  // Final pass. Keys past the last batch are defined (zero) but discarded.
+  for (int k = batches * lanes; k < chunks * chunk; ++k) keys[k] = 0;
+  auto finish = [&](const std::uint32_t* key, const std::uint16_t* cost, std::uint32_t* o,
+                    std::uint8_t* p) {
+    bk c32[4];
+    escape::widen(b16::load_unaligned(cost), c32[0], c32[1]);
+    escape::widen(b16::load_unaligned(cost + 2 * lanes), c32[2], c32[3]);
+    bk kk[4];
+    for (int j = 0; j < 4; ++j) {
+      kk[j] = bk::load_aligned(key + j * lanes);
+      (c32[j] + (kk[j] >> detail::kIndexBits) - min_g).store_unaligned(o + j * lanes);
+    }
+    escape::narrow_u16(escape::narrow_u32(kk[0], kk[1]), escape::narrow_u32(kk[2], kk[3]))
+        .store_unaligned(p);
+  };
+  for (int c = 0; c < chunks; ++c) {
+    const int k = c * chunk;
+    if (k + chunk <= n) {
+      finish(keys + k, cost_q4 + k, out + k, ptr + k);
+    } else {
+      const std::size_t m = static_cast<std::size_t>(n - k);
+      alignas(64) std::uint16_t cost_pad[chunk] = {};
+      alignas(64) std::uint32_t out_pad[chunk];
+      alignas(64) std::uint8_t ptr_pad[chunk];
+      std::memcpy(cost_pad, cost_q4 + k, m * sizeof(std::uint16_t));
+      finish(keys + k, cost_pad, out_pad, ptr_pad);
+      std::memcpy(out + k, out_pad, m * sizeof(std::uint32_t));
+      std::memcpy(ptr + k, ptr_pad, m);
+    }
+  }
+}
+
+}  // namespace simd
+}  // namespace tristereo

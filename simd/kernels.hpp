@@ -1,0 +1,66 @@
+// SIMD twins of the KernelSet entries (src/kernels/kernel_set.hpp), written once
+// against xsimd and instantiated per architecture in simd/arch_<arch>.cpp, the
+// only files compiled with arch flags.
+//
+// Each kernel is a class template on the xsimd arch tag with one static entry
+// point `call` whose signature is that of its scalar twin, so &K<Arch>::call
+// goes straight into a KernelSet. Bodies live out of class in kernels-inl.hpp:
+// an in-class body would be implicitly inline and compiled (with whatever
+// flags) in every includer, which defeats the extern templates below.
+// Semantics, bounds and rounding are exactly those documented in kernel_set.hpp.
+#pragma once
+
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+namespace tristereo {
+namespace simd {
+
+template <class Arch>
+struct AccumulateAbsDiffU16 {
+  static void call(const std::uint8_t* right_rev, std::uint8_t left, std::uint8_t trunc, int n,
+                   std::uint16_t* acc);
+};
+
+template <class Arch>
+struct AccumulateAbsDiffWeightedU32 {
+  static void call(const std::uint8_t* right_rev, std::uint8_t left, std::uint16_t weight,
+                   std::uint8_t trunc, int n, std::uint32_t* acc);
+};
+
+template <class Arch>
+struct NormalizeCostsU16 {
+  static void call(const std::uint16_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4);
+};
+
+template <class Arch>
+struct NormalizeCostsU32 {
+  static void call(const std::uint32_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4);
+};
+
+template <class Arch>
+struct DpStep {
+  static void call(const std::uint16_t* cost_q4, const std::uint32_t* prev, std::uint32_t penalty,
+                   int n, std::uint32_t* out, std::uint8_t* ptr);
+};
+
+// The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
+#define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
+  KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
+  KEYWORD template struct AccumulateAbsDiffWeightedU32<ARCH>; \
+  KEYWORD template struct NormalizeCostsU16<ARCH>;            \
+  KEYWORD template struct NormalizeCostsU32<ARCH>;            \
+  KEYWORD template struct DpStep<ARCH>;
+
+#if defined(__x86_64__) || defined(_M_X64)
+TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)
+TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::avx2)
+#elif defined(__aarch64__)
+TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::neon64)
+#elif defined(__arm__)
+TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::neon)
+#endif
+
+}  // namespace simd
+}  // namespace tristereo

@@ -1,0 +1,87 @@
+#include "src/interp/interpolate_planes.hpp"
+
+#include <string>
+
+#include "src/tritree/fill_rule.hpp"
+#include "tristereo/fixed_point.hpp"
+#include "tristereo/status.hpp"
+
+namespace tristereo {
+
+namespace {
+
+// Fills [x_begin, x_end) of one row with floor(num(x) / den), num(x) linear in x.
+// num(x_begin) = q den + r with 0 <= r < den; each step adds step = sq den + sr
+// (0 <= sr < den), carrying r into q: exact, one compare per pixel.
+void fill_span(std::int16_t* out, int x_begin, int x_end, std::int64_t num, std::int64_t step,
+               std::int64_t den) {
+  std::int64_t q = floor_div(num, den);
+  std::int64_t r = num - q * den;
+  const std::int64_t sq = floor_div(step, den);
+  const std::int64_t sr = step - sq * den;
+  for (int x = x_begin; x < x_end; ++x) {
+    out[x] = static_cast<std::int16_t>(q);
+    q += sq;
+    r += sr;
+    if (r >= den) {
+      r -= den;
+      ++q;
+    }
+  }
+}
+
+}  // namespace
+
+void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+                           int tri_begin, int tri_end, ImageView<std::int16_t> disp_q4) {
+  const int w = mesh.width, h = mesh.height;
+  if (disp_q4.data == nullptr || vertex_disp_q4 == nullptr)
+    throw Error(ErrorCode::kInvalidArgument, "interpolate_triangles: null buffer");
+  if (disp_q4.width != w || disp_q4.height != h || disp_q4.channels != 1)
+    throw Error(ErrorCode::kSizeMismatch,
+                "disparity map is " + std::to_string(disp_q4.width) + "x" +
+                    std::to_string(disp_q4.height) + "x" + std::to_string(disp_q4.channels) +
+                    ", the mesh is " + std::to_string(w) + "x" + std::to_string(h) + "x1");
+  if (disp_q4.stride_bytes < static_cast<std::ptrdiff_t>(sizeof(std::int16_t)) * w)
+    throw Error(ErrorCode::kInvalidArgument,
+                "disparity map stride " + std::to_string(disp_q4.stride_bytes) +
+                    " bytes is below width * 2 = " + std::to_string(2 * w));
+  const int n_tri = static_cast<int>(mesh.triangles.size());
+  if (tri_begin < 0 || tri_end > n_tri || tri_begin > tri_end)
+    throw Error(ErrorCode::kInvalidArgument,
+                "triangle range [" + std::to_string(tri_begin) + ", " + std::to_string(tri_end) +
+                    ") is not inside [0, " + std::to_string(n_tri) + "]");
+
+  for (int t = tri_begin; t < tri_end; ++t) {
+    const Triangle& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    const Vertex a = mesh.vertices[static_cast<std::size_t>(tri[0])];
+    const Vertex b = mesh.vertices[static_cast<std::size_t>(tri[1])];
+    const Vertex c = mesh.vertices[static_cast<std::size_t>(tri[2])];
+    const std::int64_t da = vertex_disp_q4[tri[0]];
+    const std::int64_t db = vertex_disp_q4[tri[1]];
+    const std::int64_t dc = vertex_disp_q4[tri[2]];
+    const std::int64_t ux = b.x - a.x, uy = b.y - a.y, ud = db - da;
+    const std::int64_t vx = c.x - a.x, vy = c.y - a.y, vd = dc - da;
+    const std::int64_t area2 = ux * vy - uy * vx;  // n_I
+    if (area2 <= 0) continue;                      // not a mesh triangle (precondition)
+
+    if (da == kInvalidDispQ4 || db == kInvalidDispQ4 || dc == kInvalidDispQ4) {
+      for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
+        std::int16_t* row = disp_q4.row(y);
+        for (int x = x0; x < x1; ++x) row[x] = kInvalidDispQ4;
+      });
+      continue;
+    }
+    const std::int64_t nx = uy * vd - ud * vy;
+    const std::int64_t ny = ud * vx - ux * vd;
+    // Rounded value = floor(num / den) with num = 2 N + area2, den = 2 area2;
+    // N falls by n_x per pixel to the right.
+    const std::int64_t den = 2 * area2;
+    for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
+      const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
+      fill_span(disp_q4.row(y), x0, x1, 2 * n0 + area2, -2 * nx, den);
+    });
+  }
+}
+
+}  // namespace tristereo

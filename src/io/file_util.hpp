@@ -1,0 +1,86 @@
+// Private helpers shared by the file readers and writers in src/io/.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "tristereo/image.hpp"
+
+namespace tristereo {
+namespace io_detail {
+
+// Whole file in memory (kIoError if it cannot be opened or read). Readers
+// parse from memory so that "header claims more data than the file holds" is
+// a size comparison, not a short read halfway through a decoder.
+std::vector<std::uint8_t> read_file_bytes(const std::string& path);
+
+// kUnsupportedFormat when width/height/pixels exceed the reader limits,
+// kCorruptFile when a side is < 1. `what` prefixes the message.
+void check_read_size(std::int64_t width, std::int64_t height, const std::string& what);
+
+// Lower-case extension including the dot ("" when none).
+std::string lower_extension(const std::string& path);
+
+// A file being written: removed again unless commit() succeeds, so a failed
+// write leaves no truncated file behind.
+class OutputFile {
+ public:
+  explicit OutputFile(const std::string& path);  // kIoError if it cannot be created
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  std::FILE* get() const { return file_; }
+  void write(const void* data, std::size_t n);  // kIoError on a short write
+  void write(const std::string& s) { write(s.data(), s.size()); }
+  void commit();                                // flush + close, kIoError on failure
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+};
+
+// Throws kInvalidArgument unless the view is non-null, non-empty, has
+// `channels` in the allowed set and a stride covering a row.
+template <typename T>
+void check_write_view(const ImageView<T>& v, int channels_a, int channels_b, const char* what);
+
+[[noreturn]] void throw_view_error(const char* what, const std::string& detail);
+
+template <typename T>
+void check_write_view(const ImageView<T>& v, int channels_a, int channels_b, const char* what) {
+  if (v.data == nullptr) throw_view_error(what, "null data");
+  if (v.width < 1 || v.height < 1) {
+    throw_view_error(what, "size " + std::to_string(v.width) + " x " + std::to_string(v.height) +
+                               " is empty");
+  }
+  if (v.width > 0x7fffffff / 8 || v.height > 0x7fffffff / 8) {
+    throw_view_error(what, "size " + std::to_string(v.width) + " x " + std::to_string(v.height) +
+                               " is too large");
+  }
+  if (v.channels != channels_a && v.channels != channels_b) {
+    throw_view_error(what, std::to_string(v.channels) + " channels, expected " +
+                               std::to_string(channels_a) +
+                               (channels_b != channels_a ? " or " + std::to_string(channels_b)
+                                                         : std::string()));
+  }
+  const std::ptrdiff_t row_bytes =
+      static_cast<std::ptrdiff_t>(v.width) * v.channels * static_cast<std::ptrdiff_t>(sizeof(T));
+  if (v.stride_bytes < row_bytes) {
+    throw_view_error(what, "stride_bytes " + std::to_string(v.stride_bytes) +
+                               " is shorter than a row (" + std::to_string(row_bytes) + ")");
+  }
+}
+
+inline bool host_is_little_endian() {
+  const std::uint16_t one = 1;
+  std::uint8_t b;
+  static_assert(sizeof(one) == 2, "");
+  __builtin_memcpy(&b, &one, 1);
+  return b == 1;
+}
+
+}  // namespace io_detail
+}  // namespace tristereo

@@ -1,0 +1,221 @@
+#include "src/profile/profile_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+
+#include "tristereo/status.hpp"
+
+namespace tristereo {
+
+namespace {
+
+// Decimal text of a double, locale-independent ("%f" with the C locale the
+// library never changes); non-finite values become JSON null.
+std::string fixed(double v, int decimals) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// ns -> "ms.nnnnnn" with integer arithmetic, so no digit is rounded away.
+std::string ns_as_ms(std::int64_t ns) {
+  const bool neg = ns < 0;
+  // Magnitude in unsigned arithmetic: -INT64_MIN does not fit int64.
+  const std::uint64_t mag =
+      neg ? 0 - static_cast<std::uint64_t>(ns) : static_cast<std::uint64_t>(ns);
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%s%llu.%06llu", neg ? "-" : "",
+                static_cast<unsigned long long>(mag / 1000000u),
+                static_cast<unsigned long long>(mag % 1000000u));
+  return buf;
+}
+
+bool mesh_stage_enabled(ProfileStage s, bool mesh_output) {
+  return s != ProfileStage::kMeshOutput || mesh_output;
+}
+
+void write_stats_json(std::ostream& os, const LatencyStats& s) {
+  os << "{\"count\": " << s.count << ", \"min_ms\": " << fixed(s.min_ms, 6)
+     << ", \"p50_ms\": " << fixed(s.p50_ms, 6) << ", \"p90_ms\": " << fixed(s.p90_ms, 6)
+     << ", \"p99_ms\": " << fixed(s.p99_ms, 6) << ", \"max_ms\": " << fixed(s.max_ms, 6)
+     << ", \"mean_ms\": " << fixed(s.mean_ms, 6) << ", \"std_ms\": " << fixed(s.std_ms, 6) << "}";
+}
+
+void write_table_row(std::ostream& os, const std::string& name, const LatencyStats& s) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%-18s %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %8.3f\n", name.c_str(),
+                s.min_ms, s.p50_ms, s.p90_ms, s.p99_ms, s.max_ms, s.mean_ms, s.std_ms);
+  os << buf;
+}
+
+std::string cpu_list_text(const std::vector<int>& cpus) {
+  std::string t;
+  for (std::size_t i = 0; i < cpus.size(); ++i) {
+    if (i) t += ',';
+    t += std::to_string(cpus[i]);
+  }
+  return t;
+}
+
+}  // namespace
+
+ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog& log,
+                                  std::int64_t wall_ns, std::int64_t peak_rss_bytes,
+                                  const ProfileMachine& machine) {
+  if (log.size() == 0) {
+    throw Error(ErrorCode::kInvalidArgument, "profile report of 0 measured frames (need >= 1)");
+  }
+  if (wall_ns <= 0) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "profile wall time " + std::to_string(wall_ns) + " ns (need > 0)");
+  }
+  ProfileReport r;
+  r.config = config;
+  for (int k = 0; k < kProfileStageCount; ++k) {
+    const auto stage = static_cast<ProfileStage>(k);
+    if (!mesh_stage_enabled(stage, config.mesh_output)) continue;
+    r.stages.push_back({profile_stage_name(stage), compute_latency_stats(log.stage_column(stage))});
+  }
+  r.total = compute_latency_stats(log.total_column());
+  r.cpu = compute_latency_stats(log.cpu_column());
+  r.fps_from_mean = r.total.mean_ms > 0 ? 1000.0 / r.total.mean_ms : 0.0;
+  r.wall_s = static_cast<double>(wall_ns) / 1e9;
+  r.wall_fps = static_cast<double>(log.size()) / r.wall_s;
+  r.peak_rss_mb = static_cast<double>(peak_rss_bytes) / (1024.0 * 1024.0);
+  r.machine = machine;
+  return r;
+}
+
+std::vector<std::string> frames_csv_columns(bool mesh_output) {
+  std::vector<std::string> cols{"frame"};
+  for (int k = 0; k < kProfileStageCount; ++k) {
+    const auto stage = static_cast<ProfileStage>(k);
+    if (mesh_stage_enabled(stage, mesh_output))
+      cols.push_back(std::string(profile_stage_name(stage)) + "_ms");
+  }
+  cols.push_back("total_ms");
+  cols.push_back("cpu_ms");
+  return cols;
+}
+
+void write_frames_csv(std::ostream& os, const FrameLog& log, bool mesh_output) {
+  const std::vector<std::string> cols = frames_csv_columns(mesh_output);
+  for (std::size_t i = 0; i < cols.size(); ++i) os << (i ? "," : "") << cols[i];
+  os << '\n';
+  for (std::size_t f = 0; f < log.size(); ++f) {
+    const FrameSample& s = log[f];
+    os << f;
+    for (int k = 0; k < kProfileStageCount; ++k) {
+      if (mesh_stage_enabled(static_cast<ProfileStage>(k), mesh_output))
+        os << ',' << ns_as_ms(s.stage_ns[k]);
+    }
+    os << ',' << ns_as_ms(s.total_ns) << ',' << ns_as_ms(s.cpu_ns) << '\n';
+  }
+}
+
+std::string json_quote(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (c < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += static_cast<char>(c);
+        }
+    }
+  }
+  out += '"';
+  return out;
+}
+
+void write_profile_json(std::ostream& os, const ProfileReport& r) {
+  const ProfileRunConfig& c = r.config;
+  const char* b[] = {"false", "true"};
+  os << "{\n";
+  os << "  \"config\": {\n"
+     << "    \"source\": " << json_quote(c.source) << ",\n"
+     << "    \"width\": " << c.width << ",\n"
+     << "    \"height\": " << c.height << ",\n"
+     << "    \"ndisp\": " << c.num_disp << ",\n"
+     << "    \"dmin\": " << c.d_min << ",\n"
+     << "    \"dense\": " << b[c.dense] << ",\n"
+     << "    \"weights\": " << json_quote(c.weights) << ",\n"
+     << "    \"window\": [" << c.window_w << ", " << c.window_h << "],\n"
+     << "    \"psnr_db\": " << fixed(c.psnr_db, 1) << ",\n"
+     << "    \"max_area_px2\": " << c.max_area_px2 << ",\n"
+     << "    \"threads\": " << c.threads << ",\n"
+     << "    \"kernels\": " << json_quote(c.kernels) << ",\n"
+     << "    \"cpus\": [" << cpu_list_text(c.cpus) << "],\n"
+     << "    \"realtime\": " << b[c.realtime] << ",\n"
+     << "    \"realtime_priority\": " << c.realtime_priority << ",\n"
+     << "    \"gpio\": " << json_quote(c.gpio) << ",\n"
+     << "    \"mesh_output\": " << b[c.mesh_output] << ",\n"
+     << "    \"warmup_frames\": " << c.warmup_frames << ",\n"
+     << "    \"frames\": " << c.frames << "\n"
+     << "  },\n";
+  os << "  \"machine\": {\"cpu_model\": " << json_quote(r.machine.cpu_model)
+     << ", \"online_cpus\": " << r.machine.online_cpus << "},\n";
+  os << "  \"stages\": {\n";
+  for (std::size_t i = 0; i < r.stages.size(); ++i) {
+    os << "    " << json_quote(r.stages[i].name) << ": ";
+    write_stats_json(os, r.stages[i].stats);
+    os << (i + 1 < r.stages.size() ? ",\n" : "\n");
+  }
+  os << "  },\n";
+  os << "  \"total\": ";
+  write_stats_json(os, r.total);
+  os << ",\n  \"cpu\": ";
+  write_stats_json(os, r.cpu);
+  os << ",\n";
+  os << "  \"fps\": {\"from_mean\": " << fixed(r.fps_from_mean, 3)
+     << ", \"wall\": " << fixed(r.wall_fps, 3) << "},\n";
+  os << "  \"wall_s\": " << fixed(r.wall_s, 6) << ",\n";
+  os << "  \"peak_rss_mb\": " << fixed(r.peak_rss_mb, 3) << "\n";
+  os << "}\n";
+}
+
+void write_profile_table(std::ostream& os, const ProfileReport& r) {
+  const ProfileRunConfig& c = r.config;
+  os << "tristereo profile: " << c.width << "x" << c.height << ", D=" << c.num_disp
+     << (c.dense ? " (dense)" : "") << ", " << c.weights << " " << c.window_w << "x" << c.window_h
+     << ", kernels " << c.kernels << ", " << c.threads << " thread(s)";
+  if (!c.cpus.empty()) os << " on cpus " << cpu_list_text(c.cpus);
+  if (c.realtime) os << ", SCHED_FIFO " << c.realtime_priority;
+  os << "\n"
+     << c.frames << " frames measured after " << c.warmup_frames << " warm-up, source " << c.source
+     << "; " << r.machine.cpu_model << "\n\n";
+  char head[160];
+  std::snprintf(head, sizeof head, "%-18s %9s %9s %9s %9s %9s %9s %8s\n", "stage [ms]", "min",
+                "p50", "p90", "p99", "max", "mean", "std");
+  os << head;
+  for (const ProfileStageSummary& s : r.stages) write_table_row(os, s.name, s.stats);
+  write_table_row(os, "total", r.total);
+  write_table_row(os, "cpu (process)", r.cpu);
+  char tail[200];
+  std::snprintf(tail, sizeof tail,
+                "\nfps: %.2f (1000 / mean total), %.2f wall over %.3f s; peak RSS %.1f MiB\n",
+                r.fps_from_mean, r.wall_fps, r.wall_s, r.peak_rss_mb);
+  os << tail;
+}
+
+}  // namespace tristereo

@@ -1,0 +1,89 @@
+// Reports of a latency profiling run (`tristereo profile`): the per-frame CSV,
+// the summary JSON and the human-readable table.
+//
+// Units are in the field names: *_ms milliseconds, *_mb mebibytes (2^20 bytes).
+// docs/profiling.md describes every field.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "src/profile/latency_stats.hpp"
+
+namespace tristereo {
+
+// What was run: echoed verbatim in the JSON "config" object.
+struct ProfileRunConfig {
+  std::string source;  // "synthetic", "pair" or "folder"
+  int width = 0;       // frame size actually processed
+  int height = 0;
+  int num_disp = 0;
+  int d_min = 0;
+  bool dense = false;
+  std::string weights;  // "box" | "adaptive"
+  int window_w = 0;
+  int window_h = 0;
+  double psnr_db = 0;
+  int max_area_px2 = 0;
+  int threads = 0;        // workers actually running
+  std::string kernels;    // kernel set actually active
+  std::vector<int> cpus;  // requested pinning (empty = allowed set)
+  bool realtime = false;  // SCHED_FIFO granted
+  int realtime_priority = 0;
+  std::string gpio;          // GPIO spec ("" = no markers)
+  bool mesh_output = false;  // PLY writing timed as a stage
+  int warmup_frames = 0;
+  int frames = 0;  // measured frames
+};
+
+// The machine the run was measured on (from platform/cpu_features.hpp).
+struct ProfileMachine {
+  std::string cpu_model;
+  int online_cpus = 0;
+};
+
+struct ProfileStageSummary {
+  std::string name;  // profile_stage_name() of the stage
+  LatencyStats stats;
+};
+
+struct ProfileReport {
+  ProfileRunConfig config;
+  std::vector<ProfileStageSummary> stages;  // in pipeline order
+  LatencyStats total;                       // whole frame, wall clock
+  LatencyStats cpu;                         // process CPU time per frame (all threads)
+  double fps_from_mean = 0;                 // 1000 / total.mean_ms
+  double wall_fps = 0;                      // measured frames / wall time of the loop
+  double wall_s = 0;                        // wall time of the measured loop
+  double peak_rss_mb = 0;                   // peak resident set size of the process
+  ProfileMachine machine;
+};
+
+// Summarises a finished log: the four pipeline stages, plus mesh_output when
+// config.mesh_output, the total and the CPU time; fps from the mean and from
+// wall_ns (the measured loop's wall time). Pure: queries nothing itself.
+// Throws Error(kInvalidArgument) if the log is empty or wall_ns <= 0.
+ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog& log,
+                                  std::int64_t wall_ns, std::int64_t peak_rss_bytes,
+                                  const ProfileMachine& machine);
+
+// Column names of the per-frame CSV, in order: frame, <stage>_ms...,
+// total_ms, cpu_ms (mesh_output_ms only when mesh_output).
+std::vector<std::string> frames_csv_columns(bool mesh_output);
+
+// One header line then one row per frame; ms printed exactly from integer ns
+// (6 decimals), so the file round-trips to the nanosecond.
+void write_frames_csv(std::ostream& os, const FrameLog& log, bool mesh_output);
+
+// The summary as one JSON object (UTF-8, strings escaped).
+void write_profile_json(std::ostream& os, const ProfileReport& report);
+
+// The summary as an aligned text table for a terminal.
+void write_profile_table(std::ostream& os, const ProfileReport& report);
+
+// JSON string literal of s, with quotes and escapes.
+std::string json_quote(const std::string& s);
+
+}  // namespace tristereo

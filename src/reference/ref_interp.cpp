@@ -1,0 +1,94 @@
+// Reference: per-triangle plane interpolation (docs/model.md section 4), with
+// its own transcription of the fill rule (section 1) tested pixel by pixel.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "src/reference/ref_match.hpp"
+#include "tristereo/fixed_point.hpp"
+#include "tristereo/status.hpp"
+
+namespace tristereo {
+namespace reference {
+
+namespace {
+
+// Does directed edge u -> v keep pixel p on the triangle's side? E > 0, or
+// E == 0 and the sign of E at p nudged by e (sx, e sy) is positive.
+bool edge_keeps(const Vertex& u, const Vertex& v, int px, int py, int width, int height) {
+  const long long e = static_cast<long long>(v.x - u.x) * (py - u.y) -
+                      static_cast<long long>(v.y - u.y) * (px - u.x);
+  if (e > 0) return true;
+  if (e < 0) return false;
+  const int sx = px == width - 1 ? -1 : 1;
+  const int sy = py == height - 1 ? -1 : 1;
+  const long long first_order = -static_cast<long long>(sx) * (v.y - u.y);  // coefficient of e
+  if (first_order != 0) return first_order > 0;
+  return static_cast<long long>(sy) * (v.x - u.x) > 0;                       // coefficient of e^2
+}
+
+}  // namespace
+
+ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4) {
+  if (vertex_disp_q4.size() != mesh.vertices.size())
+    throw Error(ErrorCode::kSizeMismatch,
+                "vertex_disp_q4 has " + std::to_string(vertex_disp_q4.size()) +
+                    " entries, the mesh has " + std::to_string(mesh.vertices.size()) + " vertices");
+  const int w = mesh.width, h = mesh.height;
+  ImageS16 out(w, h, 1, kInvalidDispQ4);
+  Image<int> owners(w, h, 1, 0);
+
+  for (const Triangle& t : mesh.triangles) {
+    const Vertex& a = mesh.vertices.at(static_cast<std::size_t>(t[0]));
+    const Vertex& b = mesh.vertices.at(static_cast<std::size_t>(t[1]));
+    const Vertex& c = mesh.vertices.at(static_cast<std::size_t>(t[2]));
+    const std::int16_t da = vertex_disp_q4[static_cast<std::size_t>(t[0])];
+    const std::int16_t db = vertex_disp_q4[static_cast<std::size_t>(t[1])];
+    const std::int16_t dc = vertex_disp_q4[static_cast<std::size_t>(t[2])];
+    const bool invalid = da == kInvalidDispQ4 || db == kInvalidDispQ4 || dc == kInvalidDispQ4;
+
+    // Plane normal of the (x, y, d) points. Every coordinate is an integer
+    // below 2^17 and every product below 2^53, so the doubles are exact.
+    const Eigen::Vector3d pa(a.x, a.y, da), pb(b.x, b.y, db), pc(c.x, c.y, dc);
+    const Eigen::Vector3d n = (pb - pa).cross(pc - pa);
+    const double area2 = n.z();
+    if (area2 <= 0)
+      throw Error(ErrorCode::kInvalidArgument, "triangle with non-positive orientation");
+
+    const int x_lo = std::max(0, std::min({a.x, b.x, c.x}));
+    const int x_hi = std::min(w - 1, std::max({a.x, b.x, c.x}));
+    const int y_lo = std::max(0, std::min({a.y, b.y, c.y}));
+    const int y_hi = std::min(h - 1, std::max({a.y, b.y, c.y}));
+    for (int y = y_lo; y <= y_hi; ++y) {
+      for (int x = x_lo; x <= x_hi; ++x) {
+        if (!(edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) &&
+              edge_keeps(c, a, x, y, w, h)))
+          continue;
+        ++owners.at(x, y);
+        if (invalid) {
+          out.at(x, y) = kInvalidDispQ4;
+          continue;
+        }
+        // N = area2 dA - n_x (x - Ax) - n_y (y - Ay): exact, |N| < 2^43.
+        const double num = area2 * da - n.x() * (x - a.x) - n.y() * (y - a.y);
+        // floor((2N + area2) / (2 area2)): the numerator is exact; if the true
+        // quotient is not an integer it is at least 1/(2 area2) > 2^-27 from
+        // one, while the division's rounding error is below 2^-37 (|q| < 2^16),
+        // so the floor of the double quotient is the exact one.
+        out.at(x, y) = static_cast<std::int16_t>(std::floor((2 * num + area2) / (2 * area2)));
+      }
+    }
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (owners.at(x, y) != 1)
+        throw Error(ErrorCode::kInvalidArgument,
+                    "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is owned by " +
+                        std::to_string(owners.at(x, y)) + " triangles, expected exactly 1");
+  return out;
+}
+
+}  // namespace reference
+}  // namespace tristereo

@@ -1,0 +1,55 @@
+// Float reference of the matching stages (docs/model.md sections 2-4): a plain
+// transcription with no KernelSet, no SIMD, no incremental tricks, single
+// thread, allocating freely. The integer path (src/cost, src/dp, src/interp)
+// must equal it bit for bit. Where the model's definition *is* an integer rule
+// (the Q32 normalisation, the weight tables), it is written with integers here
+// too; elsewhere doubles are used on quantities they represent exactly.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "tristereo/image.hpp"
+#include "tristereo/mesh.hpp"
+#include "tristereo/params.hpp"
+
+namespace tristereo {
+namespace reference {
+
+// Ca_q4(xs[i], y, d_min + k) as result[i][k], straight from the definition:
+// per window pixel the clamped-border truncated difference and its weight.
+// left_gray/right_gray: 1 channel, same size. Throws Error on bad input.
+std::vector<std::vector<int>> aggregated_costs(const ImageU8& left_gray,
+                                               const ImageU8& right_gray, int y,
+                                               const std::vector<int>& xs,
+                                               const StereoParams& params);
+
+// P(g) = round(lambda * tau(g)) with halves up, via exact rational arithmetic.
+std::int64_t gap_penalty(const DpParams& dp, int gap);
+
+// One DP step by brute force, O(D^2): g(k) = min_j prev[j] + penalty |k - j|,
+// ptr[k] the smallest minimising j, out[k] = cost[k] + g(k) - min g.
+void dp_step_brute_force(const std::vector<std::int64_t>& cost,
+                         const std::vector<std::int64_t>& prev, std::int64_t penalty,
+                         std::vector<std::int64_t>& out, std::vector<int>& ptr);
+
+// Exact minimiser of E = sum cost[i][k_i] + sum_{i>0} penalty[i] |k_i - k_{i-1}|
+// (penalty[0] unused) with the model's ties: smallest k_n, then smallest
+// back-pointers. Returns k_i per sample.
+std::vector<int> dp_solve(const std::vector<std::vector<std::int64_t>>& cost,
+                          const std::vector<std::int64_t>& penalty);
+
+// Sub-pixel offset in Q4 from Ca at k-1, k, k+1 (0 when the parabola opens down).
+int subpixel_offset_q4(int cm, int c0, int cp);
+
+// Q4 disparities of the samples xs (strictly increasing, in [0, W)) of row y.
+std::vector<std::int16_t> match_row(const ImageU8& left_gray, const ImageU8& right_gray, int y,
+                                    const std::vector<int>& xs, const StereoParams& params);
+
+// Dense Q4 map: every pixel from the plane of the one triangle that owns it
+// (ownership by direct edge-function tests). Throws Error when a pixel is owned
+// by no triangle or by several (the mesh is not a conforming cover).
+ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4);
+
+}  // namespace reference
+}  // namespace tristereo

@@ -1,0 +1,97 @@
+#include "tristereo/gray.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "tristereo/status.hpp"
+
+namespace tristereo {
+namespace {
+
+std::uint8_t gray_of(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  const std::uint8_t rgb[3] = {r, g, b};
+  std::uint8_t out = 0;
+  rgb_to_gray_row_scalar(rgb, 1, &out);
+  return out;
+}
+
+TEST(Gray, HandComputedValues) {
+  EXPECT_EQ(gray_of(255, 0, 0), 77);   // (77*255 + 128) >> 8 = 19763 >> 8
+  EXPECT_EQ(gray_of(0, 255, 0), 149);  // (150*255 + 128) >> 8 = 38378 >> 8
+  EXPECT_EQ(gray_of(0, 0, 255), 29);   // (29*255 + 128) >> 8 = 7523 >> 8
+  EXPECT_EQ(gray_of(100, 150, 200), 141);  // 36128 >> 8
+  EXPECT_EQ(gray_of(0, 0, 0), 0);
+  EXPECT_EQ(gray_of(255, 255, 255), 255);
+  EXPECT_EQ(gray_of(1, 0, 0), 0);      // 205 >> 8: rounding, not truncation of 77/256
+  EXPECT_EQ(gray_of(2, 0, 0), 1);      // 282 >> 8
+}
+
+TEST(Gray, EqualChannelsKeepTheirValue) {
+  for (int v = 0; v < 256; ++v) {
+    const auto u = static_cast<std::uint8_t>(v);
+    EXPECT_EQ(gray_of(u, u, u), u) << v;
+  }
+}
+
+TEST(Gray, StridedViewsWriteOnlyTheImage) {
+  const int w = 5, h = 3, in_stride = 3 * w + 7, out_stride = w + 3;
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(in_stride) * h, 0xEE);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) rgb[y * in_stride + 3 * x + c] = static_cast<std::uint8_t>(40 * c + 10 * x + y);
+  std::vector<std::uint8_t> gray(static_cast<std::size_t>(out_stride) * h + 4, 0xAB);
+  rgb_to_gray_bt601({rgb.data(), w, h, 3, in_stride}, {gray.data(), w, h, 1, out_stride});
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::uint8_t* p = &rgb[y * in_stride + 3 * x];
+      EXPECT_EQ(gray[y * out_stride + x], gray_of(p[0], p[1], p[2]));
+    }
+    for (int x = w; x < out_stride; ++x) EXPECT_EQ(gray[y * out_stride + x], 0xAB);
+  }
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(gray[out_stride * h + i], 0xAB);
+}
+
+TEST(Gray, ToGrayCopiesOneChannelAndConvertsThree) {
+  ImageU8 g(3, 2, 1);
+  for (std::size_t i = 0; i < g.pixels.size(); ++i) g.pixels[i] = static_cast<std::uint8_t>(i * 40);
+  const ImageU8 copy = to_gray(g);
+  EXPECT_EQ(copy.channels, 1);
+  EXPECT_EQ(copy.pixels, g.pixels);
+
+  ImageU8 rgb(2, 1, 3);
+  rgb.pixels = {255, 0, 0, 100, 150, 200};
+  const ImageU8 y = to_gray(rgb);
+  ASSERT_EQ(y.channels, 1);
+  EXPECT_EQ(y.pixels, (std::vector<std::uint8_t>{77, 141}));
+}
+
+TEST(Gray, BadInputThrowsAndLeavesOutputAlone) {
+  ImageU8 two(4, 4, 2);
+  try {
+    to_gray(two);
+    FAIL() << "2 channels accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kUnsupportedFormat);
+  }
+  ImageU8 rgb(4, 4, 3, 200);
+  ImageU8 out(3, 4, 1, 7);
+  try {
+    rgb_to_gray_bt601(static_cast<const ImageU8&>(rgb).view(), out.view());
+    FAIL() << "size mismatch accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kSizeMismatch);
+  }
+  for (auto v : out.pixels) EXPECT_EQ(v, 7);
+  ImageU8 out4(4, 4, 1, 7);
+  ImageView<const std::uint8_t> bad_stride = static_cast<const ImageU8&>(rgb).view();
+  bad_stride.stride_bytes = 4;  // shorter than a 12-byte RGB row
+  EXPECT_THROW(rgb_to_gray_bt601(bad_stride, out4.view()), Error);
+  ImageView<const std::uint8_t> null_view{nullptr, 4, 4, 3, 12};
+  EXPECT_THROW(rgb_to_gray_bt601(null_view, out4.view()), Error);
+  for (auto v : out4.pixels) EXPECT_EQ(v, 7);
+}
+
+}  // namespace
+}  // namespace tristereo

@@ -1,0 +1,368 @@
+// Every SIMD kernel set against the scalar kernels, exactly.
+//
+// Parameterised over each compiled SIMD set (named by set, e.g. .../avx2;
+// skipped with a message when this CPU cannot run it). For each kernel: all
+// lengths that hit body-only, tail-only and body+tail for 16/32-byte registers,
+// every start offset inside a 32-byte register (misaligned pointers), edge
+// values, and outputs surrounded by canaries so a write before or past n fails.
+// Inputs sit at the very end of their allocation so an over-read is a heap
+// overflow under ASan (TRISTEREO_SANITIZE=ON). Then real rows of the
+// Middlebury pairs through a box/weighted aggregation and a DP chain.
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "src/kernels/dispatch.hpp"
+#include "src/kernels/kernel_set.hpp"
+#include "support/kernel_param.hpp"
+#include "tristereo/io.hpp"
+#include "tristereo/status.hpp"
+
+namespace tristereo {
+namespace {
+
+constexpr int kSizes[] = {1, 2, 3, 7, 8, 15, 16, 17, 31, 32, 33, 63, 64, 65, 100, 127, 128, 129, 255, 256};
+constexpr int kOffsets = 32;  // bytes in the widest register (AVX2)
+constexpr int kGuard = 64;    // canary elements on each side of an output
+constexpr int kCases = 4;     // value patterns per (n, offset)
+constexpr std::uint32_t kMaxPenalty = 32000;
+constexpr std::uint32_t kMaxCostQ4 = 4080;
+constexpr std::uint32_t kMaxPrev = kMaxCostQ4 + 255 * kMaxPenalty;  // KernelSet::dp_step bound
+
+// An output (or accumulator) with kGuard canaries before and after its n elements.
+template <class T>
+struct Guarded {
+  std::vector<T> buf;
+  int n;
+  Guarded(const std::vector<T>& init, T canary) : buf(init.size() + 2 * kGuard, canary), n(static_cast<int>(init.size())) {
+    std::copy(init.begin(), init.end(), buf.begin() + kGuard);
+  }
+  T* data() { return buf.data() + kGuard; }
+};
+
+// Empty when equal, else where and how the SIMD result differs from the scalar one.
+template <class T>
+std::string diff(const Guarded<T>& simd, const Guarded<T>& scalar) {
+  for (std::size_t i = 0; i < simd.buf.size(); ++i) {
+    if (simd.buf[i] != scalar.buf[i]) {
+      const long k = static_cast<long>(i) - kGuard;
+      return "first difference at element " + std::to_string(k) +
+             (k < 0 || k >= simd.n ? " (a canary outside [0, n))" : "") + ": simd " +
+             std::to_string(+simd.buf[i]) + ", scalar " + std::to_string(+scalar.buf[i]);
+    }
+  }
+  return {};
+}
+
+// An input placed `offset` elements into its allocation, ending exactly at its end.
+template <class T>
+struct Input {
+  std::vector<T> buf;
+  int offset;
+  Input(const std::vector<T>& values, int off) : buf(values.size() + off), offset(off) {
+    std::copy(values.begin(), values.end(), buf.begin() + off);
+  }
+  const T* data() const { return buf.data() + offset; }
+};
+
+// Value patterns: 0 random, 1 all minimum, 2 all maximum, 3 alternating extremes.
+template <class T>
+std::vector<T> pattern(std::mt19937& rng, int n, int which, T lo, T hi) {
+  std::uniform_int_distribution<std::uint64_t> dist(lo, hi);
+  std::vector<T> v(n);
+  for (int k = 0; k < n; ++k) {
+    switch (which % kCases) {
+      case 0: v[k] = static_cast<T>(dist(rng)); break;
+      case 1: v[k] = lo; break;
+      case 2: v[k] = hi; break;
+      default: v[k] = (k & 1) ? hi : lo; break;
+    }
+  }
+  return v;
+}
+
+template <class T>
+std::vector<T> random_values(std::mt19937& rng, int n, std::uint64_t lo, std::uint64_t hi) {
+  std::uniform_int_distribution<std::uint64_t> dist(lo, hi);
+  std::vector<T> v(n);
+  for (T& x : v) x = static_cast<T>(dist(rng));
+  return v;
+}
+
+class SimdKernels : public ::testing::TestWithParam<KernelChoice> {
+ protected:
+  void SetUp() override { TRISTEREO_SKIP_UNLESS_RUNNABLE(GetParam()); }
+  const KernelSet& simd() const { return kernel_set_for(GetParam()); }
+  const KernelSet& scalar() const { return scalar_kernel_set(); }
+};
+
+// Calls fn(n, offset, case_index, rng) for every size x offset x value case.
+template <class Fn>
+void for_each_case(unsigned seed, Fn fn) {
+  std::mt19937 rng(seed);
+  for (int n : kSizes)
+    for (int offset = 0; offset < kOffsets; ++offset)
+      for (int c = 0; c < kCases; ++c) fn(n, offset, c, rng);
+}
+
+TEST_P(SimdKernels, DispatchGivesTheSetsOwnTable) {
+  const KernelSet& s = simd();
+  EXPECT_STREQ(s.name, to_string(GetParam()));
+  EXPECT_NE(s.accumulate_abs_diff_u16, scalar().accumulate_abs_diff_u16);
+  EXPECT_NE(s.accumulate_abs_diff_weighted_u32, scalar().accumulate_abs_diff_weighted_u32);
+  EXPECT_NE(s.normalize_costs_u16, scalar().normalize_costs_u16);
+  EXPECT_NE(s.normalize_costs_u32, scalar().normalize_costs_u32);
+  EXPECT_NE(s.dp_step, scalar().dp_step);
+}
+
+TEST_P(SimdKernels, EnvironmentOverridesAuto) {
+  const char* old = std::getenv("TRISTEREO_KERNELS");
+  const std::string saved = old ? old : "";
+  setenv("TRISTEREO_KERNELS", to_string(GetParam()), 1);
+  EXPECT_EQ(resolve_kernel_choice(KernelChoice::kAuto), GetParam());
+  EXPECT_STREQ(kernel_set_for(KernelChoice::kAuto).name, to_string(GetParam()));
+  setenv("TRISTEREO_KERNELS", "scalar", 1);
+  EXPECT_EQ(resolve_kernel_choice(KernelChoice::kAuto), KernelChoice::kScalar);
+  EXPECT_EQ(resolve_kernel_choice(GetParam()), GetParam());  // explicit beats env
+  setenv("TRISTEREO_KERNELS", "sse3", 1);
+  EXPECT_THROW(resolve_kernel_choice(KernelChoice::kAuto), Error);
+  if (old) setenv("TRISTEREO_KERNELS", saved.c_str(), 1); else unsetenv("TRISTEREO_KERNELS");
+}
+
+TEST_P(SimdKernels, AccumulateAbsDiffU16) {
+  const std::uint8_t lefts[] = {0, 255, 77, 128};
+  const std::uint8_t truncs[] = {255, 1, 255, 30};
+  for_each_case(1, [&](int n, int offset, int c, std::mt19937& rng) {
+    const Input<std::uint8_t> right(pattern<std::uint8_t>(rng, n, c, 0, 255), offset);
+    // Any start value: both sides wrap mod 2^16 the same way.
+    const std::vector<std::uint16_t> acc0 = random_values<std::uint16_t>(rng, n, 0, 0xffff);
+    const std::uint8_t left = lefts[(c + offset) % 4];
+    const std::uint8_t trunc = truncs[(c + n) % 4];
+    Guarded<std::uint16_t> a(acc0, 0xA5A5), b(acc0, 0xA5A5);
+    simd().accumulate_abs_diff_u16(right.data(), left, trunc, n, a.data());
+    scalar().accumulate_abs_diff_u16(right.data(), left, trunc, n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " case=" << c
+                              << " left=" << +left << " trunc=" << +trunc;
+  });
+}
+
+TEST_P(SimdKernels, AccumulateAbsDiffWeightedU32) {
+  // 0..255 is the model's range; 256/257 are the last weights whose product
+  // fits 16 bits; 1000 and 65535 take the kernel's scalar fallback.
+  const std::uint16_t weights[] = {255, 1, 0, 173, 256, 257, 1000, 65535};
+  const std::uint8_t truncs[] = {255, 1, 200, 17};
+  for_each_case(2, [&](int n, int offset, int c, std::mt19937& rng) {
+    const Input<std::uint8_t> right(pattern<std::uint8_t>(rng, n, c, 0, 255), offset);
+    const std::vector<std::uint32_t> acc0 = random_values<std::uint32_t>(rng, n, 0, 0xffffffffu);
+    const std::uint8_t left = static_cast<std::uint8_t>(c == 1 ? 255 : rng() & 0xff);
+    const std::uint16_t weight = weights[(c + offset) % 8];
+    const std::uint8_t trunc = truncs[(n + offset) % 4];
+    Guarded<std::uint32_t> a(acc0, 0xDEADBEEF), b(acc0, 0xDEADBEEF);
+    simd().accumulate_abs_diff_weighted_u32(right.data(), left, weight, trunc, n, a.data());
+    scalar().accumulate_abs_diff_weighted_u32(right.data(), left, weight, trunc, n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " case=" << c
+                              << " left=" << +left << " weight=" << weight << " trunc=" << +trunc;
+  });
+}
+
+// inv_q32 = floor(2^32 / W) for the model's weight sums, plus arbitrary 64-bit
+// values: the SIMD kernels reproduce the scalar 64-bit expression for any input.
+std::uint64_t pick_inv(std::mt19937& rng, int which) {
+  constexpr std::uint64_t kTwo32 = std::uint64_t{1} << 32;
+  switch (which % 6) {
+    case 0: return kTwo32;                                     // W = 1 (1x1 box)
+    case 1: return kTwo32 / (31 * 31);                         // largest box window
+    case 2: return kTwo32 / (31 * 31 * 255);                   // largest weight sum
+    case 3: return kTwo32 / (1 + rng() % (31 * 31 * 255));     // any model W
+    case 4: return (std::uint64_t{rng()} << 32) | rng();       // arbitrary
+    default: return kTwo32 - 1 - (rng() & 0xffff);             // just below 2^32
+  }
+}
+
+TEST_P(SimdKernels, NormalizeCostsU16) {
+  for_each_case(3, [&](int n, int offset, int c, std::mt19937& rng) {
+    const Input<std::uint16_t> sum(pattern<std::uint16_t>(rng, n, c, 0, 0xffff), offset);
+    const std::uint64_t inv = pick_inv(rng, c + offset);
+    Guarded<std::uint16_t> a(std::vector<std::uint16_t>(n, 0x5A5A), 0x5A5A);
+    Guarded<std::uint16_t> b = a;
+    simd().normalize_costs_u16(sum.data(), inv, n, a.data());
+    scalar().normalize_costs_u16(sum.data(), inv, n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " inv=" << inv;
+  });
+}
+
+TEST_P(SimdKernels, NormalizeCostsU32) {
+  for_each_case(4, [&](int n, int offset, int c, std::mt19937& rng) {
+    // Model sums are < 2^28; the kernel is exact for every u32 anyway.
+    const std::uint32_t hi = (offset & 1) ? 0xffffffffu : (1u << 28) - 1;
+    const Input<std::uint32_t> sum(pattern<std::uint32_t>(rng, n, c, 0, hi), offset);
+    const std::uint64_t inv = pick_inv(rng, c + offset);
+    Guarded<std::uint16_t> a(std::vector<std::uint16_t>(n, 0x5A5A), 0x5A5A);
+    Guarded<std::uint16_t> b = a;
+    simd().normalize_costs_u32(sum.data(), inv, n, a.data());
+    scalar().normalize_costs_u32(sum.data(), inv, n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " inv=" << inv;
+  });
+}
+
+TEST_P(SimdKernels, NormalizeRealWeightSumsIsTheMeanInQ4) {
+  // Known answer through the SIMD kernel: sum = W * c gives exactly 16 c.
+  const int weight_sums[] = {1, 9, 25, 254, 961, 961 * 255};
+  for (int w : weight_sums) {
+    const std::uint64_t inv = (std::uint64_t{1} << 32) / static_cast<std::uint64_t>(w);
+    std::vector<std::uint32_t> sum(256);
+    for (int c = 0; c < 256; ++c) sum[c] = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(c % 256);
+    std::vector<std::uint16_t> cost(256);
+    simd().normalize_costs_u32(sum.data(), inv, 256, cost.data());
+    for (int c = 0; c < 256; ++c) ASSERT_EQ(cost[c], 16 * c) << "W=" << w << " c=" << c;
+  }
+}
+
+// prev patterns for the DP: random over the whole bound, ties, extremes,
+// and a descending ramp (every lane's best j is far to the right).
+std::vector<std::uint32_t> dp_prev(std::mt19937& rng, int n, int which) {
+  std::vector<std::uint32_t> v(n);
+  for (int k = 0; k < n; ++k) {
+    switch (which % 6) {
+      case 0: v[k] = static_cast<std::uint32_t>(rng() % (kMaxPrev + 1)); break;
+      case 1: v[k] = 0; break;
+      case 2: v[k] = kMaxPrev; break;
+      case 3: v[k] = static_cast<std::uint32_t>(rng() % 4); break;  // many equal values
+      case 4: v[k] = static_cast<std::uint32_t>((n - k) * 31); break;
+      default: v[k] = (k & 1) ? kMaxPrev : static_cast<std::uint32_t>(rng() % 50); break;
+    }
+  }
+  return v;
+}
+
+TEST_P(SimdKernels, DpStep) {
+  const std::uint32_t penalties[] = {0, kMaxPenalty, 1, 7, 255, 4096};
+  std::mt19937 rng(5);
+  for (int n : kSizes) {
+    for (int offset = 0; offset < kOffsets; ++offset) {
+      for (int c = 0; c < 6; ++c) {
+        const Input<std::uint32_t> prev(dp_prev(rng, n, c + offset), offset);
+        const Input<std::uint16_t> cost(
+            pattern<std::uint16_t>(rng, n, c, 0, static_cast<std::uint16_t>(kMaxCostQ4)), offset);
+        const std::uint32_t penalty = (c + offset) % 7 == 6
+                                          ? static_cast<std::uint32_t>(rng() % (kMaxPenalty + 1))
+                                          : penalties[(c + offset) % 6];
+        Guarded<std::uint32_t> out_a(std::vector<std::uint32_t>(n, 0xCAFEF00D), 0xCAFEF00D);
+        Guarded<std::uint32_t> out_b = out_a;
+        Guarded<std::uint8_t> ptr_a(std::vector<std::uint8_t>(n, 0xEE), 0xEE);
+        Guarded<std::uint8_t> ptr_b = ptr_a;
+        simd().dp_step(cost.data(), prev.data(), penalty, n, out_a.data(), ptr_a.data());
+        scalar().dp_step(cost.data(), prev.data(), penalty, n, out_b.data(), ptr_b.data());
+        ASSERT_EQ(diff(out_a, out_b), "") << "out: n=" << n << " offset=" << offset
+                                          << " case=" << c << " penalty=" << penalty;
+        ASSERT_EQ(diff(ptr_a, ptr_b), "") << "ptr: n=" << n << " offset=" << offset
+                                          << " case=" << c << " penalty=" << penalty;
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------- Middlebury rows
+
+std::string data_dir() { return TRISTEREO_DATA_DIR; }
+
+// Gray by the model's BT.601 Q8 rule (docs/model.md section 0).
+std::vector<std::uint8_t> gray_of(const ImageU8& img) {
+  std::vector<std::uint8_t> g(static_cast<std::size_t>(img.width) * img.height);
+  for (int y = 0; y < img.height; ++y) {
+    const std::uint8_t* row = img.row(y);
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint8_t* p = row + x * img.channels;
+      g[static_cast<std::size_t>(y) * img.width + x] =
+          img.channels >= 3 ? static_cast<std::uint8_t>((77 * p[0] + 150 * p[1] + 29 * p[2] + 128) >> 8)
+                            : p[0];
+    }
+  }
+  return g;
+}
+
+TEST_P(SimdKernels, MiddleburyRowsThroughAggregationAndDp) {
+  const char* kSets[] = {"tsukuba", "venus", "teddy", "cones"};
+  constexpr int kHalf = 2;  // 5x5 window
+  for (const char* name : kSets) {
+    const std::string dir = data_dir() + "/middlebury/" + name;
+    ImageU8 left_img, right_img;
+    try {
+      left_img = read_image_u8(dir + "/left.png");
+      right_img = read_image_u8(dir + "/right.png");
+    } catch (const Error& e) {
+      const char* allow = std::getenv("TRISTEREO_ALLOW_MISSING_DATA");
+      if (allow && std::string(allow) == "1") GTEST_SKIP() << "no Middlebury data: " << e.what();
+      FAIL() << "cannot read " << dir << ": " << e.what();
+    }
+    const int w = left_img.width, h = left_img.height;
+    const std::vector<std::uint8_t> L = gray_of(left_img), R = gray_of(right_img);
+    auto at = [w, h](const std::vector<std::uint8_t>& img, int x, int y) {
+      x = x < 0 ? 0 : (x >= w ? w - 1 : x);
+      y = y < 0 ? 0 : (y >= h ? h - 1 : y);
+      return img[static_cast<std::size_t>(y) * w + x];
+    };
+    for (int d_count : {16, 61, 64}) {
+      for (int y : {h / 4, h / 2, (3 * h) / 4}) {
+        std::vector<std::uint32_t> prev_a(d_count), prev_b(d_count);
+        std::vector<std::uint8_t> right_rev(d_count);
+        for (int x = 0; x < w; ++x) {
+          std::vector<std::uint16_t> box_a(d_count, 0), box_b(d_count, 0);
+          std::vector<std::uint32_t> wsum_a(d_count, 0), wsum_b(d_count, 0);
+          std::uint32_t weight_total = 0;
+          for (int dy = -kHalf; dy <= kHalf; ++dy) {
+            for (int dx = -kHalf; dx <= kHalf; ++dx) {
+              const std::uint8_t l = at(L, x + dx, y + dy);
+              for (int k = 0; k < d_count; ++k) right_rev[k] = at(R, x + dx - k, y + dy);
+              // A similarity-style weight in 0..255 from the left image.
+              const int t = l > at(L, x, y) ? l - at(L, x, y) : at(L, x, y) - l;
+              const std::uint16_t weight = static_cast<std::uint16_t>(255 - (t > 255 ? 255 : t));
+              weight_total += weight;
+              simd().accumulate_abs_diff_u16(right_rev.data(), l, 40, d_count, box_a.data());
+              scalar().accumulate_abs_diff_u16(right_rev.data(), l, 40, d_count, box_b.data());
+              simd().accumulate_abs_diff_weighted_u32(right_rev.data(), l, weight, 255, d_count, wsum_a.data());
+              scalar().accumulate_abs_diff_weighted_u32(right_rev.data(), l, weight, 255, d_count, wsum_b.data());
+            }
+          }
+          ASSERT_EQ(box_a, box_b) << name << " y=" << y << " x=" << x << " D=" << d_count;
+          ASSERT_EQ(wsum_a, wsum_b) << name << " y=" << y << " x=" << x << " D=" << d_count;
+          std::vector<std::uint16_t> cost_a(d_count), cost_b(d_count), cost_w_a(d_count), cost_w_b(d_count);
+          const std::uint64_t inv_box = (std::uint64_t{1} << 32) / 25;
+          const std::uint64_t inv_w = (std::uint64_t{1} << 32) / (weight_total ? weight_total : 1);
+          simd().normalize_costs_u16(box_a.data(), inv_box, d_count, cost_a.data());
+          scalar().normalize_costs_u16(box_b.data(), inv_box, d_count, cost_b.data());
+          simd().normalize_costs_u32(wsum_a.data(), inv_w, d_count, cost_w_a.data());
+          scalar().normalize_costs_u32(wsum_b.data(), inv_w, d_count, cost_w_b.data());
+          ASSERT_EQ(cost_a, cost_b) << name << " y=" << y << " x=" << x;
+          ASSERT_EQ(cost_w_a, cost_w_b) << name << " y=" << y << " x=" << x;
+          // DP along the row (dense mode), box costs, penalty 400 in Q4 units.
+          std::vector<std::uint32_t> out_a(d_count), out_b(d_count);
+          std::vector<std::uint8_t> ptr_a(d_count), ptr_b(d_count);
+          if (x == 0) {
+            for (int k = 0; k < d_count; ++k) prev_a[k] = prev_b[k] = cost_b[k];
+            continue;
+          }
+          simd().dp_step(cost_a.data(), prev_a.data(), 400, d_count, out_a.data(), ptr_a.data());
+          scalar().dp_step(cost_b.data(), prev_b.data(), 400, d_count, out_b.data(), ptr_b.data());
+          ASSERT_EQ(out_a, out_b) << name << " y=" << y << " x=" << x << " D=" << d_count;
+          ASSERT_EQ(ptr_a, ptr_b) << name << " y=" << y << " x=" << x << " D=" << d_count;
+          prev_a = out_a;
+          prev_b = out_b;
+        }
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sets, SimdKernels, ::testing::ValuesIn(test::simd_kernel_params()),
+                         test::KernelParamName());
+// A build without SIMD (TRISTEREO_WITH_SIMD=OFF, unknown CPU) has nothing to compare.
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(SimdKernels);
+
+}  // namespace
+}  // namespace tristereo
