@@ -259,6 +259,8 @@ void ThreadPool::set_realtime(int priority) {
     undo();
     throw;
   }
+  // An unstarted pool ran the task inline: the caller is the owner to restore.
+  if (owner_ == std::thread::id()) owner_ = std::this_thread::get_id();
   if (!owner_scheduling_changed_) {
     owner_saved_scheduling_ = saved[0];
     owner_scheduling_changed_ = true;

@@ -15,7 +15,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-${repo}/build-tsan}"
 regex="${2:-^(ThreadPool|Affinity)}"
 targets=(thread_pool_test platform_test)
-jobs="${TSAN_JOBS:-2}"
+jobs="${TSAN_JOBS:-$(nproc)}"
 
 cmake -S "${repo}" -B "${build}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTRISTEREO_TSAN=ON -DTRISTEREO_BUILD_BENCH=OFF -DTRISTEREO_BUILD_APPS=OFF

@@ -10,6 +10,9 @@
 
 #include "src/interp/interpolate_planes.hpp"
 #include "src/reference/ref_match.hpp"
+#include "src/tritree/tritree.hpp"
+#include "tristereo/gray.hpp"
+#include "tristereo/io.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
 
@@ -183,6 +186,34 @@ TEST(Interpolate, EqualsReferenceOnRandomMeshesAndAnyTriangleBands) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         ASSERT_EQ(out.at(x, y), ref.at(x, y)) << "trial " << trial << " pixel " << x << "," << y;
+  }
+}
+
+TEST(Interpolate, EqualsReferenceOnTritreeMeshesOfMiddlebury) {
+  // Real meshes: slanted edges of every length, long thin triangles, border
+  // vertices everywhere. Disparities are random, so every pixel is rounded.
+  std::mt19937 rng(6);
+  for (const char* scene : {"tsukuba", "cones"}) {
+    const ImageU8 gray = to_gray(read_image_u8(std::string(TRISTEREO_DATA_DIR) + "/middlebury/" +
+                                               scene + "/left.png"));
+    for (int area : {16, 100, 1024}) {
+      TritreeParams tp;
+      tp.max_area_px2 = area;
+      Tritree tree;
+      tree.configure(gray.width, gray.height, tp);
+      Mesh m;
+      tree.build(gray.view(), m);
+      ASSERT_GT(m.triangles.size(), 2u);
+      std::vector<std::int16_t> vd;
+      std::uniform_int_distribution<int> dv(-1000, 1000);
+      for (std::size_t i = 0; i < m.vertices.size(); ++i)
+        vd.push_back(i % 101 == 7 ? kInvalidDispQ4 : static_cast<std::int16_t>(dv(rng)));
+      const ImageS16 ref = reference::interpolate(m, vd);
+      const ImageS16 out = interpolate_all(m, vd);
+      for (int y = 0; y < m.height; ++y)
+        for (int x = 0; x < m.width; ++x)
+          ASSERT_EQ(out.at(x, y), ref.at(x, y)) << scene << " A_max " << area << " pixel " << x << "," << y;
+    }
   }
 }
 

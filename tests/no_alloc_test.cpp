@@ -56,8 +56,11 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
 TEST(NoAlloc, CounterSeesAllocations) {
   // Guards the guard: a counter that never counts would make the test above vacuous.
   test::start_counting_allocations();
-  auto* p = new std::vector<int>(100);
-  delete p;
+  // Direct calls of the replaceable operator (new-expressions may be elided).
+  void* p = ::operator new(100);
+  ::operator delete(p);
+  void* q = ::operator new[](10);
+  ::operator delete[](q);
   EXPECT_GE(test::stop_counting_allocations(), 2);
 }
 

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <set>
@@ -61,8 +63,8 @@ TEST(Synth, GoldenDigest) {
   p.height = 120;
   p.num_disp = 32;
   p.seed = 1;
-  EXPECT_EQ(digest(make_synthetic_scene(p)), 0ull) << std::hex << digest(make_synthetic_scene(p));
-  EXPECT_EQ(digest(make_planar_scene(64, 48, 9, 1)), 0ull)
+  EXPECT_EQ(digest(make_synthetic_scene(p)), 0xdc1119e8604fa71bull) << std::hex << digest(make_synthetic_scene(p));
+  EXPECT_EQ(digest(make_planar_scene(64, 48, 9, 1)), 0x65da2a92e3810830ull)
       << std::hex << digest(make_planar_scene(64, 48, 9, 1));
 }
 
@@ -124,8 +126,7 @@ TEST(Synth, FullSceneGroundTruthIsExactAtIntegerDisparities) {
 }
 
 // Slanted surfaces: warping the right image by the ground truth (linear
-// interpolation) reproduces the left image up to rounding, while a 1 px error
-// in the disparity does not.
+// interpolation) fits the left image better than any shifted disparity.
 TEST(Synth, FractionalGroundTruthWarpsRightOntoLeft) {
   SynthParams p;
   p.width = 320;
@@ -149,8 +150,13 @@ TEST(Synth, FractionalGroundTruthWarpsRightOntoLeft) {
     }
     return sum / static_cast<double>(n);
   };
+  // Interpolating an already interpolated noise texture leaves a residue
+  // (about 3 levels), but the error is smallest exactly at the ground truth
+  // and grows symmetrically around it (measured: 4.2 at +-0.25, 11 at +-1).
   const double at_gt = warp_error(0.f);
-  for (float off : {-1.f, -0.5f, -0.25f, 0.25f, 0.5f, 1.f}) std::printf("%g %g %g\n", off, at_gt, warp_error(off));
+  EXPECT_LT(at_gt, 4.0);
+  for (float off : {-0.25f, 0.25f}) EXPECT_GT(warp_error(off), 1.25 * at_gt) << off;
+  for (float off : {-1.f, 1.f}) EXPECT_GT(warp_error(off), 3 * at_gt) << off;
 }
 
 TEST(Synth, TextureIsRich) {

@@ -60,7 +60,8 @@ class MatchContext {
                const KernelSet& kernels);
 
   // Validates (max sizes 2..kMaxImageSide, validate_match_params), builds the
-  // adaptive-weight tables and allocates the reversed right rows.
+  // adaptive-weight tables and allocates the reversed right rows. `kernels` is
+  // kept by reference (the dispatcher's sets are static).
   // Throws Error; on error the context keeps its previous configuration.
   void configure(int max_width, int max_height, const StereoParams& params,
                  const KernelSet& kernels);

@@ -51,8 +51,9 @@ struct Texture {
   // Linear interpolation along x at u_q16 (Q16), row v; coordinates outside
   // the lattice are clamped to its border.
   std::int32_t sample(std::int64_t u_q16, std::int64_t v) const {
-    std::int64_t ui = (u_q16 >> kQ) - x0;
-    const std::int64_t f = u_q16 & (kOne - 1);
+    const std::int64_t whole = floor_div(u_q16, kOne);
+    const std::int64_t f = u_q16 - whole * kOne;  // 0 .. kOne - 1
+    std::int64_t ui = whole - x0;
     std::int64_t vi = std::clamp<std::int64_t>(v - y0, 0, h - 1);
     ui = std::clamp<std::int64_t>(ui, 0, w - 1);
     const std::int64_t ui1 = std::min<std::int64_t>(ui + 1, w - 1);
@@ -127,10 +128,10 @@ struct Surface {
       case Shape::kEverywhere:
         return true;
       case Shape::kRect:
-        return y >= y0 && y <= y1 && x_q16 >= (x0 << kQ) && x_q16 <= (x1 << kQ);
+        return y >= y0 && y <= y1 && x_q16 >= x0 * kOne && x_q16 <= x1 * kOne;
       case Shape::kDisc: {
-        const std::int64_t dx = x_q16 - (cx << kQ), dy = (y - cy) << kQ;
-        return dx * dx + dy * dy <= (r << kQ) * (r << kQ);
+        const std::int64_t dx = x_q16 - cx * kOne, dy = (y - cy) * kOne;
+        return dx * dx + dy * dy <= (r * kOne) * (r * kOne);
       }
     }
     return false;
@@ -139,7 +140,7 @@ struct Surface {
     return a + floor_div(b * x_q16, kOne) + c * y;
   }
   std::int32_t texture_q4(std::int64_t x_q16, std::int64_t y) const {
-    return tex.sample(x_q16 - (shift_x << kQ), y - shift_y);
+    return tex.sample(x_q16 - shift_x * kOne, y - shift_y);
   }
 };
 

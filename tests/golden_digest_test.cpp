@@ -1,0 +1,66 @@
+// Golden digests of the outputs (mesh, sample disparities, dense map), committed
+// once from the x86-64 float reference. Every build must reproduce them: the
+// float reference and the integer pipeline (every kernel set) on x86, and the
+// same on aarch64/armhf under qemu (scripts/cross-test.sh) or on a board.
+//
+// To regenerate after an intentional model change:
+//   build/tests/print_golden_digests > tests/golden_digests.inc
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+
+#include "support/golden_cases.hpp"
+#include "support/scenes.hpp"
+#include "tristereo/pipeline.hpp"
+#include "tristereo/reference.hpp"
+#include "tristereo/synth.hpp"
+#include "tristereo/verify.hpp"
+
+namespace tristereo {
+namespace {
+
+using test::GoldenCase;
+using test::golden_cases;
+
+const std::map<std::string, std::string>& golden() {
+  static const std::map<std::string, std::string> g = {
+#include "golden_digests.inc"
+  };
+  return g;
+}
+
+void check_cases(const std::vector<GoldenCase>& cases) {
+  for (const GoldenCase& c : cases) {
+    auto it = golden().find(c.name);
+    ASSERT_NE(it, golden().end()) << "no golden digest for " << c.name;
+    EXPECT_EQ(digest_hex(run_reference(c.left, c.right, c.params)), it->second)
+        << c.name << " (float reference)";
+    for (KernelChoice k : available_kernel_sets()) {
+      PipelineConfig cfg;
+      cfg.max_width = c.left.width;
+      cfg.max_height = c.left.height;
+      cfg.params = c.params;
+      cfg.kernels = k;
+      cfg.threads = 2;
+      cfg.pin_threads = false;
+      Pipeline pipe;
+      pipe.configure(cfg);
+      EXPECT_EQ(digest_hex(pipe.process(c.left.view(), c.right.view())), it->second)
+          << c.name << " (integer, " << to_string(k) << ")";
+    }
+  }
+}
+
+TEST(GoldenDigest, SyntheticScenes) { check_cases(golden_cases(false)); }
+
+TEST(GoldenDigest, Middlebury) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
+  std::vector<GoldenCase> all = golden_cases(true);
+  all.erase(all.begin(), all.begin() + 6);  // the synthetic ones are covered above
+  check_cases(all);
+}
+
+}  // namespace
+}  // namespace tristereo

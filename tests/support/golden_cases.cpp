@@ -1,0 +1,51 @@
+#include "support/golden_cases.hpp"
+
+#include "support/scenes.hpp"
+#include "tristereo/synth.hpp"
+
+namespace tristereo::test {
+
+// Fixed parameters (not the defaults, so tuning the defaults does not move the digests).
+static StereoParams golden_params(int ndisp, bool dense, Weights w) {
+  StereoParams p;
+  p.num_disp = ndisp;
+  p.dense = dense;
+  p.tritree.psnr_deci_db = 400;
+  p.tritree.max_area_px2 = 100;
+  p.cost.window_w = 5;
+  p.cost.window_h = 5;
+  p.cost.weights = w;
+  p.cost.truncation = 255;
+  p.cost.asw_gamma_color = 10;
+  p.cost.asw_gamma_proximity = 50;
+  p.dp.lambda_q4 = 160;
+  p.dp.gap = GapPolicy::kInverse;
+  p.dp.subpixel = true;
+  return p;
+}
+
+std::vector<GoldenCase> golden_cases(bool with_middlebury) {
+  std::vector<GoldenCase> cases;
+  for (std::uint32_t seed : {1u, 2u}) {
+    SynthParams sp;
+    sp.width = 160;
+    sp.height = 120;
+    sp.num_disp = 24;
+    sp.seed = seed;
+    const SyntheticScene s = make_synthetic_scene(sp);
+    const std::string n = "synthetic" + std::to_string(seed);
+    cases.push_back({n + "_sparse_box", s.left, s.right, golden_params(24, false, Weights::kBox)});
+    cases.push_back({n + "_dense_box", s.left, s.right, golden_params(24, true, Weights::kBox)});
+    cases.push_back({n + "_sparse_adaptive", s.left, s.right, golden_params(24, false, Weights::kAdaptive)});
+  }
+  if (with_middlebury) {
+    for (const std::string& name : test::middlebury_names()) {
+      const test::MiddleburyPair m = test::load_middlebury(name);
+      cases.push_back({name + "_sparse_box", m.left, m.right, golden_params(m.ndisp, false, Weights::kBox)});
+      cases.push_back({name + "_sparse_adaptive", m.left, m.right, golden_params(m.ndisp, false, Weights::kAdaptive)});
+    }
+  }
+  return cases;
+}
+
+}  // namespace tristereo::test
