@@ -409,8 +409,25 @@ int cmd_profile(int argc, char** argv) {
     rt_guard.on = true;
   }
 
+  // GPIO stage lines: slot 1 + ProfileStage index; the matching interval
+  // (cost aggregation and DP interleave per row) drives the cost-aggregation line.
+  struct MarkerListener : StageListener {
+    FrameMarkerDriver* driver;
+    explicit MarkerListener(FrameMarkerDriver* d) : driver(d) {}
+    void on_stage(PipelineStage s, bool begin) noexcept override {
+      int stage = static_cast<int>(ProfileStage::kTritree);
+      if (s == PipelineStage::kMatching) stage = static_cast<int>(ProfileStage::kCostAggregation);
+      if (s == PipelineStage::kInterpolation) stage = static_cast<int>(ProfileStage::kInterpolation);
+      if (begin)
+        driver->stage_begin(stage);
+      else
+        driver->stage_end(stage);
+    }
+  } listener(&markers);
+
   Pipeline pipeline;
   pipeline.configure(config);
+  if (markers.enabled()) pipeline.set_stage_listener(&listener);
   FrameLog log(static_cast<std::size_t>(frames));
   ProgressLine progress(quiet);
   constexpr int kMeshStage = static_cast<int>(ProfileStage::kMeshOutput);

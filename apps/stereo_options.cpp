@@ -57,9 +57,9 @@ const char* stereo_options_help() {
   --weights box|adaptive   support weights (default box)
   --gamma-color G      adaptive weights: colour scale (default 10)
   --gamma-proximity G  adaptive weights: distance^2 scale (default 50)
-  --truncation T       cost truncation T_c, 1..255 (default 255 = none)
-  --lambda L           smoothness weight in Q4 cost units, 0..32000 (default 160)
-  --gap inv_sq|inv|const   gap policy tau(g) of the smoothness penalty (default inv)
+  --truncation T       cost truncation T_c, 1..255 (default 30; 255 = none)
+  --lambda L           smoothness weight in Q4 cost units, 0..32000 (default 40)
+  --gap inv_sq|inv|const   gap policy tau(g) of the smoothness penalty (default const)
   --no-subpixel        integer disparities only
   --dense              every pixel a DP sample (the paper's dense baseline)
 Run options:

@@ -22,6 +22,17 @@ if(NOT TARGET xsimd)
   endif()
 endif()
 
+# Debian's xsimd 8.1 config names "xtl" as an interface link library although
+# xsimd only needs it for optional xtensor interop; without libxtl-dev that
+# turns into a bogus -lxtl on every executable. Drop it when xtl is absent.
+if(TARGET xsimd AND NOT TARGET xtl)
+  get_target_property(_xsimd_libs xsimd INTERFACE_LINK_LIBRARIES)
+  if(_xsimd_libs)
+    list(REMOVE_ITEM _xsimd_libs xtl)
+    set_target_properties(xsimd PROPERTIES INTERFACE_LINK_LIBRARIES "${_xsimd_libs}")
+  endif()
+endif()
+
 find_package(PNG REQUIRED)
 
 set(TRISTEREO_HAVE_GPIOD OFF)

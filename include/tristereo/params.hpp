@@ -34,14 +34,14 @@ struct CostParams {
   int window_w = 5;                 // odd, 1..kMaxWindowSide
   int window_h = 5;                 // odd, 1..kMaxWindowSide
   Weights weights = Weights::kBox;
-  int truncation = 255;             // T_c: |L-R| is clamped to this (1..255)
+  int truncation = 30;              // T_c: |L-R| is clamped to this (1..255; 255 = none)
   int asw_gamma_color = 10;         // adaptive weights: exp(-|dI| / gamma_color)
   int asw_gamma_proximity = 50;     // adaptive weights: exp(-(dx^2+dy^2) / gamma_proximity)
 };
 
 struct DpParams {
-  int lambda_q4 = 160;              // smoothness weight, in Q4 cost units
-  GapPolicy gap = GapPolicy::kInverse;
+  int lambda_q4 = 40;               // smoothness weight, in Q4 cost units
+  GapPolicy gap = GapPolicy::kConstant;  // measured best, see docs/tuning.md
   bool subpixel = true;             // parabola refinement to Q4
 };
 

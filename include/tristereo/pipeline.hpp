@@ -39,6 +39,18 @@ struct FrameTimings {
   std::int64_t total_ns = 0;
 };
 
+// Stage boundaries, reported to a StageListener from the thread that calls
+// process() (e.g. to drive GPIO lines for an oscilloscope). Cost aggregation
+// and DP interleave row by row, so they form one interval, kMatching.
+enum class PipelineStage { kTritree = 0, kMatching = 1, kInterpolation = 2 };
+
+class StageListener {
+ public:
+  virtual ~StageListener() = default;
+  // Must be cheap and must not throw or allocate: it runs inside the frame.
+  virtual void on_stage(PipelineStage stage, bool begin) noexcept = 0;
+};
+
 class Pipeline {
  public:
   Pipeline();
@@ -56,6 +68,9 @@ class Pipeline {
                               ImageView<const std::uint8_t> right);
 
   const FrameTimings& last_timings() const;
+
+  // nullptr (the default) = no listener. Not owned; must outlive its use.
+  void set_stage_listener(StageListener* listener);
   KernelChoice active_kernels() const;
   int worker_count() const;
 

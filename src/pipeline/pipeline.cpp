@@ -46,6 +46,11 @@ struct Pipeline::Impl {
   ImageU8 left_gray, right_gray;     // used when the input is RGB
   StereoOutput out;
   FrameTimings timings;
+  StageListener* listener = nullptr;
+
+  void mark(PipelineStage s, bool begin) const {
+    if (listener) listener->on_stage(s, begin);
+  }
 };
 
 Pipeline::Pipeline() : impl_(new Impl) {}
@@ -54,6 +59,7 @@ Pipeline::~Pipeline() = default;
 bool Pipeline::configured() const { return impl_->configured; }
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 const FrameTimings& Pipeline::last_timings() const { return impl_->timings; }
+void Pipeline::set_stage_listener(StageListener* listener) { impl_->listener = listener; }
 KernelChoice Pipeline::active_kernels() const { return impl_->active; }
 int Pipeline::worker_count() const { return impl_->configured ? impl_->pool.size() : 0; }
 
@@ -134,8 +140,11 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
 
   // 1. Tritree on the left image.
   Mesh& mesh = m.out.mesh;
+  m.mark(PipelineStage::kTritree, true);
   m.tritree.build(lg, mesh);
   const std::int64_t t_tritree = monotonic_ns();
+  m.mark(PipelineStage::kTritree, false);
+  m.mark(PipelineStage::kMatching, true);
 
   // 2. Right rows for the cost kernels (part of cost aggregation).
   m.match.begin_frame(lg, rg);
@@ -174,6 +183,8 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     wk.dp_ns = times.dp_ns;
   });
   const std::int64_t t_matched = monotonic_ns();
+  m.mark(PipelineStage::kMatching, false);
+  m.mark(PipelineStage::kInterpolation, true);
 
   // 4. Dense map from the mesh (sparse mode) or sample disparities from the map (dense mode).
   if (params.dense) {
@@ -189,6 +200,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     });
   }
   const std::int64_t t_end = monotonic_ns();
+  m.mark(PipelineStage::kInterpolation, false);
 
   // Cost and DP interleave per row inside each worker; the match phase's wall
   // time is split between them in proportion to the workers' summed stage times.
