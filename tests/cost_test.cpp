@@ -146,6 +146,7 @@ StereoParams small_params(int d_min, int num_disp) {
   StereoParams p;
   p.d_min = d_min;
   p.num_disp = num_disp;
+  p.cost.truncation = 255;  // tests below state their own truncation
   return p;
 }
 

@@ -105,7 +105,7 @@ TEST_P(MatchReference, MiddleburyRowsAreBitExact) {
       if (x % 3 == 0) every3.push_back(x);
     }
 
-    StereoParams box;  // defaults: 5x5 box, lambda 160, inverse gap, sub-pixel
+    StereoParams box;  // the library defaults (5x5 box, sub-pixel on)
     box.num_disp = scene.ndisp;
     StereoParams adaptive = box;
     adaptive.cost.weights = Weights::kAdaptive;

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "platform/thread_pool.hpp"
 #include "src/model/psnr_threshold.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "src/tritree/plane_residual.hpp"
@@ -21,6 +22,7 @@
 #include "support/scenes.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/status.hpp"
+#include "tristereo/synth.hpp"
 
 namespace tristereo {
 namespace {
@@ -139,6 +141,56 @@ TEST(PlaneResidual, SpanSumMatchesDirectFormula) {
   EXPECT_EQ(plane_residual_sse_span_scalar(row, 3, 3, r0, n_x, area2), 0u);
   // One pixel: (-300 + 6 * 255)^2 = 1230^2.
   EXPECT_EQ(plane_residual_sse_span_scalar(row, 3, 4, r0, n_x, area2), 1512900u);
+}
+
+// ------------------------------------------------------------ split criterion
+
+// The criterion straight from docs/model.md: every pixel tested with
+// owns_pixel(), the full SSE, no early exit.
+bool wants_split_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, int max_area_px2,
+                             std::uint64_t mse_q8) {
+  const std::int64_t area2 = area2_of(a, b, c);
+  if (area2 > 2 * std::int64_t{max_area_px2}) return true;
+  const std::int64_t ia = img.at(a.x, a.y), ib = img.at(b.x, b.y), ic = img.at(c.x, c.y);
+  const std::int64_t n_x = (b.y - a.y) * (ic - ia) - (ib - ia) * (c.y - a.y);
+  const std::int64_t n_y = (ib - ia) * (c.x - a.x) - (b.x - a.x) * (ic - ia);
+  std::uint64_t sse = 0, n_px = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      if (!owns_pixel(a, b, c, x, y, img.width, img.height)) continue;
+      const std::int64_t r = n_x * (x - a.x) + n_y * (y - a.y) + area2 * (img.at(x, y) - ia);
+      sse += static_cast<std::uint64_t>(r * r);
+      ++n_px;
+    }
+  }
+  return sse * 256 > mse_q8 * n_px * static_cast<std::uint64_t>(area2 * area2);
+}
+
+TEST(Criterion, EqualsBruteForceOnRandomTriangles) {
+  // The production criterion walks the spans once and stops early against a
+  // bound on the pixel count; its answer must still be the model's.
+  Rng rng(21);
+  int splits = 0, keeps = 0;
+  for (int it = 0; it < 6000; ++it) {
+    const int w = rng.uniform(2, 40), h = rng.uniform(2, 40);
+    const ImageU8 img = mixed_image(rng, w, h);
+    Vertex v[3];
+    for (Vertex& p : v) p = Vertex{rng.uniform(0, w - 1), rng.uniform(0, h - 1)};
+    const std::int64_t a2 = area2_of(v[0], v[1], v[2]);
+    if (a2 == 0) continue;
+    if (a2 < 0) std::swap(v[1], v[2]);
+    const int max_area = rng.uniform(1, 400);
+    const std::uint64_t mse_q8 = mse_threshold_q8(rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb));
+    const bool expected = wants_split_brute_force(img, v[0], v[1], v[2], max_area, mse_q8);
+    ASSERT_EQ(tritree_wants_split(cview(img), v[0], v[1], v[2], max_area, mse_q8), expected)
+        << "triangle (" << v[0].x << "," << v[0].y << ") (" << v[1].x << "," << v[1].y << ") ("
+        << v[2].x << "," << v[2].y << ") in " << w << "x" << h << " max_area " << max_area
+        << " mse_q8 " << mse_q8;
+    (expected ? splits : keeps) += 1;
+  }
+  // Both answers occur often, so the comparison covers both branches.
+  EXPECT_GT(splits, 1000);
+  EXPECT_GT(keeps, 1000);
 }
 
 // ------------------------------------------------------------ golden meshes
@@ -355,6 +407,59 @@ TEST(Tritree, BuildDoesNotAllocate) {
   tree.build(cview(small), mesh);
   EXPECT_EQ(test::stop_counting_allocations(), 0);
   EXPECT_GT(mesh.vertices.size(), 50u);
+}
+
+TEST(Tritree, IdenticalForAnyThreadCount) {
+  // The criterion runs in parallel chunks; the mesh must not depend on the
+  // worker count (1, 2, 3, 8 workers, unpinned) nor differ from a pool-less build.
+  std::vector<ImageU8> images;
+  SynthParams sp;
+  sp.width = 320;
+  sp.height = 240;
+  images.push_back(make_synthetic_scene(sp).left);
+  if (test::middlebury_available()) {
+    for (const std::string& name : test::middlebury_names()) {
+      images.push_back(to_gray(test::load_middlebury(name).left));
+    }
+  }
+  Rng rng(31);
+  for (int i = 0; i < 4; ++i) images.push_back(mixed_image(rng, rng.uniform(40, 200), rng.uniform(40, 200)));
+  const TritreeParams params;
+  std::vector<Mesh> serial;
+  for (const ImageU8& img : images) serial.push_back(build_mesh(img, params));
+
+  for (const int workers : {1, 2, 3, 8}) {
+    ThreadPool pool;
+    pool.start(workers, {}, /*pin=*/false);
+    ASSERT_EQ(pool.size(), workers);
+    Tritree tree;
+    tree.configure(450, 383, params);
+    Mesh mesh;
+    tree.reserve(mesh);
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      tree.build(cview(images[i]), mesh, &pool);
+      ASSERT_EQ(mesh, serial[i]) << workers << " workers, image " << i;
+    }
+  }
+  EXPECT_GT(serial[0].triangles.size(), 5000u);  // big enough to run the parallel path
+}
+
+TEST(Tritree, BuildWithPoolDoesNotAllocate) {
+  SynthParams sp;
+  sp.width = 200;
+  sp.height = 150;
+  const ImageU8 img = make_synthetic_scene(sp).left;
+  ThreadPool pool;
+  pool.start(3, {}, /*pin=*/false);
+  Tritree tree;
+  tree.configure(200, 150, TritreeParams{});
+  Mesh mesh;
+  tree.reserve(mesh);
+  tree.build(cview(img), mesh, &pool);  // warm-up
+  test::start_counting_allocations();
+  tree.build(cview(img), mesh, &pool);
+  EXPECT_EQ(test::stop_counting_allocations(), 0);
+  EXPECT_GT(mesh.triangles.size(), 1000u);
 }
 
 TEST(Tritree, StrideAndStagesMatchPackedBuild) {

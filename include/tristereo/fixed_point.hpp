@@ -8,7 +8,7 @@ namespace tristereo {
 // Disparities are int16 in Q4 (value / 16 = pixels), the OpenCV convention.
 constexpr int kDispFracBits = 4;
 constexpr int kDispOne = 1 << kDispFracBits;
-// Invalid disparity marker in Q4 maps (no valid pixel can reach it: |d| <= 4096).
+// Invalid disparity marker in Q4 maps (no valid pixel can reach it: |d| <= 2048).
 constexpr std::int16_t kInvalidDispQ4 = INT16_MIN;
 
 // Aggregated costs are mean absolute differences in Q4 (0 .. 255 * 16).

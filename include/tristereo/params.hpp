@@ -15,6 +15,7 @@ namespace tristereo {
 // inside the integer widths documented in docs/model.md.
 constexpr int kMaxImageSide = 4096;
 constexpr int kMaxNumDisp = 256;
+constexpr int kMaxDispSpan = 2048;    // |d_min| + num_disp, so 16 d fits int16
 constexpr int kMaxWindowSide = 31;
 constexpr int kMaxAreaLimitPx2 = 1024;
 constexpr int kMinPsnrDeciDb = 100;   // 10.0 dB

@@ -23,9 +23,9 @@ void check_window_side(const char* name, int v) {
 
 void validate_params(const StereoParams& p) {
   check_range("num_disp", p.num_disp, 1, kMaxNumDisp);
-  // |d_min| + D <= kMaxImageSide keeps right-row padding and Q4 disparities
-  // (|16 d| < 2^16) inside int16.
-  check_range("d_min", p.d_min, -(kMaxImageSide - p.num_disp), kMaxImageSide - p.num_disp);
+  // |d_min| + D <= 2048 keeps every Q4 disparity (16 d +- 8) inside int16 and
+  // away from kInvalidDispQ4.
+  check_range("d_min", p.d_min, -(kMaxDispSpan - p.num_disp), kMaxDispSpan - p.num_disp);
   check_range("tritree.psnr_deci_db", p.tritree.psnr_deci_db, kMinPsnrDeciDb, kMaxPsnrDeciDb);
   check_range("tritree.max_area_px2", p.tritree.max_area_px2, 1, kMaxAreaLimitPx2);
   check_window_side("cost.window_w", p.cost.window_w);

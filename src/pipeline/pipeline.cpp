@@ -141,7 +141,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   // 1. Tritree on the left image.
   Mesh& mesh = m.out.mesh;
   m.mark(PipelineStage::kTritree, true);
-  m.tritree.build(lg, mesh);
+  m.tritree.build(lg, mesh, &m.pool);
   const std::int64_t t_tritree = monotonic_ns();
   m.mark(PipelineStage::kTritree, false);
   m.mark(PipelineStage::kMatching, true);

@@ -5,14 +5,14 @@
 //   tree.configure(640, 480, params);   // allocates everything, throws Error
 //   Mesh mesh;
 //   tree.reserve(mesh);                 // so build() never grows `mesh`
-//   tree.build(gray, mesh);             // no heap allocation
+//   tree.build(gray, mesh, &pool);      // no heap allocation; pool optional
 //
 // build() is begin() + rounds + finish(). A round is split into a parallel
 // part, evaluate_round() (the criterion of each pending triangle, independent
 // work writing one decision byte each), and a serial part, split_round()
 // (longest-edge propagation in the model's fixed order). A thread pool can
 // drive the stages itself and call evaluate_round() on disjoint bands; the
-// result does not depend on how the bands are cut.
+// result does not depend on how the bands are cut nor on the worker count.
 #pragma once
 
 #include <array>
@@ -25,12 +25,15 @@
 
 namespace tristereo {
 
+class ThreadPool;
+
 class Tritree {
  public:
   // Allocates all storage for images up to max_width x max_height (2 ..
   // kMaxImageSide each). Throws Error(kInvalidArgument) naming the bad value
   // (sizes, params.max_area_px2 outside 1..kMaxAreaLimitPx2, psnr_deci_db
   // outside kMinPsnrDeciDb..kMaxPsnrDeciDb); the tree is then unconfigured.
+  // The criterion needs no per-worker memory, so any pool size works later.
   void configure(int max_width, int max_height, const TritreeParams& params);
   bool configured() const { return max_width_ > 0; }
 
@@ -40,8 +43,10 @@ class Tritree {
 
   // Builds the mesh of `gray` (1 channel, 2 .. max size, stride >= width).
   // Throws Error on bad input, leaving `mesh` untouched. No heap allocation
-  // once `mesh` has been reserve()d.
-  void build(ImageView<const std::uint8_t> gray, Mesh& mesh);
+  // once `mesh` has been reserve()d. With a started `pool` (called from its
+  // owner thread), each round's criterion runs on all its workers; the mesh
+  // is identical for every pool size.
+  void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr);
 
   // --- Stages of build(), for drivers that parallelise evaluate_round().
   // Validates `gray` (kept by pointer until finish()) and seeds the two roots.
@@ -85,6 +90,9 @@ class Tritree {
     std::uint32_t k2;
     std::int32_t pending_index;
   };
+  static bool order_less(const OrderKey& p, const OrderKey& q) {
+    return p.k01 != q.k01 ? p.k01 < q.k01 : p.k2 < q.k2;
+  }
 
   Vertex vertex(const Node& n, int i) const { return Vertex{n.x[i], n.y[i]}; }
   void set_node(std::int32_t slot, const Vertex& a, const Vertex& b, const Vertex& c,
@@ -94,6 +102,7 @@ class Tritree {
   void process(std::int32_t slot, std::uint32_t birth);
   void validate_image(ImageView<const std::uint8_t> gray) const;
   void promote_created();
+  void sort_order(int count);
 
   int max_width_ = 0;
   int max_height_ = 0;
@@ -112,9 +121,12 @@ class Tritree {
   std::vector<Pending> pending_;         // this round's triangles
   int pending_count_ = 0;
   std::vector<std::uint8_t> decision_;   // one per pending triangle
+  std::vector<OrderKey> key_;            // per pending triangle, valid when it splits
   std::vector<Pending> created_;         // triangles created this round
   int created_count_ = 0;
   std::vector<OrderKey> order_;          // splitting triangles, sorted
+  std::vector<OrderKey> order_tmp_;      // radix sort's second buffer
+  std::vector<std::int32_t> radix_count_;  // max(W, H) + 1 counters
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex
   std::vector<std::int32_t> bucket_;     // counting sort of triangles by first id
   std::vector<Triangle> tri_scratch_;

@@ -1,5 +1,6 @@
 // Tritree configuration: parameter validation and the one-time allocation of
 // every buffer a build can need.
+#include <algorithm>
 #include <string>
 
 #include "src/model/psnr_threshold.hpp"
@@ -39,9 +40,12 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   nodes_.assign(leaves, Node{});
   pending_.assign(leaves, Pending{});
   decision_.assign(leaves, 0);
+  key_.assign(leaves, OrderKey{});
   // Each split of the round adds one leaf and pushes two children.
   created_.assign(2 * leaves, Pending{});
   order_.assign(leaves, OrderKey{});
+  order_tmp_.assign(leaves, OrderKey{});
+  radix_count_.assign(static_cast<std::size_t>(std::max(max_width, max_height)) + 1, 0);
   vertex_id_.assign(pixels, -1);
   bucket_.assign(pixels + 1, 0);
   tri_scratch_.assign(leaves, Triangle{});

@@ -36,11 +36,22 @@ inline bool edge_less(Vertex p0, Vertex p1, Vertex q0, Vertex q1) {
   return p_hi < q_hi;
 }
 
-// Index i of the longest edge (v[i], v[(i + 1) % 3]).
+// Index i of the longest edge (v[i], v[(i + 1) % 3]). Lengths first in int32
+// (< 2^25 for coordinates < 4096); the full edge order only breaks ties.
 inline int longest_edge_index(const Vertex v[3]) {
+  std::int32_t len2[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::int32_t dx = v[(i + 1) % 3].x - v[i].x;
+    const std::int32_t dy = v[(i + 1) % 3].y - v[i].y;
+    len2[i] = dx * dx + dy * dy;
+  }
   int best = 0;
   for (int i = 1; i < 3; ++i) {
-    if (edge_less(v[best], v[(best + 1) % 3], v[i], v[(i + 1) % 3])) best = i;
+    if (len2[i] > len2[best] ||
+        (len2[i] == len2[best] &&
+         edge_less(v[best], v[(best + 1) % 3], v[i], v[(i + 1) % 3]))) {
+      best = i;
+    }
   }
   return best;
 }

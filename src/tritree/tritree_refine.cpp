@@ -1,7 +1,11 @@
 // Tritree refinement: rounds of criterion evaluation (parallelisable) and
 // longest-edge-propagation bisection (serial), docs/model.md section 1.
 #include <algorithm>
+#include <atomic>
 #include <cassert>
+#include <utility>
+
+#include "platform/thread_pool.hpp"
 
 #include "src/tritree/tritree.hpp"
 #include "src/tritree/tritree_criterion.hpp"
@@ -9,10 +13,34 @@
 
 namespace tristereo {
 
-void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh) {
+namespace {
+
+// Rounds with fewer pending triangles run on the calling thread: waking the
+// pool costs more than evaluating them. Any value gives the same mesh.
+constexpr int kMinParallelPending = 512;
+// Work is handed out in chunks of this many pending triangles (an atomic
+// counter balances the uneven cost of triangles; each decision depends only
+// on its own triangle, so scheduling cannot change the result).
+constexpr int kChunk = 256;
+
+}  // namespace
+
+void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
   begin(gray);
+  const int workers = (pool != nullptr) ? pool->size() : 1;
   while (pending_count() > 0) {
-    evaluate_round(0, pending_count());
+    const int n = pending_count();
+    if (workers > 1 && n >= kMinParallelPending) {
+      std::atomic<int> next{0};
+      pool->run([&](int) {
+        for (int b = next.fetch_add(kChunk, std::memory_order_relaxed); b < n;
+             b = next.fetch_add(kChunk, std::memory_order_relaxed)) {
+          evaluate_round(b, std::min(n, b + kChunk));
+        }
+      });
+    } else {
+      evaluate_round(0, n);
+    }
     split_round();
   }
   finish(mesh);
@@ -46,29 +74,68 @@ void Tritree::evaluate_round(int begin, int end) {
     const bool split = half_bisection_valid(a, b, c, snapped_midpoint(a, b)) &&
                        tritree_wants_split(gray_, a, b, c, params_.max_area_px2, mse_q8_);
     decision_[i] = split ? 1 : 0;
+    if (split) {
+      // The processing-order key, computed here because this part runs in parallel.
+      std::uint32_t key[3];
+      for (int j = 0; j < 3; ++j) key[j] = static_cast<std::uint32_t>(vertex_key(vertex(t, j)));
+      if (key[0] > key[1]) std::swap(key[0], key[1]);
+      if (key[1] > key[2]) std::swap(key[1], key[2]);
+      if (key[0] > key[1]) std::swap(key[0], key[1]);
+      key_[i] = OrderKey{(std::uint64_t{key[0]} << 32) | key[1], key[2], i};
+    }
   }
 }
 
 void Tritree::split_round() {
   int count = 0;
   for (int i = 0; i < pending_count_; ++i) {
-    if (!decision_[i]) continue;
-    const Node& t = nodes_[pending_[i].slot];
-    std::uint32_t k[3];
-    for (int j = 0; j < 3; ++j) k[j] = static_cast<std::uint32_t>(vertex_key(vertex(t, j)));
-    std::sort(k, k + 3);
-    order_[count++] = OrderKey{(std::uint64_t{k[0]} << 32) | k[1], k[2], i};
+    if (decision_[i]) order_[count++] = key_[i];
   }
-  // Distinct leaves have distinct vertex sets, so the order is strict.
-  std::sort(order_.begin(), order_.begin() + count, [](const OrderKey& p, const OrderKey& q) {
-    return p.k01 != q.k01 ? p.k01 < q.k01 : p.k2 < q.k2;
-  });
+  sort_order(count);
   for (int i = 0; i < count; ++i) {
     const Pending& p = pending_[order_[i].pending_index];
     process(p.slot, p.birth);
   }
   ++rounds_;
   promote_created();
+}
+
+// Sorts order_[0, count) by order_less. Distinct leaves have distinct vertex
+// sets, so the order is strict and any correct sort gives the same sequence.
+// LSD counting sort on the smallest vertex key (x, then y: both < max side),
+// then an insertion sort of the short runs sharing that vertex; this replaced
+// a comparison sort that cost about as much as all the bisections.
+void Tritree::sort_order(int count) {
+  if (count < 64) {
+    std::sort(order_.begin(), order_.begin() + count, order_less);
+    return;
+  }
+  const int w = gray_.width;
+  const int h = gray_.height;
+  std::int32_t* cnt = radix_count_.data();
+  OrderKey* src = order_.data();
+  OrderKey* tmp = order_tmp_.data();
+  // Smallest vertex key = k01 >> 32 = (y << 16) | x.
+  std::fill(cnt, cnt + w + 1, 0);
+  for (int i = 0; i < count; ++i) ++cnt[((src[i].k01 >> 32) & 0xFFFF) + 1];
+  for (int x = 0; x < w; ++x) cnt[x + 1] += cnt[x];
+  for (int i = 0; i < count; ++i) tmp[cnt[(src[i].k01 >> 32) & 0xFFFF]++] = src[i];
+  std::fill(cnt, cnt + h + 1, 0);
+  for (int i = 0; i < count; ++i) ++cnt[(tmp[i].k01 >> 48) + 1];
+  for (int y = 0; y < h; ++y) cnt[y + 1] += cnt[y];
+  for (int i = 0; i < count; ++i) src[cnt[tmp[i].k01 >> 48]++] = tmp[i];
+  // Runs with the same smallest vertex: a vertex's fan, a handful of triangles.
+  int run = 0;
+  for (int i = 1; i <= count; ++i) {
+    if (i < count && (src[i].k01 >> 32) == (src[run].k01 >> 32)) continue;
+    for (int j = run + 1; j < i; ++j) {
+      const OrderKey key = src[j];
+      int k = j;
+      for (; k > run && order_less(key, src[k - 1]); --k) src[k] = src[k - 1];
+      src[k] = key;
+    }
+    run = i;
+  }
 }
 
 // Next round's pending list: the triangles created since the last call that
