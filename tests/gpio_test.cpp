@@ -92,19 +92,9 @@ TEST(GpioOpen, BadLineListsAreRejected) {
   }
 }
 
-TEST(GpioOpen, LineBeyondTheChipIsAClearError) {
-  if (!gpio_supported() || access("/dev/gpiochip0", R_OK | W_OK) != 0) {
-    GTEST_SKIP() << "needs libgpiod and an accessible /dev/gpiochip0";
-  }
-  try {
-    open_gpio_marker({{"gpiochip0", kMaxGpioLine}}, "tristereo-test");
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("does not exist on gpiochip0 (it has "),
-              std::string::npos)
-        << e.what();
-  }
-}
+// The "line beyond the chip" error needs a real /dev/gpiochip*; it is checked on
+// a board with `tristereo profile --frames 1 --gpio gpiochip0:9999`
+// (docs/profiling.md), not in this hardware-free suite.
 
 // Records every set() call as (slot, level).
 class RecordingMarker final : public FrameMarker {
