@@ -65,6 +65,55 @@ void bench_accumulate_weighted_u32(benchmark::State& state, const KernelSet* ks,
   state.SetItemsProcessed(state.iterations() * kRows * d);
 }
 
+// The fused window kernels over a 5x5 window (the default), laid out like
+// MatchContext's: 5 reversed rows, pixel j of a row one byte before pixel j - 1.
+// items_per_second counts window pixels x disparities, like the per-pixel
+// kernels above, so the two can be compared directly.
+constexpr int kWindowSide = 5;
+constexpr int kWindowPixels = kWindowSide * kWindowSide;
+
+struct Window {
+  std::vector<std::uint8_t> rows;  // kWindowSide rows of D + kWindowSide + 1
+  std::vector<const std::uint8_t*> right;
+  std::vector<std::uint8_t> left;
+  std::vector<std::uint16_t> weight;
+  explicit Window(int d) : rows(kWindowSide * (d + kWindowSide + 1)) {
+    std::mt19937 rng(7);
+    for (auto& v : rows) v = static_cast<std::uint8_t>(rng());
+    for (int i = 0; i < kWindowSide; ++i) {
+      const std::uint8_t* r = rows.data() + i * (d + kWindowSide + 1) + kWindowSide;
+      for (int j = 0; j < kWindowSide; ++j) {
+        right.push_back(r - j);
+        left.push_back(static_cast<std::uint8_t>(rng()));
+        weight.push_back(static_cast<std::uint16_t>(rng() % 255));
+      }
+    }
+  }
+};
+
+void bench_window_box_u16(benchmark::State& state, const KernelSet* ks, int d) {
+  Window win(d);
+  std::vector<std::uint16_t> sum(d);
+  for (auto _ : state) {
+    ks->aggregate_window_box_u16(win.right.data(), win.left.data(), kWindowPixels, 30, d, sum.data());
+    benchmark::DoNotOptimize(sum.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kWindowPixels * d);
+}
+
+void bench_window_weighted_u32(benchmark::State& state, const KernelSet* ks, int d) {
+  Window win(d);
+  std::vector<std::uint32_t> sum(d);
+  for (auto _ : state) {
+    ks->aggregate_window_weighted_u32(win.right.data(), win.left.data(), win.weight.data(),
+                                      kWindowPixels, 255, d, sum.data());
+    benchmark::DoNotOptimize(sum.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kWindowPixels * d);
+}
+
 void bench_normalize_u16(benchmark::State& state, const KernelSet* ks, int d) {
   Inputs in(d);
   std::vector<std::uint16_t> out(d);
@@ -108,6 +157,8 @@ void register_all() {
   const std::pair<const char*, Fn> kernels[] = {
       {"accumulate_abs_diff_u16", bench_accumulate_u16},
       {"accumulate_abs_diff_weighted_u32", bench_accumulate_weighted_u32},
+      {"aggregate_window_box_u16", bench_window_box_u16},
+      {"aggregate_window_weighted_u32", bench_window_weighted_u32},
       {"normalize_costs_u16", bench_normalize_u16},
       {"normalize_costs_u32", bench_normalize_u32},
       {"dp_step", bench_dp_step},

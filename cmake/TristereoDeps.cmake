@@ -17,8 +17,16 @@ if(NOT TARGET xsimd)
   # is not searched, and xsimd is header-only and arch-neutral anyway.
   find_path(TRISTEREO_XSIMD_INCLUDE xsimd/xsimd.hpp PATHS /usr/include NO_CMAKE_FIND_ROOT_PATH)
   if(TRISTEREO_XSIMD_INCLUDE)
+    set(_xsimd_include ${TRISTEREO_XSIMD_INCLUDE})
+    if(CMAKE_CROSSCOMPILING)
+      # Never put the host's /usr/include on the target's path (it would shadow
+      # a sysroot's libc headers, or be dropped as implicit): expose xsimd alone.
+      set(_xsimd_include ${CMAKE_BINARY_DIR}/host-include)
+      file(MAKE_DIRECTORY ${_xsimd_include})
+      file(CREATE_LINK ${TRISTEREO_XSIMD_INCLUDE}/xsimd ${_xsimd_include}/xsimd SYMBOLIC)
+    endif()
     add_library(xsimd INTERFACE IMPORTED)
-    set_target_properties(xsimd PROPERTIES INTERFACE_INCLUDE_DIRECTORIES ${TRISTEREO_XSIMD_INCLUDE})
+    set_target_properties(xsimd PROPERTIES INTERFACE_INCLUDE_DIRECTORIES ${_xsimd_include})
   endif()
 endif()
 

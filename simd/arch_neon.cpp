@@ -14,6 +14,8 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.name = "neon";
   set.accumulate_abs_diff_u16 = &AccumulateAbsDiffU16<xsimd::neon>::call;
   set.accumulate_abs_diff_weighted_u32 = &AccumulateAbsDiffWeightedU32<xsimd::neon>::call;
+  set.aggregate_window_box_u16 = &AggregateWindowBoxU16<xsimd::neon>::call;
+  set.aggregate_window_weighted_u32 = &AggregateWindowWeightedU32<xsimd::neon>::call;
   set.normalize_costs_u16 = &NormalizeCostsU16<xsimd::neon>::call;
   set.normalize_costs_u32 = &NormalizeCostsU32<xsimd::neon>::call;
   set.dp_step = &DpStep<xsimd::neon>::call;

@@ -14,6 +14,8 @@ void fill_kernel_set_sse2(KernelSet& set) {
   set.name = "sse2";
   set.accumulate_abs_diff_u16 = &AccumulateAbsDiffU16<xsimd::sse2>::call;
   set.accumulate_abs_diff_weighted_u32 = &AccumulateAbsDiffWeightedU32<xsimd::sse2>::call;
+  set.aggregate_window_box_u16 = &AggregateWindowBoxU16<xsimd::sse2>::call;
+  set.aggregate_window_weighted_u32 = &AggregateWindowWeightedU32<xsimd::sse2>::call;
   set.normalize_costs_u16 = &NormalizeCostsU16<xsimd::sse2>::call;
   set.normalize_costs_u32 = &NormalizeCostsU32<xsimd::sse2>::call;
   set.dp_step = &DpStep<xsimd::sse2>::call;

@@ -113,6 +113,10 @@ template <class T, class A>
 batch<T, A> zip_order(const batch<T, A>& a, const xsimd::generic&) {
   return a;
 }
+// Order fix *after* widening (see widen_unordered): identity where zip_lo and
+// zip_hi are full-width interleaves.
+template <class T, class A>
+void restore_widened_order(batch<T, A>&, batch<T, A>&, const xsimd::generic&) {}
 
 #if XSIMD_WITH_SSE2
 template <class A>
@@ -187,6 +191,16 @@ template <class T, class A>
 batch<T, A> zip_order(const batch<T, A>& a, const xsimd::avx2&) {
   return _mm256_permute4x64_epi64(a, kQwordOrder0213);
 }
+// The inverse of the in-lane interleave: after lo' = zip_lo(x, 0) and
+// hi' = zip_hi(x, 0) on AVX2, lo' holds elements {0..n/4-1, n/2..3n/4-1} of the
+// widened x and hi' the rest; swapping their upper and lower 128-bit halves
+// restores lo = widened elements 0..n/2-1, hi = n/2..n-1.
+template <class T, class A>
+void restore_widened_order(batch<T, A>& lo, batch<T, A>& hi, const xsimd::avx2&) {
+  const __m256i a = lo, b = hi;
+  lo = _mm256_permute2x128_si256(a, b, 0x20);
+  hi = _mm256_permute2x128_si256(a, b, 0x31);
+}
 #endif
 
 #if XSIMD_WITH_NEON
@@ -251,6 +265,23 @@ void widen(const batch<T, A>& a, batch<W, A>& lo, batch<W, A>& hi) {
   const batch<T, A> zero(T{0});
   lo = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_lo(ordered, zero));
   hi = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_hi(ordered, zero));
+}
+
+// widen() without its order fix, for sums: lo and hi hold the widened
+// elements in an arch-defined permutation (in-lane halves on AVX2, none on
+// SSE2/NEON). Lane-wise sums of such pairs keep that permutation, so a kernel
+// can accumulate many of them and call restore_widened_order once at the end:
+// restore_widened_order(widen_unordered(a)) == widen(a).
+template <class T, class W, class A>
+void widen_unordered(const batch<T, A>& a, batch<W, A>& lo, batch<W, A>& hi) {
+  static_assert(sizeof(W) == 2 * sizeof(T), "widen doubles the lane width");
+  const batch<T, A> zero(T{0});
+  lo = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_lo(a, zero));
+  hi = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_hi(a, zero));
+}
+template <class W, class A>
+void restore_widened_order(batch<W, A>& lo, batch<W, A>& hi) {
+  detail::restore_widened_order(lo, hi, A{});
 }
 
 }  // namespace escape

@@ -215,6 +215,158 @@ void AccumulateAbsDiffWeightedU32<Arch>::call(const std::uint8_t* right_rev, std
           [&](auto f, auto r, auto a, int m) { f(r, left, weight, trunc, m, a); }));
 }
 
+// ---------------------------------------------------------------- window kernels
+//
+// One call per sample: for each block of one u8 register of disparities, the
+// block's sums live in registers while all `count` window pixels are added,
+// and are stored once. Blocks: full ones from k = 0, then (n not a multiple)
+// one last block ending at n, overlapping the previous one; the window kernels
+// overwrite `sum`, so the shared lanes are simply written twice with the same
+// value. n below one register goes to the narrower twin (AVX2 -> SSE2) or,
+// at the narrowest, runs the same block on per-pixel zero-padded copies.
+
+namespace detail {
+
+// NB adjacent blocks of one u8 register each (out[0 .. NB * lanes)) of the box
+// window sum; load(i, b) gives block b's right values of window pixel i. Two
+// blocks per pass share each pixel's pointer load and broadcast.
+template <int NB, class Arch, class Load>
+void window_box_blocks(Load load, const std::uint8_t* left, int count,
+                       const batch<std::uint8_t, Arch>& vtrunc, int group, std::uint16_t* out) {
+  using b8 = batch<std::uint8_t, Arch>;
+  using b16 = batch<std::uint16_t, Arch>;
+  constexpr int half = static_cast<int>(b16::size);
+  // Sums of widen_unordered halves; the order is restored once at the store.
+  b16 lo[NB], hi[NB];
+  for (int b = 0; b < NB; ++b) lo[b] = hi[b] = b16(std::uint16_t{0});
+  int i = 0;
+  while (i < count) {
+    const int end = count - i < group ? count : i + group;
+    b8 part[NB];
+    const b8 first(left[i]);
+    for (int b = 0; b < NB; ++b) part[b] = truncated_abs_diff(first, load(i, b), vtrunc);
+    for (++i; i < end; ++i) {
+      const b8 l(left[i]);
+      for (int b = 0; b < NB; ++b) part[b] += truncated_abs_diff(l, load(i, b), vtrunc);
+    }
+    for (int b = 0; b < NB; ++b) {
+      b16 plo, phi;
+      escape::widen_unordered(part[b], plo, phi);
+      lo[b] += plo;
+      hi[b] += phi;
+    }
+  }
+  for (int b = 0; b < NB; ++b) {
+    escape::restore_widened_order(lo[b], hi[b]);
+    lo[b].store_unaligned(out + 2 * b * half);
+    hi[b].store_unaligned(out + (2 * b + 1) * half);
+  }
+}
+
+}  // namespace detail
+
+template <class Arch>
+void AggregateWindowBoxU16<Arch>::call(const std::uint8_t* const* right_rev,
+                                       const std::uint8_t* left, int count, std::uint8_t trunc,
+                                       int n, std::uint16_t* sum) {
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  constexpr int lanes = static_cast<int>(b8::size);
+  using Half = typename detail::Narrower<Arch>::type;
+  if constexpr (!std::is_void<Half>::value) {
+    if (n < lanes) return AggregateWindowBoxU16<Half>::call(right_rev, left, count, trunc, n, sum);
+  }
+  const b8 vtrunc(trunc);
+  // Up to `group` truncated differences (each <= trunc) add up in u8 lanes
+  // without wrapping; only each group's partial sum is widened into the u16
+  // sums. With the default T_c = 30 that is one widening per 8 pixels.
+  const int group = 255 / trunc;
+  if (n < lanes) {  // narrowest arch only: one block on per-pixel padded copies
+    alignas(64) std::uint8_t row_pad[lanes] = {};
+    alignas(64) std::uint16_t out_pad[lanes];
+    const auto un = static_cast<std::size_t>(n);
+    auto load = [&](int i, int) {
+      std::memcpy(row_pad, right_rev[i], un);
+      return b8::load_aligned(row_pad);
+    };
+    detail::window_box_blocks<1, Arch>(load, left, count, vtrunc, group, out_pad);
+    std::memcpy(sum, out_pad, un * sizeof(std::uint16_t));
+    return;
+  }
+  auto at = [right_rev](int k) {
+    return [right_rev, k](int i, int b) { return b8::load_unaligned(right_rev[i] + k + b * lanes); };
+  };
+  int k = 0;
+  for (; k + 2 * lanes <= n; k += 2 * lanes)
+    detail::window_box_blocks<2, Arch>(at(k), left, count, vtrunc, group, sum + k);
+  if (k + lanes <= n) {
+    detail::window_box_blocks<1, Arch>(at(k), left, count, vtrunc, group, sum + k);
+    k += lanes;
+  }
+  if (k < n) detail::window_box_blocks<1, Arch>(at(n - lanes), left, count, vtrunc, group, sum + n - lanes);
+}
+
+template <class Arch>
+void AggregateWindowWeightedU32<Arch>::call(const std::uint8_t* const* right_rev,
+                                            const std::uint8_t* left, const std::uint16_t* weight,
+                                            int count, std::uint8_t trunc, int n,
+                                            std::uint32_t* sum) {
+  // weight * 255 must fit the 16-bit product; the model's weights are <= 255.
+  constexpr std::uint16_t kMaxWeight16 = 0xffff / 0xff;  // 257
+  for (int i = 0; i < count; ++i) {
+    if (weight[i] > kMaxWeight16)
+      return aggregate_window_weighted_u32_scalar(right_rev, left, weight, count, trunc, n, sum);
+  }
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  using b32 = xsimd::batch<std::uint32_t, Arch>;
+  constexpr int lanes = static_cast<int>(b8::size);
+  constexpr int quarter = static_cast<int>(b32::size);
+  using Half = typename detail::Narrower<Arch>::type;
+  if constexpr (!std::is_void<Half>::value) {
+    if (n < lanes)
+      return AggregateWindowWeightedU32<Half>::call(right_rev, left, weight, count, trunc, n, sum);
+  }
+  const b8 vtrunc(trunc);
+  // acc[2h], acc[2h + 1]: the u32 sums of u16 half h (disparities
+  // 2h * quarter .. 2h * quarter + 2 quarter - 1), as widen_unordered pairs.
+  auto block = [&](auto load_row, std::uint32_t* out) {
+    b32 acc[4] = {b32(0u), b32(0u), b32(0u), b32(0u)};
+    for (int i = 0; i < count; ++i) {
+      b16 d16[2];
+      escape::widen(detail::truncated_abs_diff(b8(left[i]), load_row(i), vtrunc), d16[0], d16[1]);
+      const b16 w(weight[i]);
+      for (int h = 0; h < 2; ++h) {
+        b32 lo, hi;
+        escape::widen_unordered(escape::mullo_u16(d16[h], w), lo, hi);
+        acc[2 * h] += lo;
+        acc[2 * h + 1] += hi;
+      }
+    }
+    for (int h = 0; h < 2; ++h) {
+      escape::restore_widened_order(acc[2 * h], acc[2 * h + 1]);
+      acc[2 * h].store_unaligned(out + 2 * h * quarter);
+      acc[2 * h + 1].store_unaligned(out + (2 * h + 1) * quarter);
+    }
+  };
+  if (n < lanes) {  // narrowest arch only
+    alignas(64) std::uint8_t row_pad[lanes] = {};
+    alignas(64) std::uint32_t out_pad[lanes];
+    const auto un = static_cast<std::size_t>(n);
+    block([&](int i) {
+      std::memcpy(row_pad, right_rev[i], un);
+      return b8::load_aligned(row_pad);
+    }, out_pad);
+    std::memcpy(sum, out_pad, un * sizeof(std::uint32_t));
+    return;
+  }
+  auto run_at = [&](int k) {
+    block([right_rev, k](int i) { return b8::load_unaligned(right_rev[i] + k); }, sum + k);
+  };
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) run_at(k);
+  if (k < n) run_at(n - lanes);
+}
+
 template <class Arch>
 void NormalizeCostsU16<Arch>::call(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
                                    std::uint16_t* cost_q4) {

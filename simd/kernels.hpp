@@ -30,6 +30,19 @@ struct AccumulateAbsDiffWeightedU32 {
 };
 
 template <class Arch>
+struct AggregateWindowBoxU16 {
+  static void call(const std::uint8_t* const* right_rev, const std::uint8_t* left, int count,
+                   std::uint8_t trunc, int n, std::uint16_t* sum);
+};
+
+template <class Arch>
+struct AggregateWindowWeightedU32 {
+  static void call(const std::uint8_t* const* right_rev, const std::uint8_t* left,
+                   const std::uint16_t* weight, int count, std::uint8_t trunc, int n,
+                   std::uint32_t* sum);
+};
+
+template <class Arch>
 struct NormalizeCostsU16 {
   static void call(const std::uint16_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4);
 };
@@ -49,6 +62,8 @@ struct DpStep {
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
   KEYWORD template struct AccumulateAbsDiffWeightedU32<ARCH>; \
+  KEYWORD template struct AggregateWindowBoxU16<ARCH>;        \
+  KEYWORD template struct AggregateWindowWeightedU32<ARCH>;   \
   KEYWORD template struct NormalizeCostsU16<ARCH>;            \
   KEYWORD template struct NormalizeCostsU32<ARCH>;            \
   KEYWORD template struct DpStep<ARCH>;

@@ -11,10 +11,12 @@
 #include <vector>
 
 #include "src/cost/match_context.hpp"
+#include "src/kernels/dispatch.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "src/kernels/kernels_scalar.hpp"
 #include "src/model/exp_table.hpp"
 #include "src/reference/ref_match.hpp"
+#include "tristereo/kernels.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -213,12 +215,15 @@ TEST(MatchContext, ClippedBoxWindowAtTheCorner) {
   EXPECT_EQ(aggregate(left, right, p, 0, 0)[0], 136);
 }
 
+// Every kernel set this CPU runs (the fused window kernels, their register
+// blocks, overlapping last block and narrow tails), against the reference.
 TEST(MatchContext, EqualsReferenceOnRandomImages) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> side(1, 15), dmin(-6, 6), nd(1, 24);
+  const int wide_d[] = {31, 32, 33, 64, 65, 100, 256};
   for (int trial = 0; trial < 200; ++trial) {
     const int w = 2 + side(rng) * 2, h = 2 + side(rng);
-    StereoParams p = small_params(dmin(rng), nd(rng));
+    StereoParams p = small_params(dmin(rng), trial % 4 == 3 ? wide_d[trial % 7] : nd(rng));
     p.cost.window_w = 2 * (side(rng) % 16) + 1;
     p.cost.window_h = 2 * (side(rng) % 16) + 1;
     p.cost.truncation = std::uniform_int_distribution<int>(1, 255)(rng);
@@ -231,16 +236,19 @@ TEST(MatchContext, EqualsReferenceOnRandomImages) {
     for (int x = 0; x < w; ++x) xs.push_back(x);
     const auto ref = reference::aggregated_costs(left, right, y, xs, p);
 
-    MatchContext ctx(w + 3, h + 1, p, scalar_kernel_set());
-    ctx.begin_frame(left.view(), right.view());
-    ctx.prepare_right_rows(0, h);
-    CostScratch scratch(p.num_disp);
-    std::vector<std::uint16_t> out(static_cast<std::size_t>(p.num_disp));
-    for (int x : xs) {
-      ctx.aggregate_sample(x, y, out.data(), scratch);
-      for (int k = 0; k < p.num_disp; ++k)
-        ASSERT_EQ(out[static_cast<std::size_t>(k)], ref[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)])
-            << "trial " << trial << " x " << x << " k " << k << " u16 " << ctx.uses_u16_box();
+    for (KernelChoice set : available_kernel_sets()) {
+      MatchContext ctx(w + 3, h + 1, p, kernel_set_for(set));
+      ctx.begin_frame(left.view(), right.view());
+      ctx.prepare_right_rows(0, h);
+      CostScratch scratch(p.num_disp);
+      std::vector<std::uint16_t> out(static_cast<std::size_t>(p.num_disp));
+      for (int x : xs) {
+        ctx.aggregate_sample(x, y, out.data(), scratch);
+        for (int k = 0; k < p.num_disp; ++k)
+          ASSERT_EQ(out[static_cast<std::size_t>(k)], ref[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)])
+              << "trial " << trial << " set " << to_string(set) << " x " << x << " k " << k
+              << " u16 " << ctx.uses_u16_box();
+      }
     }
   }
 }

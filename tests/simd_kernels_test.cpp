@@ -10,6 +10,7 @@
 // Middlebury pairs through a box/weighted aggregation and a DP chain.
 #include <cstdint>
 #include <cstdlib>
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <string>
@@ -115,6 +116,8 @@ TEST_P(SimdKernels, DispatchGivesTheSetsOwnTable) {
   EXPECT_STREQ(s.name, to_string(GetParam()));
   EXPECT_NE(s.accumulate_abs_diff_u16, scalar().accumulate_abs_diff_u16);
   EXPECT_NE(s.accumulate_abs_diff_weighted_u32, scalar().accumulate_abs_diff_weighted_u32);
+  EXPECT_NE(s.aggregate_window_box_u16, scalar().aggregate_window_box_u16);
+  EXPECT_NE(s.aggregate_window_weighted_u32, scalar().aggregate_window_weighted_u32);
   EXPECT_NE(s.normalize_costs_u16, scalar().normalize_costs_u16);
   EXPECT_NE(s.normalize_costs_u32, scalar().normalize_costs_u32);
   EXPECT_NE(s.dp_step, scalar().dp_step);
@@ -168,6 +171,139 @@ TEST_P(SimdKernels, AccumulateAbsDiffWeightedU32) {
     ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " case=" << c
                               << " left=" << +left << " weight=" << weight << " trunc=" << +trunc;
   });
+}
+
+// ---------------------------------------------------------------- window kernels
+
+// Window sizes: 1 pixel, around the u8 group sizes of small truncations, the
+// default 5x5, and the largest 31x31.
+constexpr int kWindowCounts[] = {1, 2, 7, 8, 9, 25, 49, 255, 256, 961};
+// 255 / trunc is the number of pixels summed in u8 before widening: 1, 2, 8,
+// 3, 2, 1 and 255 pixels; 255 and 128 make every group a single pixel.
+constexpr std::uint8_t kWindowTruncs[] = {255, 128, 30, 85, 127, 1, 254};
+
+// `count` window pixels whose right runs of n bytes start at arbitrary
+// (misaligned) offsets of one buffer; the last run ends exactly at the end of
+// the allocation, so an over-read past n trips ASan.
+struct WindowInput {
+  std::vector<std::uint8_t> buf;
+  std::vector<const std::uint8_t*> right;
+  std::vector<std::uint8_t> left;
+  WindowInput(std::mt19937& rng, int count, int n, int which) {
+    const int span = n + 64;
+    buf.resize(static_cast<std::size_t>(count) * span);
+    const std::vector<std::uint8_t> values = pattern<std::uint8_t>(rng, static_cast<int>(buf.size()), which, 0, 255);
+    std::copy(values.begin(), values.end(), buf.begin());
+    for (int i = 0; i < count; ++i) {
+      const int off = i == count - 1 ? span - n : static_cast<int>(rng() % (span - n + 1));
+      right.push_back(buf.data() + static_cast<std::size_t>(i) * span + off);
+      left.push_back(which % kCases == 1 ? 255 : static_cast<std::uint8_t>(rng()));
+    }
+  }
+};
+
+TEST_P(SimdKernels, AggregateWindowBoxU16) {
+  std::mt19937 rng(11);
+  for (int n : kSizes) {
+    for (int count : kWindowCounts) {
+      for (int c = 0; c < kCases; ++c) {
+        const WindowInput in(rng, count, n, c);
+        const std::uint8_t trunc = kWindowTruncs[(n + count + c) % 7];
+        // Outputs start at a different misalignment per case; the kernel
+        // overwrites them, so the initial content must not matter.
+        Guarded<std::uint16_t> a(random_values<std::uint16_t>(rng, n, 0, 0xffff), 0xA5A5);
+        Guarded<std::uint16_t> b(std::vector<std::uint16_t>(n, 0x1234), 0xA5A5);
+        simd().aggregate_window_box_u16(in.right.data(), in.left.data(), count, trunc, n, a.data());
+        scalar().aggregate_window_box_u16(in.right.data(), in.left.data(), count, trunc, n, b.data());
+        ASSERT_EQ(diff(a, b), "") << "n=" << n << " count=" << count << " case=" << c
+                                  << " trunc=" << +trunc;
+      }
+    }
+  }
+}
+
+TEST_P(SimdKernels, AggregateWindowBoxU16EveryTruncation) {
+  // Every T_c with the default window and with a window of exactly one
+  // 255 / T_c group plus one pixel (the first widening happens mid-window).
+  std::mt19937 rng(12);
+  for (int t = 1; t <= 255; ++t) {
+    for (int count : {25, 255 / t + 1}) {
+      for (int n : {16, 64, 100}) {
+        const WindowInput in(rng, count, n, t);
+        const auto trunc = static_cast<std::uint8_t>(t);
+        Guarded<std::uint16_t> a(std::vector<std::uint16_t>(n, 0), 0xA5A5), b = a;
+        simd().aggregate_window_box_u16(in.right.data(), in.left.data(), count, trunc, n, a.data());
+        scalar().aggregate_window_box_u16(in.right.data(), in.left.data(), count, trunc, n, b.data());
+        ASSERT_EQ(diff(a, b), "") << "n=" << n << " count=" << count << " trunc=" << t;
+      }
+    }
+  }
+}
+
+TEST_P(SimdKernels, AggregateWindowWeightedU32) {
+  std::mt19937 rng(13);
+  for (int n : kSizes) {
+    for (int count : kWindowCounts) {
+      for (int c = 0; c < kCases + 1; ++c) {
+        const WindowInput in(rng, count, n, c);
+        const std::uint8_t trunc = kWindowTruncs[(n + count + c) % 7];
+        // Model weights 0..254 (0 included: the kernel must add nothing for
+        // it), 1 for large boxes, 256/257 (largest with a 16-bit product);
+        // case kCases puts one weight above 257 in: the whole call falls back.
+        std::vector<std::uint16_t> weight(count);
+        for (auto& w : weight) {
+          switch (c) {
+            case 0: w = static_cast<std::uint16_t>(rng() % 255); break;
+            case 1: w = 254; break;
+            case 2: w = 1; break;
+            case 3: w = static_cast<std::uint16_t>(rng() % 258); break;
+            default: w = static_cast<std::uint16_t>(rng() % 256); break;
+          }
+        }
+        if (c == kCases) weight[rng() % count] = static_cast<std::uint16_t>(258 + rng() % 65278);
+        Guarded<std::uint32_t> a(random_values<std::uint32_t>(rng, n, 0, 0xffffffffu), 0xDEADBEEF);
+        Guarded<std::uint32_t> b(std::vector<std::uint32_t>(n, 7), 0xDEADBEEF);
+        simd().aggregate_window_weighted_u32(in.right.data(), in.left.data(), weight.data(), count,
+                                             trunc, n, a.data());
+        scalar().aggregate_window_weighted_u32(in.right.data(), in.left.data(), weight.data(), count,
+                                               trunc, n, b.data());
+        ASSERT_EQ(diff(a, b), "") << "n=" << n << " count=" << count << " case=" << c
+                                  << " trunc=" << +trunc;
+      }
+    }
+  }
+}
+
+TEST_P(SimdKernels, AggregateWindowKnownSums) {
+  // Ground truth without the scalar kernel: every pixel differs from every
+  // right value by exactly 3 (left 10, right 13), so box sums are 3 * count
+  // (or T_c * count when T_c < 3) and weighted sums 3 * (sum of weights).
+  for (int n : {1, 15, 17, 33, 256}) {
+    for (int count : {1, 25, 961}) {
+      std::vector<std::uint8_t> row(static_cast<std::size_t>(n) + 31, 13);
+      std::vector<const std::uint8_t*> right(count);
+      std::vector<std::uint8_t> left(count, 10);
+      std::vector<std::uint16_t> weight(count);
+      std::uint32_t total = 0;
+      for (int i = 0; i < count; ++i) {
+        right[i] = row.data() + i % 31;
+        weight[i] = static_cast<std::uint16_t>(i % 255);
+        total += weight[i];
+      }
+      for (std::uint8_t trunc : {std::uint8_t{2}, std::uint8_t{30}}) {
+        std::vector<std::uint16_t> box(n, 0xffff);
+        std::vector<std::uint32_t> wsum(n, 0xffffffffu);
+        simd().aggregate_window_box_u16(right.data(), left.data(), count, trunc, n, box.data());
+        simd().aggregate_window_weighted_u32(right.data(), left.data(), weight.data(), count, trunc,
+                                             n, wsum.data());
+        const std::uint32_t diff_value = trunc < 3 ? trunc : 3;
+        for (int k = 0; k < n; ++k) {
+          ASSERT_EQ(box[k], diff_value * count) << "n=" << n << " count=" << count << " k=" << k;
+          ASSERT_EQ(wsum[k], diff_value * total) << "n=" << n << " count=" << count << " k=" << k;
+        }
+      }
+    }
+  }
 }
 
 // inv_q32 = floor(2^32 / W) for the model's weight sums, plus arbitrary 64-bit

@@ -81,4 +81,7 @@ if(TRISTEREO_QEMU_PROGRAM)
   string(REPLACE ";" ":" _tristereo_ld_path "${_tristereo_target_libdirs}")
   set(CMAKE_CROSSCOMPILING_EMULATOR
       "${TRISTEREO_QEMU_PROGRAM};-L;${_tristereo_qemu_prefix};-E;LD_LIBRARY_PATH=${_tristereo_ld_path}")
+else()
+  message(STATUS "tristereo: ${TRISTEREO_QEMU} not found (Debian package qemu-user): "
+                 "the ${CMAKE_SYSTEM_PROCESSOR} tests can be built here but only run on the board")
 endif()

@@ -1,4 +1,5 @@
 // Scalar cost kernels (docs/model.md section 2).
+#include <algorithm>
 #include <cstdlib>
 
 #include "src/kernels/kernels_scalar.hpp"
@@ -28,6 +29,22 @@ void accumulate_abs_diff_weighted_u32_scalar(const std::uint8_t* right_rev, std:
                                              std::uint32_t* acc) {
   for (int k = 0; k < n; ++k)
     acc[k] += std::uint32_t{weight} * truncated_abs_diff(left, right_rev[k], trunc);
+}
+
+void aggregate_window_box_u16_scalar(const std::uint8_t* const* right_rev,
+                                     const std::uint8_t* left, int count, std::uint8_t trunc,
+                                     int n, std::uint16_t* sum) {
+  std::fill(sum, sum + n, std::uint16_t{0});
+  for (int i = 0; i < count; ++i) accumulate_abs_diff_u16_scalar(right_rev[i], left[i], trunc, n, sum);
+}
+
+void aggregate_window_weighted_u32_scalar(const std::uint8_t* const* right_rev,
+                                          const std::uint8_t* left, const std::uint16_t* weight,
+                                          int count, std::uint8_t trunc, int n,
+                                          std::uint32_t* sum) {
+  std::fill(sum, sum + n, 0u);
+  for (int i = 0; i < count; ++i)
+    accumulate_abs_diff_weighted_u32_scalar(right_rev[i], left[i], weight[i], trunc, n, sum);
 }
 
 // sum * inv_q32 * 16 < 255 * 2^36: the product fits 64 bits for any weight sum.

@@ -73,6 +73,10 @@ void validate_match_params(const StereoParams& p) {
 void CostScratch::resize(int num_disp) {
   sum_u16_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
   sum_u32_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
+  constexpr std::size_t kMaxWindowPixels = std::size_t{kMaxWindowSide} * kMaxWindowSide;
+  window_right_.assign(kMaxWindowPixels, nullptr);
+  window_left_.assign(kMaxWindowPixels, 0);
+  window_weight_.assign(kMaxWindowPixels, 0);
 }
 
 MatchContext::MatchContext(int max_width, int max_height, const StereoParams& params,
@@ -86,6 +90,7 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   check_range("max_height", max_height, 2, kMaxImageSide);
   validate_match_params(params);
   if (!kernels.accumulate_abs_diff_u16 || !kernels.accumulate_abs_diff_weighted_u32 ||
+      !kernels.aggregate_window_box_u16 || !kernels.aggregate_window_weighted_u32 ||
       !kernels.normalize_costs_u16 || !kernels.normalize_costs_u32 || !kernels.dp_step)
     fail(std::string("kernel set '") + (kernels.name ? kernels.name : "?") + "' is incomplete");
 
@@ -158,50 +163,63 @@ void MatchContext::aggregate_sample(int x, int y, std::uint16_t* cost_q4,
   const int y0 = std::max(0, y - ry), y1 = std::min(height_ - 1, y + ry);
   const auto trunc = static_cast<std::uint8_t>(c.truncation);
   const KernelSet& ks = *kernels_;
+  const std::uint8_t** right = scratch.window_right_.data();
+  std::uint8_t* left = scratch.window_left_.data();
+  std::uint16_t* weight = scratch.window_weight_.data();
 
+  // The clipped window as a list of pixels: the kernel then walks it with the
+  // D sums held in registers. Pixel x0 + j of row py reads its right run at
+  // rev(py) + rev_offset(x0) - j (the offset falls by one as x grows).
+  // Everything the loops read is copied to locals first: the u8 stores into
+  // `left` may alias any object, which would reload the members every pixel.
+  const int cols = x1 - x0 + 1;
+  const std::ptrdiff_t l_stride = left_.stride_bytes;
+  const std::uint8_t* l = left_.row(y0) + x0;
+  const auto r_stride = static_cast<std::ptrdiff_t>(rev_stride_);
+  const std::uint8_t* r = right_rev_row(y0) + rev_offset(x0);
   std::uint64_t sum_w = 0;
-  if (use_u16_box_) {
-    std::uint16_t* acc = scratch.sum_u16_.data();
-    std::fill(acc, acc + n, 0);
-    for (int py = y0; py <= y1; ++py) {
-      const std::uint8_t* l = left_.row(py);
-      const std::uint8_t* r = right_rev_row(py);
-      for (int px = x0; px <= x1; ++px)
-        ks.accumulate_abs_diff_u16(r + rev_offset(px), l[px], trunc, n, acc);
-    }
-    sum_w = static_cast<std::uint64_t>(x1 - x0 + 1) * (y1 - y0 + 1);
-    ks.normalize_costs_u16(acc, (std::uint64_t{1} << kInvShift) / sum_w, n, cost_q4);
-    return;
-  }
-
-  std::uint32_t* acc = scratch.sum_u32_.data();
-  std::fill(acc, acc + n, 0u);
+  int count = 0;
   if (c.weights == Weights::kBox) {
-    for (int py = y0; py <= y1; ++py) {
-      const std::uint8_t* l = left_.row(py);
-      const std::uint8_t* r = right_rev_row(py);
-      for (int px = x0; px <= x1; ++px)
-        ks.accumulate_abs_diff_weighted_u32(r + rev_offset(px), l[px], 1, trunc, n, acc);
+    for (int py = y0; py <= y1; ++py, l += l_stride, r += r_stride) {
+      for (int j = 0; j < cols; ++j) {
+        right[count + j] = r - j;
+        left[count + j] = l[j];
+      }
+      count += cols;
     }
-    sum_w = static_cast<std::uint64_t>(x1 - x0 + 1) * (y1 - y0 + 1);
+    sum_w = static_cast<std::uint64_t>(count);
   } else {
     const int centre = left_.row(y)[x];
-    for (int py = y0; py <= y1; ++py) {
-      const std::uint8_t* l = left_.row(py);
-      const std::uint8_t* r = right_rev_row(py);
-      const int dy2 = (py - y) * (py - y);
-      for (int px = x0; px <= x1; ++px) {
-        const int ws = ws_[std::abs(l[px] - centre)];
-        const int wp = wp_[static_cast<std::size_t>(dy2 + (px - x) * (px - x))];
-        const auto weight = static_cast<std::uint16_t>((ws * wp) >> kWeightShift);
-        if (weight == 0) continue;  // adds nothing to S or W
-        sum_w += weight;
-        ks.accumulate_abs_diff_weighted_u32(r + rev_offset(px), l[px], weight, trunc, n, acc);
+    const std::uint8_t* ws = ws_;
+    const std::uint8_t* wp = wp_.data();
+    for (int py = y0; py <= y1; ++py, l += l_stride, r += r_stride) {
+      const std::uint8_t* wp_row = wp + (py - y) * (py - y);
+      for (int j = 0; j < cols; ++j) {
+        const int dx = x0 + j - x;
+        const auto w = static_cast<std::uint16_t>((ws[std::abs(l[j] - centre)] * wp_row[dx * dx]) >>
+                                                  kWeightShift);
+        if (w == 0) continue;  // adds nothing to S or W
+        sum_w += w;
+        right[count] = r - j;
+        left[count] = l[j];
+        weight[count] = w;
+        ++count;
       }
     }
   }
   // sum_w >= 1: the centre's weight is 1 (box) or (255 * 255) >> 8 = 254.
-  ks.normalize_costs_u32(acc, (std::uint64_t{1} << kInvShift) / sum_w, n, cost_q4);
+  const std::uint64_t inv_q32 = (std::uint64_t{1} << kInvShift) / sum_w;
+  if (use_u16_box_) {
+    std::uint16_t* acc = scratch.sum_u16_.data();
+    ks.aggregate_window_box_u16(right, left, count, trunc, n, acc);
+    ks.normalize_costs_u16(acc, inv_q32, n, cost_q4);
+  } else {
+    // Adaptive weights, or a box too large for u16 sums (weights all 1).
+    if (c.weights == Weights::kBox) std::fill(weight, weight + count, std::uint16_t{1});
+    std::uint32_t* acc = scratch.sum_u32_.data();
+    ks.aggregate_window_weighted_u32(right, left, weight, count, trunc, n, acc);
+    ks.normalize_costs_u32(acc, inv_q32, n, cost_q4);
+  }
 }
 
 }  // namespace tristereo

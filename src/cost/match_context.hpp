@@ -39,7 +39,9 @@ constexpr int kMaxAswGammaProximity = 100000;
 // matching stages (cost, aggregation, DP) cannot take exactly.
 void validate_match_params(const StereoParams& params);
 
-// One worker's accumulators for aggregate_sample (D lanes each, allocated once).
+// One worker's buffers for aggregate_sample, allocated once: the D sums and
+// the window's per-pixel inputs of the fused window kernels (right run,
+// left value, weight; up to kMaxWindowSide^2 pixels).
 class CostScratch {
  public:
   CostScratch() = default;
@@ -50,6 +52,9 @@ class CostScratch {
   friend class MatchContext;
   std::vector<std::uint16_t> sum_u16_;
   std::vector<std::uint32_t> sum_u32_;
+  std::vector<const std::uint8_t*> window_right_;
+  std::vector<std::uint8_t> window_left_;
+  std::vector<std::uint16_t> window_weight_;
 };
 
 class MatchContext {

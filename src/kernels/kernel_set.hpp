@@ -27,6 +27,27 @@ struct KernelSet {
                                            std::uint16_t weight, std::uint8_t trunc, int n,
                                            std::uint32_t* acc) = nullptr;
 
+  // Whole support window of one sample in one call (the stage's hot path: the
+  // D sums stay in registers while the window is walked, instead of one
+  // load + store of every accumulator per window pixel):
+  //   sum[k] = sum_{i < count} min(|left[i] - right_rev[i][k]|, trunc), k in [0, n).
+  // right_rev[i] is the reversed right run of window pixel i (as for
+  // accumulate_abs_diff_u16), left[i] its left intensity; sum is overwritten.
+  // Bound: count * trunc <= 65535 (the pipeline's u16 box condition); beyond
+  // it both scalar and SIMD wrap mod 2^16 alike.
+  void (*aggregate_window_box_u16)(const std::uint8_t* const* right_rev,
+                                   const std::uint8_t* left, int count, std::uint8_t trunc,
+                                   int n, std::uint16_t* sum) = nullptr;
+
+  // Same with per-pixel weights: sum[k] = sum_i weight[i] * min(|left[i] -
+  // right_rev[i][k]|, trunc). Model weights are 0..255 (SIMD twins take any
+  // u16 weight; above 257 they fall back to scalar). Bound: sum of weights *
+  // trunc < 2^32 (the model's < 961 * 255 * 255 < 2^26).
+  void (*aggregate_window_weighted_u32)(const std::uint8_t* const* right_rev,
+                                        const std::uint8_t* left, const std::uint16_t* weight,
+                                        int count, std::uint8_t trunc, int n,
+                                        std::uint32_t* sum) = nullptr;
+
   // cost_q4[k] = (sum[k] * inv_q32 * 16 + 2^31) >> 32 (docs/model.md section 2),
   // inv_q32 = floor(2^32 / sum_of_weights). Result in 0 .. 4080.
   void (*normalize_costs_u16)(const std::uint16_t* sum, std::uint64_t inv_q32, int n,

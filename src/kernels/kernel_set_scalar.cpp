@@ -9,6 +9,8 @@ const KernelSet& scalar_kernel_set() {
     s.name = "scalar";
     s.accumulate_abs_diff_u16 = accumulate_abs_diff_u16_scalar;
     s.accumulate_abs_diff_weighted_u32 = accumulate_abs_diff_weighted_u32_scalar;
+    s.aggregate_window_box_u16 = aggregate_window_box_u16_scalar;
+    s.aggregate_window_weighted_u32 = aggregate_window_weighted_u32_scalar;
     s.normalize_costs_u16 = normalize_costs_u16_scalar;
     s.normalize_costs_u32 = normalize_costs_u32_scalar;
     s.dp_step = dp_step_scalar;

@@ -11,6 +11,15 @@ void accumulate_abs_diff_u16_scalar(const std::uint8_t* right_rev, std::uint8_t 
 void accumulate_abs_diff_weighted_u32_scalar(const std::uint8_t* right_rev, std::uint8_t left,
                                              std::uint16_t weight, std::uint8_t trunc, int n,
                                              std::uint32_t* acc);
+// Loops over the window pixels calling the per-pixel kernels above: the
+// definition the fused SIMD window kernels are checked against.
+void aggregate_window_box_u16_scalar(const std::uint8_t* const* right_rev,
+                                     const std::uint8_t* left, int count, std::uint8_t trunc,
+                                     int n, std::uint16_t* sum);
+void aggregate_window_weighted_u32_scalar(const std::uint8_t* const* right_rev,
+                                          const std::uint8_t* left, const std::uint16_t* weight,
+                                          int count, std::uint8_t trunc, int n,
+                                          std::uint32_t* sum);
 void normalize_costs_u16_scalar(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
                                 std::uint16_t* cost_q4);
 void normalize_costs_u32_scalar(const std::uint32_t* sum, std::uint64_t inv_q32, int n,
