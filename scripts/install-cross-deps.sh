@@ -43,6 +43,7 @@ DEPS_ROOT="${TRISTEREO_CROSS_DEPS_ROOT:-/opt/tristereo/cross-deps}"
 TARGET_PKGS="libpng-dev libpng16-16 zlib1g-dev zlib1g libgpiod-dev libgpiod2 libbenchmark-dev libbenchmark1debian"
 
 updated=0
+added_archs=""
 apt_update() {
   [ "$updated" -eq 1 ] && return 0
   updated=1
@@ -91,6 +92,7 @@ for t in $targets; do
   fi
   if ! dpkg --print-foreign-architectures | grep -qx "$arch"; then
     $SUDO dpkg --add-architecture "$arch"
+    added_archs="$added_archs $arch"
     updated=0  # the new architecture's indexes are not there yet
   fi
   apt_update
@@ -111,7 +113,14 @@ for t in $targets; do
   find "$dest" -type l -lname '/*' | while read -r link; do
     $SUDO ln -sfnr "$dest$(readlink "$link")" "$link"
   done
-  { echo "$TARGET_PKGS"; (cd "$work" && ls -1 ./*.deb | sed 's|^\./||'); } | $SUDO tee "$stamp" >/dev/null
+  { echo "$TARGET_PKGS"; (cd "$work" && find . -name '*.deb' | sed 's|^\./||' | sort); } | $SUDO tee "$stamp" >/dev/null
   rm -rf "$work"
   echo "install-cross-deps: $triple: unpacked $(($(wc -l <"$stamp") - 1)) packages into $dest"
+done
+
+# Nothing of the target architectures is installed through dpkg, so leave the
+# host's dpkg configuration as it was: a foreign architecture would make every
+# later `apt-get update` depend on that architecture's indexes too.
+for arch in $added_archs; do
+  $SUDO dpkg --remove-architecture "$arch"
 done

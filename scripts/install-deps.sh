@@ -13,7 +13,9 @@ for p in $PKGS; do
 done
 if [ -n "$missing" ]; then
   export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -q
+  # A partial index failure (e.g. a foreign-architecture mirror) must not stop
+  # the install when the packages we need are reachable.
+  $SUDO apt-get update -q || echo "install-deps: apt-get update reported errors; trying the install anyway" >&2
   # shellcheck disable=SC2086
   $SUDO apt-get install -y -q --no-install-recommends $missing
 fi
