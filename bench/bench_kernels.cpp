@@ -152,6 +152,34 @@ void bench_dp_step(benchmark::State& state, const KernelSet* ks, int d) {
   state.SetItemsProcessed(state.iterations() * d);
 }
 
+// The u16 DP (lambda_q4 <= kMaxDpPenaltyU16): chained like a row, penalty 40
+// (the default lambda), so values stay <= 4080 + 255 * 40.
+void bench_dp_step_u16(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint16_t> prev(d), out(d);
+  for (int k = 0; k < d; ++k) prev[k] = static_cast<std::uint16_t>(in.prev[k] % (4080 + 255 * 40));
+  for (auto _ : state) {
+    ks->dp_step_u16(in.cost.data(), prev.data(), 40, d, out.data());
+    prev.swap(out);
+    benchmark::DoNotOptimize(prev.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * d);
+}
+
+// One back-pointer search per call (a backtracking step), k walking the range.
+void bench_dp_pointer_u16(benchmark::State& state, const KernelSet* ks, int d) {
+  Inputs in(d);
+  std::vector<std::uint16_t> prev(d);
+  for (int k = 0; k < d; ++k) prev[k] = static_cast<std::uint16_t>(in.prev[k] % (4080 + 255 * 40));
+  int k = 0;
+  for (auto _ : state) {
+    k = (ks->dp_pointer_u16(prev.data(), 40, d, k) + 7) % d;
+    benchmark::DoNotOptimize(k);
+  }
+  state.SetItemsProcessed(state.iterations() * d);
+}
+
 void register_all() {
   using Fn = void (*)(benchmark::State&, const KernelSet*, int);
   const std::pair<const char*, Fn> kernels[] = {
@@ -162,6 +190,8 @@ void register_all() {
       {"normalize_costs_u16", bench_normalize_u16},
       {"normalize_costs_u32", bench_normalize_u32},
       {"dp_step", bench_dp_step},
+      {"dp_step_u16", bench_dp_step_u16},
+      {"dp_pointer_u16", bench_dp_pointer_u16},
   };
   for (const auto& [kernel, fn] : kernels) {
     for (KernelChoice set : available_kernel_sets()) {

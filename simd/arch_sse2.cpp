@@ -19,6 +19,8 @@ void fill_kernel_set_sse2(KernelSet& set) {
   set.normalize_costs_u16 = &NormalizeCostsU16<xsimd::sse2>::call;
   set.normalize_costs_u32 = &NormalizeCostsU32<xsimd::sse2>::call;
   set.dp_step = &DpStep<xsimd::sse2>::call;
+  set.dp_step_u16 = &DpStepU16<xsimd::sse2>::call;
+  set.dp_pointer_u16 = &DpPointerU16<xsimd::sse2>::call;
 }
 
 }  // namespace simd

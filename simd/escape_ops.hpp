@@ -44,7 +44,13 @@ inline std::uint32_t min_key_lane(std::uint32_t a, std::uint32_t b) { return a <
 // Narrowing keeps the low bits (C++ conversion to an unsigned type).
 inline std::uint16_t narrow_u32_lane(std::uint32_t a) { return static_cast<std::uint16_t>(a); }
 inline std::uint8_t narrow_u16_lane(std::uint16_t a) { return static_cast<std::uint8_t>(a); }
+inline std::uint16_t min_u16_lane(std::uint16_t a, std::uint16_t b) { return a < b ? a : b; }
 }  // namespace
+
+// Lane shifts of u16 batches for the u16 DP scans: lane i takes lane i - S
+// (up) or i + S (down); lanes with no source get 0xFFFF, the scans' "no
+// candidate" value (it never beats a real value under min).
+constexpr std::uint16_t kShiftFillU16 = 0xFFFF;
 
 namespace detail {
 
@@ -107,6 +113,43 @@ batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b, const xsimd::generic&) {
   return narrow_lanes<std::uint8_t>(a, b, narrow_u16_lane);
 }
+// ---- min of u16
+template <class A>
+batch<std::uint16_t, A> min_u16(const batch<std::uint16_t, A>& a,
+                                const batch<std::uint16_t, A>& b, const xsimd::generic&) {
+  return xsimd::min(a, b);  // native on AVX2 and NEON
+}
+// ---- u16 lane shifts with 0xFFFF fill, broadcasts of the first / last lane
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a, const xsimd::generic&) {
+  constexpr std::size_t n = batch<std::uint16_t, A>::size;
+  alignas(64) std::uint16_t x[n];
+  alignas(64) std::uint16_t y[n];
+  a.store_aligned(x);
+  for (std::size_t i = 0; i < n; ++i) y[i] = i >= S ? x[i - S] : kShiftFillU16;
+  return batch<std::uint16_t, A>::load_aligned(y);
+}
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_down_u16(const batch<std::uint16_t, A>& a, const xsimd::generic&) {
+  constexpr std::size_t n = batch<std::uint16_t, A>::size;
+  alignas(64) std::uint16_t x[n];
+  alignas(64) std::uint16_t y[n];
+  a.store_aligned(x);
+  for (std::size_t i = 0; i < n; ++i) y[i] = i + S < n ? x[i + S] : kShiftFillU16;
+  return batch<std::uint16_t, A>::load_aligned(y);
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_last_u16(const batch<std::uint16_t, A>& a, const xsimd::generic&) {
+  alignas(64) std::uint16_t x[batch<std::uint16_t, A>::size];
+  a.store_aligned(x);
+  return batch<std::uint16_t, A>(x[batch<std::uint16_t, A>::size - 1]);
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, const xsimd::generic&) {
+  alignas(64) std::uint16_t x[batch<std::uint16_t, A>::size];
+  a.store_aligned(x);
+  return batch<std::uint16_t, A>(x[0]);
+}
 // ---- order fix before an interleave with zero (widening): identity where
 // zip_lo/zip_hi are true full-width interleaves (SSE2, NEON).
 template <class T, class A>
@@ -160,6 +203,33 @@ batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
   const __m128i low = _mm_set1_epi16(0x00ff);
   return _mm_packus_epi16(_mm_and_si128(a, low), _mm_and_si128(b, low));
 }
+// SSE2 has no u16 min (pminuw is SSE4.1): a - (a -sat b) = min(a, b).
+template <class A>
+batch<std::uint16_t, A> min_u16(const batch<std::uint16_t, A>& a,
+                                const batch<std::uint16_t, A>& b, const xsimd::sse2&) {
+  return _mm_sub_epi16(a, _mm_subs_epu16(a, b));
+}
+// Byte shifts bring in zeros; OR-ing the vacated lanes with ones makes them 0xFFFF.
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a, const xsimd::sse2&) {
+  const __m128i fill = _mm_srli_si128(_mm_set1_epi32(-1), 16 - 2 * S);
+  return _mm_or_si128(_mm_slli_si128(a, 2 * S), fill);
+}
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_down_u16(const batch<std::uint16_t, A>& a, const xsimd::sse2&) {
+  const __m128i fill = _mm_slli_si128(_mm_set1_epi32(-1), 16 - 2 * S);
+  return _mm_or_si128(_mm_srli_si128(a, 2 * S), fill);
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_last_u16(const batch<std::uint16_t, A>& a, const xsimd::sse2&) {
+  const __m128i hi = _mm_shufflehi_epi16(a, 0xFF);
+  return _mm_unpackhi_epi64(hi, hi);
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, const xsimd::sse2&) {
+  const __m128i lo = _mm_shufflelo_epi16(a, 0x00);
+  return _mm_unpacklo_epi64(lo, lo);
+}
 #endif
 
 #if XSIMD_WITH_AVX2
@@ -201,6 +271,50 @@ void restore_widened_order(batch<T, A>& lo, batch<T, A>& hi, const xsimd::avx2&)
   lo = _mm256_permute2x128_si256(a, b, 0x20);
   hi = _mm256_permute2x128_si256(a, b, 0x31);
 }
+// 256-bit lane shifts cross the 128-bit halves: permute2x128 supplies the
+// neighbouring half (or zero), alignr shifts the pair; S = 8 is the permute alone.
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a, const xsimd::avx2&) {
+  static_assert(S >= 1 && S <= 8, "shift of 1 .. 8 u16 lanes");
+  const __m256i below = _mm256_permute2x128_si256(a, a, 0x08);  // (0, a.lo)
+  __m256i shifted;
+  if constexpr (S == 8) {
+    shifted = below;
+  } else {
+    shifted = _mm256_alignr_epi8(a, below, 16 - 2 * S);
+  }
+  alignas(32) static constexpr std::uint16_t kFill[32] = {
+      0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF,
+      0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF};
+  // lanes 0 .. S-1 of the fill are ones: a load at kFill + 16 - S.
+  return _mm256_or_si256(shifted,
+                         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kFill + 16 - S)));
+}
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_down_u16(const batch<std::uint16_t, A>& a, const xsimd::avx2&) {
+  static_assert(S >= 1 && S <= 8, "shift of 1 .. 8 u16 lanes");
+  const __m256i above = _mm256_permute2x128_si256(a, a, 0x81);  // (a.hi, 0)
+  __m256i shifted;
+  if constexpr (S == 8) {
+    shifted = above;
+  } else {
+    shifted = _mm256_alignr_epi8(above, a, 2 * S);
+  }
+  alignas(32) static constexpr std::uint16_t kFill[32] = {
+      0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+      0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF,
+      0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF};
+  // lanes 16-S .. 15 of the fill are ones: a load at kFill + S.
+  return _mm256_or_si256(shifted, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kFill + S)));
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_last_u16(const batch<std::uint16_t, A>& a, const xsimd::avx2&) {
+  return _mm256_broadcastw_epi16(_mm_srli_si128(_mm256_extracti128_si256(a, 1), 14));
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, const xsimd::avx2&) {
+  return _mm256_broadcastw_epi16(_mm256_castsi256_si128(a));
+}
 #endif
 
 #if XSIMD_WITH_NEON
@@ -220,6 +334,24 @@ template <class A>
 batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b, const xsimd::neon&) {
   return vcombine_u8(vmovn_u16(a), vmovn_u16(b));
+}
+// vext takes the top lanes of its first operand, so a 0xFFFF vector there
+// is the fill (works on ARMv7 and AArch64 alike).
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a, const xsimd::neon&) {
+  return vextq_u16(vdupq_n_u16(kShiftFillU16), a, 8 - S);
+}
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_down_u16(const batch<std::uint16_t, A>& a, const xsimd::neon&) {
+  return vextq_u16(a, vdupq_n_u16(kShiftFillU16), S);
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_last_u16(const batch<std::uint16_t, A>& a, const xsimd::neon&) {
+  return vdupq_lane_u16(vget_high_u16(a), 3);
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, const xsimd::neon&) {
+  return vdupq_lane_u16(vget_low_u16(a), 0);
 }
 #endif
 
@@ -254,6 +386,28 @@ template <class A>
 batch<std::uint8_t, A> narrow_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b) {
   return detail::narrow_u16(a, b, A{});
+}
+
+template <class A>
+batch<std::uint16_t, A> min_u16(const batch<std::uint16_t, A>& a,
+                                const batch<std::uint16_t, A>& b) {
+  return detail::min_u16(a, b, A{});
+}
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a) {
+  return detail::shift_up_u16<S>(a, A{});
+}
+template <std::size_t S, class A>
+batch<std::uint16_t, A> shift_down_u16(const batch<std::uint16_t, A>& a) {
+  return detail::shift_down_u16<S>(a, A{});
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_last_u16(const batch<std::uint16_t, A>& a) {
+  return detail::broadcast_last_u16(a, A{});
+}
+template <class A>
+batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a) {
+  return detail::broadcast_first_u16(a, A{});
 }
 
 // Widens unsigned lanes to twice their width: lo gets elements 0 .. n/2-1,

@@ -536,5 +536,196 @@ void DpStep<Arch>::call(const std::uint16_t* cost_q4, const std::uint32_t* prev,
   }
 }
 
+// ---------------------------------------------------------------- u16 DP
+//
+// Values only (no packed index): g = min(forward scan, backward scan) of prev,
+// both scans computed from prev and independent of each other. Each is an
+// in-register min-plus scan on u16 lanes (steps 1, 2, 4 [, 8] lanes, shifted-in
+// lanes are 0xFFFF) plus a carry between batches. Adds saturate: every true g[k]
+// is <= prev[k] <= 0xFFFF, so a sum clamped at 0xFFFF loses a min it would have
+// lost (or tied in value) anyway, and the result is exact for any penalty.
+// min g = min prev (g[k] <= prev[k], and every g >= min prev), so the minimum is
+// known after the forward pass and the backward pass writes the output directly.
+
+namespace detail {
+
+constexpr std::uint16_t kU16Max = 0xFFFF;
+
+// Lane-count constants for u16 batches of up to kCountLanes lanes:
+// kCount[i] = i, kCountDown[i] = kCountLanes - i.
+constexpr int kCountLanes = 32;
+alignas(64) constexpr std::uint16_t kCount[kCountLanes + 1] = {
+    0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16,
+    17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32};
+alignas(64) constexpr std::uint16_t kCountDown[kCountLanes] = {
+    32, 31, 30, 29, 28, 27, 26, 25, 24, 23, 22, 21, 20, 19, 18, 17,
+    16, 15, 14, 13, 12, 11, 10, 9,  8,  7,  6,  5,  4,  3,  2,  1};
+// Largest penalty whose ramp (up to 16 steps) fits u16 without saturating.
+constexpr std::uint32_t kMaxRampPenalty = 0xFFFF / 16;
+
+// Internal linkage: each arch object keeps its own copy (see escape_ops.hpp).
+static inline std::uint16_t saturate_u16(std::uint64_t v) {
+  return static_cast<std::uint16_t>(v < kU16Max ? v : kU16Max);
+}
+
+template <bool Up, std::size_t S, class A>
+batch<std::uint16_t, A> shifted_u16(const batch<std::uint16_t, A>& x) {
+  if constexpr (Up) {
+    return escape::shift_up_u16<S>(x);
+  } else {
+    return escape::shift_down_u16<S>(x);
+  }
+}
+
+// step[t] = min(2^t penalty, 0xFFFF). Up: lane i ends as min_{j <= i in batch}
+// x[j] + (i - j) penalty; down: the mirror image (j >= i).
+template <bool Up, class A>
+batch<std::uint16_t, A> min_plus_scan_u16(batch<std::uint16_t, A> x,
+                                          const batch<std::uint16_t, A> (&step)[4]) {
+  constexpr std::size_t lanes = batch<std::uint16_t, A>::size;
+  static_assert(lanes == 8 || lanes == 16, "u16 scan written for 8 or 16 lanes");
+  x = escape::min_u16(x, xsimd::sadd(shifted_u16<Up, 1>(x), step[0]));
+  x = escape::min_u16(x, xsimd::sadd(shifted_u16<Up, 2>(x), step[1]));
+  x = escape::min_u16(x, xsimd::sadd(shifted_u16<Up, 4>(x), step[2]));
+  if constexpr (lanes > 8) x = escape::min_u16(x, xsimd::sadd(shifted_u16<Up, 8>(x), step[3]));
+  return x;
+}
+
+// Smallest lane.
+template <class A>
+std::uint16_t horizontal_min_u16(batch<std::uint16_t, A> x) {
+  constexpr std::size_t lanes = batch<std::uint16_t, A>::size;
+  if constexpr (lanes > 8) x = escape::min_u16(x, escape::shift_down_u16<8>(x));
+  x = escape::min_u16(x, escape::shift_down_u16<4>(x));
+  x = escape::min_u16(x, escape::shift_down_u16<2>(x));
+  x = escape::min_u16(x, escape::shift_down_u16<1>(x));
+  alignas(64) std::uint16_t lane[lanes];
+  x.store_aligned(lane);
+  return lane[0];
+}
+
+// prev split into full batches read in place and one 0xFFFF-padded tail batch
+// (0xFFFF never wins a min and never lowers min prev below a real lane's).
+template <class A>
+struct PaddedU16 {
+  static constexpr int lanes = static_cast<int>(batch<std::uint16_t, A>::size);
+  const std::uint16_t* data;
+  int full;     // batches wholly inside [0, n)
+  int batches;  // full + (tail > 0)
+  int tail;     // n - full * lanes
+  alignas(64) std::uint16_t pad[lanes];
+  PaddedU16(const std::uint16_t* p, int n)
+      : data(p), full(n / lanes), batches((n + lanes - 1) / lanes), tail(n - full * lanes) {
+    if (tail > 0) {
+      for (int i = 0; i < lanes; ++i) pad[i] = kU16Max;
+      std::memcpy(pad, p + full * lanes, static_cast<std::size_t>(tail) * sizeof(std::uint16_t));
+    }
+  }
+  batch<std::uint16_t, A> load(int b) const {
+    return b < full ? batch<std::uint16_t, A>::load_unaligned(data + b * lanes)
+                    : batch<std::uint16_t, A>::load_aligned(pad);
+  }
+};
+
+}  // namespace detail
+
+template <class Arch>
+void DpStepU16<Arch>::call(const std::uint16_t* cost_q4, const std::uint16_t* prev,
+                           std::uint32_t penalty, int n, std::uint16_t* out) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  const detail::PaddedU16<Arch> in(prev, n);
+
+  b16 step[4];
+  for (int t = 0; t < 4; ++t) step[t] = b16(detail::saturate_u16(std::uint64_t{penalty} << t));
+  alignas(64) std::uint16_t lane_tmp[lanes];
+  // ramp_up[i] = min((i + 1) p, 0xFFFF), ramp_down[i] = min((lanes - i) p, 0xFFFF).
+  b16 ramp_up, ramp_down;
+  if (penalty <= detail::kMaxRampPenalty) {  // no lane saturates: one multiply each
+    const b16 vp(static_cast<std::uint16_t>(penalty));
+    ramp_up = escape::mullo_u16(b16::load_unaligned(detail::kCount + 1), vp);
+    ramp_down = escape::mullo_u16(b16::load_unaligned(detail::kCountDown + detail::kCountLanes - lanes), vp);
+  } else {
+    for (int i = 0; i < lanes; ++i)
+      lane_tmp[i] = detail::saturate_u16(std::uint64_t{penalty} * static_cast<std::uint64_t>(i + 1));
+    ramp_up = b16::load_aligned(lane_tmp);
+    for (int i = 0; i < lanes; ++i)
+      lane_tmp[i] = detail::saturate_u16(std::uint64_t{penalty} * static_cast<std::uint64_t>(lanes - i));
+    ramp_down = b16::load_aligned(lane_tmp);
+  }
+
+  // Forward scan (j <= k) into fwd, and min prev on the way.
+  alignas(64) std::uint16_t fwd[detail::kMaxLanes + lanes];
+  b16 carry(detail::kU16Max);
+  b16 low(detail::kU16Max);
+  for (int b = 0; b < in.batches; ++b) {
+    b16 x = in.load(b);
+    low = escape::min_u16(low, x);
+    x = detail::min_plus_scan_u16<true>(x, step);
+    x = escape::min_u16(x, xsimd::sadd(carry, ramp_up));
+    x.store_aligned(fwd + b * lanes);
+    carry = escape::broadcast_last_u16(x);
+  }
+  const b16 min_g(detail::horizontal_min_u16(low));
+
+  // Backward scan (j >= k), g = min of both, out = cost + g - min g (wraps
+  // mod 2^16 like the scalar kernel if the caller's bound is exceeded).
+  carry = b16(detail::kU16Max);
+  for (int b = in.batches - 1; b >= 0; --b) {
+    b16 y = detail::min_plus_scan_u16<false>(in.load(b), step);
+    y = escape::min_u16(y, xsimd::sadd(carry, ramp_down));
+    carry = escape::broadcast_first_u16(y);
+    const b16 g = escape::min_u16(y, b16::load_aligned(fwd + b * lanes));
+    const int k = b * lanes;
+    if (b < in.full) {
+      (b16::load_unaligned(cost_q4 + k) + g - min_g).store_unaligned(out + k);
+    } else {
+      const std::size_t m = static_cast<std::size_t>(in.tail);
+      alignas(64) std::uint16_t cost_pad[lanes] = {};
+      std::memcpy(cost_pad, cost_q4 + k, m * sizeof(std::uint16_t));
+      (b16::load_aligned(cost_pad) + g - min_g).store_aligned(lane_tmp);
+      std::memcpy(out + k, lane_tmp, m * sizeof(std::uint16_t));
+    }
+  }
+}
+
+// Every term prev[j] + penalty |k - j| in u16 lanes (product <= 255 * 257 fits;
+// the sum saturates), their minimum, then the first lane equal to it. A
+// saturated term reads 0xFFFF and could only tie with a minimum of 0xFFFF:
+// that case, and penalties above 257, go to the scalar kernel. Then the
+// smallest j whose term equals the minimum, by a second min over indices.
+template <class Arch>
+int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, int n, int k) {
+  constexpr std::uint32_t kMaxPenalty16 = 0xffff / 0xff;  // 257
+  if (penalty > kMaxPenalty16) return dp_pointer_u16_scalar(prev, penalty, n, k);
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  const detail::PaddedU16<Arch> in(prev, n);
+  const b16 iota = b16::load_aligned(detail::kCount);
+  const b16 vk(static_cast<std::uint16_t>(k));
+  const b16 vp(static_cast<std::uint16_t>(penalty));
+  alignas(64) std::uint16_t terms[detail::kMaxLanes + lanes];
+  b16 low(detail::kU16Max);
+  for (int b = 0; b < in.batches; ++b) {
+    const b16 j = iota + b16(static_cast<std::uint16_t>(b * lanes));
+    const b16 dist = xsimd::ssub(j, vk) | xsimd::ssub(vk, j);
+    const b16 t = xsimd::sadd(in.load(b), escape::mullo_u16(dist, vp));
+    t.store_aligned(terms + b * lanes);
+    low = escape::min_u16(low, t);
+  }
+  const std::uint16_t m = detail::horizontal_min_u16(low);
+  if (m == detail::kU16Max) return dp_pointer_u16_scalar(prev, penalty, n, k);
+  // Smallest index whose term equals m, without branches: min over
+  // (term == m ? j : 0xFFFF). Pad lanes hold 0xFFFF terms, never m.
+  const b16 vm(m);
+  const b16 none(detail::kU16Max);
+  b16 first(detail::kU16Max);
+  for (int b = 0; b < in.batches; ++b) {
+    const b16 j = iota + b16(static_cast<std::uint16_t>(b * lanes));
+    first = escape::min_u16(first, xsimd::select(b16::load_aligned(terms + b * lanes) == vm, j, none));
+  }
+  return detail::horizontal_min_u16(first);
+}
+
 }  // namespace simd
 }  // namespace tristereo

@@ -58,6 +58,17 @@ struct DpStep {
                    int n, std::uint32_t* out, std::uint8_t* ptr);
 };
 
+template <class Arch>
+struct DpStepU16 {
+  static void call(const std::uint16_t* cost_q4, const std::uint16_t* prev, std::uint32_t penalty,
+                   int n, std::uint16_t* out);
+};
+
+template <class Arch>
+struct DpPointerU16 {
+  static int call(const std::uint16_t* prev, std::uint32_t penalty, int n, int k);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -66,7 +77,9 @@ struct DpStep {
   KEYWORD template struct AggregateWindowWeightedU32<ARCH>;   \
   KEYWORD template struct NormalizeCostsU16<ARCH>;            \
   KEYWORD template struct NormalizeCostsU32<ARCH>;            \
-  KEYWORD template struct DpStep<ARCH>;
+  KEYWORD template struct DpStep<ARCH>;                       \
+  KEYWORD template struct DpStepU16<ARCH>;                    \
+  KEYWORD template struct DpPointerU16<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

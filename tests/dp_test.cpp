@@ -15,7 +15,9 @@
 #include "src/dp/penalty.hpp"
 #include "src/dp/row_matcher.hpp"
 #include "src/dp/subpixel.hpp"
+#include "src/kernels/dispatch.hpp"
 #include "src/kernels/kernel_set.hpp"
+#include "support/kernel_param.hpp"
 #include "src/reference/ref_match.hpp"
 #include "tristereo/status.hpp"
 
@@ -184,6 +186,76 @@ TEST(RowDp, OptimalAndTieBrokenAgainstEnumeration) {
     }
   }
 }
+
+// ---------------------------------------------------------------- u16 DP path
+
+TEST(DpStepU16, ScalarEqualsBruteForce) {
+  std::mt19937 rng(22);
+  const KernelSet& ks = scalar_kernel_set();
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int n = trial < 256 ? trial + 1 : std::uniform_int_distribution<int>(1, 256)(rng);
+    const int mode = trial % 4;
+    const std::uint32_t penalty = mode == 0 ? 0u : mode == 1 ? kMaxDpPenaltyU16
+                                  : std::uniform_int_distribution<std::uint32_t>(0, kMaxDpPenaltyU16)(rng);
+    const std::uint32_t vmax = mode == 3 ? 3 : 4080 + 255 * penalty;
+    std::uniform_int_distribution<std::uint32_t> val(0, vmax);
+    std::vector<std::uint16_t> c(static_cast<std::size_t>(n)), prev(c.size());
+    std::vector<std::int64_t> c64(c.size()), prev64(c.size()), want;
+    std::vector<int> want_ptr;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      c[k] = static_cast<std::uint16_t>(rng() % 4081);
+      prev[k] = static_cast<std::uint16_t>(val(rng));
+      c64[k] = c[k];
+      prev64[k] = prev[k];
+    }
+    std::vector<std::uint16_t> out(c.size() + 1, 0xBEEF);
+    ks.dp_step_u16(c.data(), prev.data(), penalty, n, out.data());
+    reference::dp_step_brute_force(c64, prev64, penalty, want, want_ptr);
+    for (int k = 0; k < n; ++k) {
+      ASSERT_EQ(out[static_cast<std::size_t>(k)], want[static_cast<std::size_t>(k)]) << "trial " << trial << " k " << k;
+      ASSERT_EQ(ks.dp_pointer_u16(prev.data(), penalty, n, k), want_ptr[static_cast<std::size_t>(k)])
+          << "trial " << trial << " k " << k;
+    }
+    EXPECT_EQ(out[static_cast<std::size_t>(n)], 0xBEEF);
+  }
+}
+
+class RowDpU16 : public ::testing::TestWithParam<KernelChoice> {};
+
+// The u16 row solver (F rows kept, pointers recomputed on the path) picks the
+// same disparities as the u32 one with stored pointers, for every kernel set,
+// on random rows with many ties and at the largest lambda the u16 path takes.
+TEST_P(RowDpU16, EqualsTheU32Path) {
+  TRISTEREO_SKIP_UNLESS_RUNNABLE(GetParam());
+  const KernelSet& ks = kernel_set_for(GetParam());
+  std::mt19937 rng(123);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int d = trial < 40 ? 1 + trial : std::uniform_int_distribution<int>(1, 256)(rng);
+    const int n = std::uniform_int_distribution<int>(1, 120)(rng);
+    const int mode = trial % 3;
+    const std::uint32_t lambda = mode == 0 ? kMaxDpPenaltyU16 : mode == 1 ? 1 : 40;
+    const int cmax = mode == 1 ? 3 : 4080;
+    const std::size_t stride = (static_cast<std::size_t>(d) + 64 + 63) / 64 * 64;
+    std::vector<std::uint16_t> costs(stride * static_cast<std::size_t>(n));
+    for (auto& v : costs) v = static_cast<std::uint16_t>(rng() % (cmax + 1));
+    std::vector<std::int32_t> xs(static_cast<std::size_t>(n));
+    for (int i = 1; i < n; ++i) xs[static_cast<std::size_t>(i)] = xs[static_cast<std::size_t>(i) - 1] + 1 + static_cast<std::int32_t>(rng() % 4);
+    std::vector<std::uint32_t> by_gap;
+    fill_penalty_table(static_cast<int>(lambda), trial % 2 ? GapPolicy::kInverse : GapPolicy::kConstant,
+                       xs.back() + 1, by_gap);
+    std::vector<std::uint32_t> fa(stride), fb(stride);
+    std::vector<std::uint8_t> ptr(stride * static_cast<std::size_t>(n));
+    std::vector<std::uint16_t> f_rows(stride * static_cast<std::size_t>(n));
+    std::vector<std::int32_t> want(static_cast<std::size_t>(n)), got(static_cast<std::size_t>(n));
+    solve_row_dp(scalar_kernel_set(), costs.data(), stride, xs.data(), n, d, by_gap.data(), fa.data(),
+                 fb.data(), ptr.data(), want.data());
+    solve_row_dp_u16(ks, costs.data(), stride, xs.data(), n, d, by_gap.data(), f_rows.data(), got.data());
+    ASSERT_EQ(got, want) << "trial " << trial << " n " << n << " D " << d << " lambda " << lambda;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sets, RowDpU16, ::testing::ValuesIn(test::all_kernel_params()),
+                         test::KernelParamName());
 
 // ---------------------------------------------------------------- sub-pixel
 

@@ -121,6 +121,8 @@ TEST_P(SimdKernels, DispatchGivesTheSetsOwnTable) {
   EXPECT_NE(s.normalize_costs_u16, scalar().normalize_costs_u16);
   EXPECT_NE(s.normalize_costs_u32, scalar().normalize_costs_u32);
   EXPECT_NE(s.dp_step, scalar().dp_step);
+  EXPECT_NE(s.dp_step_u16, scalar().dp_step_u16);
+  EXPECT_NE(s.dp_pointer_u16, scalar().dp_pointer_u16);
 }
 
 TEST_P(SimdKernels, EnvironmentOverridesAuto) {
@@ -398,6 +400,82 @@ TEST_P(SimdKernels, DpStep) {
                                           << " case=" << c << " penalty=" << penalty;
         ASSERT_EQ(diff(ptr_a, ptr_b), "") << "ptr: n=" << n << " offset=" << offset
                                           << " case=" << c << " penalty=" << penalty;
+      }
+    }
+  }
+}
+
+// u16 DP prev patterns: random up to the u16 bound of `penalty`, all 0xFFFF,
+// ties, a descending ramp, and extremes alternating.
+std::vector<std::uint16_t> dp_prev_u16(std::mt19937& rng, int n, int which, std::uint32_t penalty) {
+  const std::uint32_t bound = std::min<std::uint32_t>(0xFFFF, kMaxCostQ4 + 255 * penalty);
+  std::vector<std::uint16_t> v(n);
+  for (int k = 0; k < n; ++k) {
+    std::uint32_t x;
+    switch (which % 6) {
+      case 0: x = rng() % (bound + 1); break;
+      case 1: x = 0xFFFF; break;  // every term saturates in the pointer search
+      case 2: x = bound; break;
+      case 3: x = rng() % 4; break;
+      case 4: x = static_cast<std::uint32_t>((n - k) * 31); break;
+      default: x = (k & 1) ? bound : rng() % 50; break;
+    }
+    v[k] = static_cast<std::uint16_t>(x);
+  }
+  return v;
+}
+
+// Penalties around the u16 path's limit (241 = kMaxDpPenaltyU16: 4080 + 255 * 241
+// = 65535), the pointer kernel's 16-bit product limit (257 / 258), and far
+// beyond (the kernels are exact for any penalty; saturated ramps).
+constexpr std::uint32_t kU16Penalties[] = {0, 1, 40, 240, 241, 257, 258, 4095, 4096, 65535, 100000};
+
+TEST_P(SimdKernels, DpStepU16) {
+  std::mt19937 rng(6);
+  for (int n : kSizes) {
+    for (int offset = 0; offset < kOffsets; ++offset) {
+      for (int c = 0; c < 6; ++c) {
+        const std::uint32_t penalty = kU16Penalties[(c + offset) % 11];
+        const Input<std::uint16_t> prev(dp_prev_u16(rng, n, c + offset, penalty), offset);
+        const Input<std::uint16_t> cost(
+            pattern<std::uint16_t>(rng, n, c, 0, static_cast<std::uint16_t>(kMaxCostQ4)), offset);
+        Guarded<std::uint16_t> out_a(std::vector<std::uint16_t>(n, 0xF00D), 0xF00D);
+        Guarded<std::uint16_t> out_b = out_a;
+        simd().dp_step_u16(cost.data(), prev.data(), penalty, n, out_a.data());
+        scalar().dp_step_u16(cost.data(), prev.data(), penalty, n, out_b.data());
+        ASSERT_EQ(diff(out_a, out_b), "") << "n=" << n << " offset=" << offset << " case=" << c
+                                          << " penalty=" << penalty;
+      }
+    }
+  }
+}
+
+TEST_P(SimdKernels, DpStepU16AtTheBoundEdge) {
+  // penalty 241, cost 4080 and prev with g - min g = 255 * 241: out reaches
+  // exactly 65535 (the largest value the u16 path must hold) without wrapping.
+  for (int n : {2, 17, 64, 256}) {
+    std::vector<std::uint16_t> prev(n, 0xFFFF), cost(n, 4080), out_a(n), out_b(n);
+    prev[0] = 0;
+    simd().dp_step_u16(cost.data(), prev.data(), kMaxDpPenaltyU16, n, out_a.data());
+    scalar().dp_step_u16(cost.data(), prev.data(), kMaxDpPenaltyU16, n, out_b.data());
+    ASSERT_EQ(out_a, out_b) << "n=" << n;
+    EXPECT_EQ(out_a[0], 4080);
+    EXPECT_EQ(out_a[n - 1], 4080 + (n - 1) * kMaxDpPenaltyU16) << "n=" << n;
+  }
+}
+
+TEST_P(SimdKernels, DpPointerU16EveryK) {
+  std::mt19937 rng(8);
+  for (int n : kSizes) {
+    for (int offset = 0; offset < kOffsets; offset += 3) {
+      for (int c = 0; c < 6; ++c) {
+        const std::uint32_t penalty = kU16Penalties[(c + offset) % 11];
+        const Input<std::uint16_t> prev(dp_prev_u16(rng, n, c + offset, penalty), offset);
+        for (int k = 0; k < n; ++k)
+          ASSERT_EQ(simd().dp_pointer_u16(prev.data(), penalty, n, k),
+                    scalar().dp_pointer_u16(prev.data(), penalty, n, k))
+              << "n=" << n << " offset=" << offset << " case=" << c << " penalty=" << penalty
+              << " k=" << k;
       }
     }
   }

@@ -46,4 +46,45 @@ void dp_step_scalar(const std::uint16_t* cost_q4, const std::uint32_t* prev,
   }
 }
 
+// The u16 twin without back-pointers: the same two passes on plain values
+// (the tie rule matters only for pointers, which dp_pointer_u16 recomputes).
+void dp_step_u16_scalar(const std::uint16_t* cost_q4, const std::uint16_t* prev,
+                        std::uint32_t penalty, int n, std::uint16_t* out) {
+  // Every value is <= 0xFFFF, so a step of 0xFFFF or more never wins a min:
+  // clamping it keeps the u32 sums exact.
+  const std::uint32_t step = penalty < 0xFFFFu ? penalty : 0xFFFFu;
+  std::uint32_t run = prev[0];
+  out[0] = static_cast<std::uint16_t>(run);
+  for (int k = 1; k < n; ++k) {
+    const std::uint32_t own = prev[k];
+    run += step;
+    run = own < run ? own : run;
+    out[k] = static_cast<std::uint16_t>(run);
+  }
+  run = out[n - 1];
+  std::uint32_t min_g = run;
+  for (int k = n - 2; k >= 0; --k) {
+    run += step;
+    run = out[k] < run ? out[k] : run;
+    out[k] = static_cast<std::uint16_t>(run);
+    min_g = run < min_g ? run : min_g;
+  }
+  for (int k = 0; k < n; ++k)
+    out[k] = static_cast<std::uint16_t>(cost_q4[k] + out[k] - min_g);
+}
+
+int dp_pointer_u16_scalar(const std::uint16_t* prev, std::uint32_t penalty, int n, int k) {
+  int best_j = 0;
+  std::uint64_t best = prev[0] + std::uint64_t{penalty} * static_cast<std::uint64_t>(k);
+  for (int j = 1; j < n; ++j) {
+    const std::uint64_t dist = static_cast<std::uint64_t>(j < k ? k - j : j - k);
+    const std::uint64_t v = prev[j] + std::uint64_t{penalty} * dist;
+    if (v < best) {  // strict: the smallest minimising j wins ties
+      best = v;
+      best_j = j;
+    }
+  }
+  return best_j;
+}
+
 }  // namespace tristereo

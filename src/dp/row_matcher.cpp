@@ -27,8 +27,11 @@ void RowMatcher::configure(int max_width, const StereoParams& params) {
   // Gaps are 1..W-1 <= max_width - 1; the table is indexed by the gap directly.
   fill_penalty_table(params.dp.lambda_q4, params.dp.gap, n_max - 1, penalty);
   std::vector<std::uint16_t> costs(stride * n_max);
-  std::vector<std::uint8_t> ptr(stride * n_max);
-  std::vector<std::uint32_t> f_prev(stride), f_cur(stride);
+  // Every P(g) is <= lambda (gap_penalty_q4), so lambda decides the F width.
+  const bool u16_path = static_cast<std::uint32_t>(params.dp.lambda_q4) <= kMaxDpPenaltyU16;
+  std::vector<std::uint16_t> f_rows(u16_path ? stride * n_max : 0);
+  std::vector<std::uint8_t> ptr(u16_path ? 0 : stride * n_max);
+  std::vector<std::uint32_t> f_prev(u16_path ? 0 : stride), f_cur(u16_path ? 0 : stride);
   std::vector<std::int32_t> index(n_max);
   CostScratch scratch(d);
 
@@ -38,6 +41,8 @@ void RowMatcher::configure(int max_width, const StereoParams& params) {
   cost_stride_ = stride;
   penalty_ = std::move(penalty);
   costs_ = std::move(costs);
+  u16_path_ = u16_path;
+  f_rows_ = std::move(f_rows);
   ptr_ = std::move(ptr);
   f_prev_ = std::move(f_prev);
   f_cur_ = std::move(f_cur);
@@ -66,6 +71,30 @@ void solve_row_dp(const KernelSet& ks, const std::uint16_t* cost_q4, std::size_t
   for (int i = n - 1; i >= 0; --i) {
     k_out[i] = k;
     if (i > 0) k = ptr[i * stride + static_cast<std::size_t>(k)];
+  }
+}
+
+void solve_row_dp_u16(const KernelSet& ks, const std::uint16_t* cost_q4, std::size_t stride,
+                      const std::int32_t* xs, int n, int num_disp,
+                      const std::uint32_t* penalty_by_gap, std::uint16_t* f_rows,
+                      std::int32_t* k_out) {
+  const int d = num_disp;
+  const std::uint16_t* prev = cost_q4;  // F_1 = Ca_1
+  for (int i = 1; i < n; ++i) {
+    std::uint16_t* cur = f_rows + i * stride;
+    ks.dp_step_u16(cost_q4 + i * stride, prev, penalty_by_gap[xs[i] - xs[i - 1]], d, cur);
+    prev = cur;
+  }
+  int k = 0;
+  for (int j = 1; j < d; ++j)
+    if (prev[j] < prev[k]) k = j;
+  k_out[n - 1] = k;
+  // Only the pointer on the path is needed: one O(D) search per sample instead
+  // of n x D pointers written in the forward pass.
+  for (int i = n - 1; i > 0; --i) {
+    const std::uint16_t* f_before = i == 1 ? cost_q4 : f_rows + (i - 1) * stride;
+    k = ks.dp_pointer_u16(f_before, penalty_by_gap[xs[i] - xs[i - 1]], d, k);
+    k_out[i - 1] = k;
   }
 }
 
@@ -108,8 +137,12 @@ void RowMatcher::match_row(const MatchContext& ctx, int y, const std::int32_t* x
   for (int i = 0; i < n; ++i) ctx.aggregate_sample(xs[i], y, costs_.data() + i * cost_stride_, scratch_);
   const std::int64_t t1 = times ? monotonic_ns() : 0;
 
-  solve_row_dp(ctx.kernels(), costs_.data(), cost_stride_, xs, n, d, penalty_.data(),
-               f_prev_.data(), f_cur_.data(), ptr_.data(), index_.data());
+  if (u16_path_)
+    solve_row_dp_u16(ctx.kernels(), costs_.data(), cost_stride_, xs, n, d, penalty_.data(),
+                     f_rows_.data(), index_.data());
+  else
+    solve_row_dp(ctx.kernels(), costs_.data(), cost_stride_, xs, n, d, penalty_.data(),
+                 f_prev_.data(), f_cur_.data(), ptr_.data(), index_.data());
 
   const bool subpixel = params_.dp.subpixel;
   const int d_min = ctx.d_min();

@@ -31,6 +31,17 @@ void solve_row_dp(const KernelSet& ks, const std::uint16_t* cost_q4, std::size_t
                   const std::uint32_t* penalty_by_gap, std::uint32_t* f_a, std::uint32_t* f_b,
                   std::uint8_t* ptr, std::int32_t* k_out);
 
+// Same result as solve_row_dp when every penalty_by_gap[g] used is <=
+// kMaxDpPenaltyU16 (then F <= 4080 + 255 * 241 = 65535 fits u16): F_i =
+// ks.dp_step_u16(...) is kept for every sample in f_rows + i * stride (row 0 is
+// unused: F_1 is cost_q4 itself) and back-pointers are recomputed only where the
+// path goes, k_{i-1} = ks.dp_pointer_u16(F_{i-1}, P_i, D, k_i). Scratch: f_rows
+// (n * stride values). n >= 1.
+void solve_row_dp_u16(const KernelSet& ks, const std::uint16_t* cost_q4, std::size_t stride,
+                      const std::int32_t* xs, int n, int num_disp,
+                      const std::uint32_t* penalty_by_gap, std::uint16_t* f_rows,
+                      std::int32_t* k_out);
+
 class RowMatcher {
  public:
   RowMatcher() = default;
@@ -73,6 +84,10 @@ class RowMatcher {
   std::size_t cost_stride_ = 0;          // D rounded up, with kernel slack
   std::vector<std::uint32_t> penalty_;   // P(g), g in 0..max_width - 1
   std::vector<std::uint16_t> costs_;     // max_samples x cost_stride_
+  // lambda_q4 <= kMaxDpPenaltyU16: the u16 DP (f_rows_), else the u32 one
+  // (ptr_, f_prev_, f_cur_); only the chosen path's buffers are allocated.
+  bool u16_path_ = false;
+  std::vector<std::uint16_t> f_rows_;    // max_samples x cost_stride_ F values (u16 path)
   std::vector<std::uint8_t> ptr_;        // max_samples x cost_stride_ back-pointers
   std::vector<std::uint32_t> f_prev_, f_cur_;
   std::vector<std::int32_t> index_;      // chosen k per sample

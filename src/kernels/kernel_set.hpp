@@ -11,6 +11,11 @@
 
 namespace tristereo {
 
+// Largest penalty for which the u16 DP holds every F value:
+// 4080 + 255 * 241 = 65535. Rows whose penalties are all <= this (lambda_q4 <=
+// 241, since P(g) <= lambda) run dp_step_u16 / dp_pointer_u16 instead of dp_step.
+constexpr std::uint32_t kMaxDpPenaltyU16 = 241;
+
 struct KernelSet {
   const char* name = "scalar";
 
@@ -63,6 +68,18 @@ struct KernelSet {
   void (*dp_step)(const std::uint16_t* cost_q4, const std::uint32_t* prev,
                   std::uint32_t penalty, int n, std::uint32_t* out,
                   std::uint8_t* ptr) = nullptr;
+
+  // dp_step on u16 values without back-pointers (the row keeps every F row
+  // instead and recomputes one pointer per sample with dp_pointer_u16):
+  //   g[k] = min_j prev[j] + penalty * |k - j|, out[k] = cost_q4[k] + g[k] - min_k g[k]
+  // (mod 2^16). Exact for any prev and penalty; out fits u16 (no wrap) when
+  // prev[k] <= 4080 + 255 * penalty and penalty <= kMaxDpPenaltyU16.
+  void (*dp_step_u16)(const std::uint16_t* cost_q4, const std::uint16_t* prev,
+                      std::uint32_t penalty, int n, std::uint16_t* out) = nullptr;
+
+  // Back-pointer of disparity k (0 <= k < n): the smallest j in [0, n)
+  // minimising prev[j] + penalty * |k - j| (exact for any u16 prev, penalty).
+  int (*dp_pointer_u16)(const std::uint16_t* prev, std::uint32_t penalty, int n, int k) = nullptr;
 };
 
 // The portable reference set (always available).

@@ -14,6 +14,8 @@ const KernelSet& scalar_kernel_set() {
     s.normalize_costs_u16 = normalize_costs_u16_scalar;
     s.normalize_costs_u32 = normalize_costs_u32_scalar;
     s.dp_step = dp_step_scalar;
+    s.dp_step_u16 = dp_step_u16_scalar;
+    s.dp_pointer_u16 = dp_pointer_u16_scalar;
     return s;
   }();
   return set;

@@ -27,4 +27,8 @@ void normalize_costs_u32_scalar(const std::uint32_t* sum, std::uint64_t inv_q32,
 void dp_step_scalar(const std::uint16_t* cost_q4, const std::uint32_t* prev,
                     std::uint32_t penalty, int n, std::uint32_t* out, std::uint8_t* ptr);
 
+void dp_step_u16_scalar(const std::uint16_t* cost_q4, const std::uint16_t* prev,
+                        std::uint32_t penalty, int n, std::uint16_t* out);
+int dp_pointer_u16_scalar(const std::uint16_t* prev, std::uint32_t penalty, int n, int k);
+
 }  // namespace tristereo
