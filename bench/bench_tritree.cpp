@@ -1,7 +1,10 @@
 // Tritree::build on the four Middlebury left images (gray) and a 640x480
 // synthetic scene, with 1 and 2 pool workers (unpinned). Named
 // tritree/<image>/threads:<n>; counters report the mesh size so a run also
-// shows that every thread count built the same mesh.
+// shows that every thread count built the same mesh. The CPU column is the
+// calling thread's CPU time: with a pool that is worker 0, which runs the
+// serial propagation, i.e. the critical path when the machine has free cores
+// (docs/tritree.md, "Scaling with threads").
 //
 //   bench_tritree --benchmark_filter='tritree/cones' --benchmark_repetitions=7
 //

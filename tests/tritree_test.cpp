@@ -444,6 +444,35 @@ TEST(Tritree, IdenticalForAnyThreadCount) {
   EXPECT_GT(serial[0].triangles.size(), 5000u);  // big enough to run the parallel path
 }
 
+TEST(Tritree, PoolBuildOfTinyAndThinImagesMatchesSerial) {
+  // The pooled finish cuts rows, node slots and vertex ids into one band per
+  // worker (at most 16): with more workers than rows or triangles many bands
+  // are empty, and 20 workers exceed the band cap. Fine refinement
+  // (A_max = 1) also makes every round after the first few tiny.
+  Rng rng(77);
+  std::vector<ImageU8> images;
+  for (const auto& size : {std::pair<int, int>{2, 2}, {3, 2}, {2, 41}, {57, 3}, {33, 29}}) {
+    images.push_back(mixed_image(rng, size.first, size.second));
+  }
+  TritreeParams params;
+  params.max_area_px2 = 1;
+  params.psnr_deci_db = kMaxPsnrDeciDb;
+  for (const int workers : {2, 8, 20}) {
+    ThreadPool pool;
+    pool.start(workers, {}, /*pin=*/false);
+    Tritree tree;
+    tree.configure(64, 64, params);
+    Mesh mesh;
+    tree.reserve(mesh);
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      tree.build(cview(images[i]), mesh, &pool);
+      const Mesh serial = build_mesh(images[i], params);
+      ASSERT_EQ(mesh, serial) << workers << " workers, image " << i;
+      EXPECT_EQ(mesh.row_start.back(), static_cast<std::int32_t>(mesh.vertices.size()));
+    }
+  }
+}
+
 TEST(Tritree, BuildWithPoolDoesNotAllocate) {
   SynthParams sp;
   sp.width = 200;
