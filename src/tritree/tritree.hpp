@@ -10,16 +10,12 @@
 // build() is begin() + rounds + finish(). A round is split into a parallel
 // part, evaluate_round() (the criterion of each pending triangle, independent
 // work writing one decision byte each), and a serial part, split_round()
-// (longest-edge propagation in the model's fixed order). A driver can call
-// evaluate_round() on disjoint bands; the result does not depend on how the
-// bands are cut nor on the worker count. build() with a pool goes further:
-// helpers evaluate each triangle as soon as the propagation creates it, so
-// the criterion overlaps the serial part, and finish() runs in bands
-// (docs/tritree.md, "Threads").
+// (longest-edge propagation in the model's fixed order). A thread pool can
+// drive the stages itself and call evaluate_round() on disjoint bands; the
+// result does not depend on how the bands are cut nor on the worker count.
 #pragma once
 
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -48,8 +44,8 @@ class Tritree {
   // Builds the mesh of `gray` (1 channel, 2 .. max size, stride >= width).
   // Throws Error on bad input, leaving `mesh` untouched. No heap allocation
   // once `mesh` has been reserve()d. With a started `pool` (called from its
-  // owner thread), the criterion and the output run on all its workers; the
-  // mesh is identical for every pool size.
+  // owner thread), each round's criterion runs on all its workers; the mesh
+  // is identical for every pool size.
   void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr);
 
   // --- Stages of build(), for drivers that parallelise evaluate_round().
@@ -84,21 +80,15 @@ class Tritree {
     std::uint8_t longest;   // index of the longest edge (model's edge order)
     std::uint8_t blocked;   // wanted to split but a terminal bisection was invalid
   };
-  // A triangle as a bisection created it: what its evaluation needs, copied
-  // out of the node so that helpers can evaluate it while the serial split
-  // overwrites the slot (build() with a pool overlaps the two).
-  struct Created {
+  struct Pending {
     std::int32_t slot;
     std::uint32_t birth;
-    std::int16_t x[3];
-    std::int16_t y[3];
-    std::uint8_t longest;
   };
   // Processing order key: the triangle's three vertex keys, sorted.
   struct OrderKey {
     std::uint64_t k01;
     std::uint32_t k2;
-    std::int32_t created;  // index into created_
+    std::int32_t pending_index;
   };
   static bool order_less(const OrderKey& p, const OrderKey& q) {
     return p.k01 != q.k01 ? p.k01 < q.k01 : p.k2 < q.k2;
@@ -113,11 +103,6 @@ class Tritree {
   void validate_image(ImageView<const std::uint8_t> gray) const;
   void promote_created();
   void sort_order(int count);
-  void process_order(int count);
-  void evaluate_created(int index);
-  bool claim_and_evaluate(int chunk, bool skip_dead);
-  void run_overlapped(ThreadPool& pool);
-  void finish_parallel(Mesh& mesh, ThreadPool& pool);
 
   int max_width_ = 0;
   int max_height_ = 0;
@@ -133,35 +118,18 @@ class Tritree {
 
   std::vector<Node> nodes_;              // capacity: max leaves
   std::int32_t node_count_ = 0;
-  // Every triangle a build creates (at most 2 x max leaves), never reset
-  // within a build, so helpers can index it while the serial part appends.
-  std::vector<Created> created_;
-  std::int32_t created_count_ = 0;
-  std::int32_t round_begin_ = 0;         // first entry not yet promoted
-  std::vector<std::uint8_t> decision_;   // per created entry: split now
-  std::vector<OrderKey> key_;            // per created entry, valid when it splits
-  std::vector<std::int32_t> pending_;    // this round's live entries (created_ indices)
+  std::vector<Pending> pending_;         // this round's triangles
   int pending_count_ = 0;
+  std::vector<std::uint8_t> decision_;   // one per pending triangle
+  std::vector<OrderKey> key_;            // per pending triangle, valid when it splits
+  std::vector<Pending> created_;         // triangles created this round
+  int created_count_ = 0;
   std::vector<OrderKey> order_;          // splitting triangles, sorted
   std::vector<OrderKey> order_tmp_;      // radix sort's second buffer
   std::vector<std::int32_t> radix_count_;  // max(W, H) + 1 counters
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex
   std::vector<std::int32_t> bucket_;     // counting sort of triangles by first id
   std::vector<Triangle> tri_scratch_;
-  // finish_parallel(): the work is cut into at most kMaxBands parts, so its
-  // per-part counters have a fixed size (more workers than parts idle there).
-  static constexpr int kMaxBands = 16;
-  std::array<std::int32_t, kMaxBands + 1> band_vertex_start_{};
-  std::array<std::int32_t, kMaxBands + 1> band_tri_start_{};
-  std::array<std::int32_t, kMaxBands * kMaxBands> band_part_{};
-
-  // Hand-off between the serial split (producer of created_ entries) and the
-  // helpers that evaluate them, see run_overlapped().
-  std::atomic<std::int32_t> published_{0};  // created_ entries complete
-  std::atomic<std::int32_t> claimed_{0};    // entries taken by an evaluator
-  std::atomic<std::int32_t> evaluated_{0};  // entries whose decision is written
-  std::atomic<bool> split_done_{false};     // no more entries this build
-  std::atomic<bool> drain_{false};          // round end: evaluate up to the newest
 };
 
 }  // namespace tristereo

@@ -38,18 +38,16 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
   nodes_.assign(leaves, Node{});
-  // A build seeds 2 roots and each bisection of k triangles (k = 1 or 2)
-  // adds k leaves and creates 2k triangles: 2 * leaves - 2 entries in all.
-  created_.assign(2 * leaves, Created{});
-  decision_.assign(2 * leaves, 0);
-  key_.assign(2 * leaves, OrderKey{});
-  pending_.assign(leaves, 0);
+  pending_.assign(leaves, Pending{});
+  decision_.assign(leaves, 0);
+  key_.assign(leaves, OrderKey{});
+  // Each split of the round adds one leaf and pushes two children.
+  created_.assign(2 * leaves, Pending{});
   order_.assign(leaves, OrderKey{});
   order_tmp_.assign(leaves, OrderKey{});
   radix_count_.assign(static_cast<std::size_t>(std::max(max_width, max_height)) + 1, 0);
   vertex_id_.assign(pixels, -1);
-  // finish_parallel() offsets band k's counters by k.
-  bucket_.assign(pixels + 1 + kMaxBands, 0);
+  bucket_.assign(pixels + 1, 0);
   tri_scratch_.assign(leaves, Triangle{});
 
   params_ = params;

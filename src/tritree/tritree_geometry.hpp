@@ -37,10 +37,7 @@ inline bool edge_less(Vertex p0, Vertex p1, Vertex q0, Vertex q1) {
 }
 
 // Index i of the longest edge (v[i], v[(i + 1) % 3]). Lengths first in int32
-// (< 2^25 for coordinates < 4096); the full edge order only breaks ties for
-// the maximum length. Ties between the two shorter edges (every right
-// isosceles triangle of the grid has one) do not matter, and a lattice
-// triangle cannot have three equal sides.
+// (< 2^25 for coordinates < 4096); the full edge order only breaks ties.
 inline int longest_edge_index(const Vertex v[3]) {
   std::int32_t len2[3];
   for (int i = 0; i < 3; ++i) {
@@ -48,10 +45,11 @@ inline int longest_edge_index(const Vertex v[3]) {
     const std::int32_t dy = v[(i + 1) % 3].y - v[i].y;
     len2[i] = dx * dx + dy * dy;
   }
-  int best = len2[1] > len2[0] ? 1 : 0;
-  if (len2[2] > len2[best]) best = 2;
-  for (int i = best + 1; i < 3; ++i) {
-    if (len2[i] == len2[best] && edge_less(v[best], v[(best + 1) % 3], v[i], v[(i + 1) % 3])) {
+  int best = 0;
+  for (int i = 1; i < 3; ++i) {
+    if (len2[i] > len2[best] ||
+        (len2[i] == len2[best] &&
+         edge_less(v[best], v[(best + 1) % 3], v[i], v[(i + 1) % 3]))) {
       best = i;
     }
   }

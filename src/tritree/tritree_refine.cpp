@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cassert>
-#include <thread>
 #include <utility>
 
 #include "platform/thread_pool.hpp"
@@ -16,139 +15,35 @@ namespace tristereo {
 
 namespace {
 
-// Entries a helper takes at a time while the split is producing them: small,
-// so helpers follow the producer closely and the tail at the end of a round
-// is short. Scheduling cannot change any decision (each depends only on its
-// own triangle and the image).
-constexpr int kChunk = 64;
-// While the split runs, helpers stay this many entries behind the newest one:
-// the producer is still writing those cache lines (created_, and the nodes
-// the helpers' liveness check reads), and some of those triangles are split
-// again within the round, which the lag lets the check catch. At the end of a
-// round (drain) they take everything.
-constexpr int kLag = 2048;
-
-inline void cpu_relax() noexcept {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__) || defined(__arm__)
-  asm volatile("yield" ::: "memory");
-#endif
-}
+// Rounds with fewer pending triangles run on the calling thread: waking the
+// pool costs more than evaluating them. Any value gives the same mesh.
+constexpr int kMinParallelPending = 512;
+// Work is handed out in chunks of this many pending triangles (an atomic
+// counter balances the uneven cost of triangles; each decision depends only
+// on its own triangle, so scheduling cannot change the result).
+constexpr int kChunk = 256;
 
 }  // namespace
 
 void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
   begin(gray);
-  if (pool != nullptr && pool->size() > 1) {
-    run_overlapped(*pool);
-    finish_parallel(mesh, *pool);
-    return;
-  }
+  const int workers = (pool != nullptr) ? pool->size() : 1;
   while (pending_count() > 0) {
-    evaluate_round(0, pending_count());
+    const int n = pending_count();
+    if (workers > 1 && n >= kMinParallelPending) {
+      std::atomic<int> next{0};
+      pool->run([&](int) {
+        for (int b = next.fetch_add(kChunk, std::memory_order_relaxed); b < n;
+             b = next.fetch_add(kChunk, std::memory_order_relaxed)) {
+          evaluate_round(b, std::min(n, b + kChunk));
+        }
+      });
+    } else {
+      evaluate_round(0, n);
+    }
     split_round();
   }
   finish(mesh);
-}
-
-// One pool run for all rounds. Worker 0 runs the serial part (sort and
-// propagation, process_order) and publishes every triangle it creates; the
-// other workers evaluate the published triangles meanwhile, so the next
-// round's criterion overlaps this round's propagation instead of following
-// it, and the pool is woken once per build instead of once per round. A
-// triangle that is split again later in the same round is evaluated for
-// nothing (or skipped when a helper sees it is gone); the liveness check
-// before sorting drops it either way. Before each split, worker 0 helps with
-// what is left and waits until every entry has its decision.
-void Tritree::run_overlapped(ThreadPool& pool) {
-  claimed_.store(0, std::memory_order_relaxed);
-  evaluated_.store(0, std::memory_order_relaxed);
-  published_.store(created_count_, std::memory_order_release);
-  split_done_.store(false, std::memory_order_relaxed);
-  drain_.store(true, std::memory_order_relaxed);
-  pool.run([&](int worker) {
-    if (worker != 0) {
-      int idle = 0;
-      for (;;) {
-        if (claim_and_evaluate(kChunk, /*skip_dead=*/true)) {
-          idle = 0;
-          continue;
-        }
-        if (split_done_.load(std::memory_order_acquire)) return;
-        // Let the producer's core go when it is shared (busy machines).
-        if (++idle < 256) {
-          cpu_relax();
-        } else {
-          std::this_thread::yield();
-        }
-      }
-    }
-    // Worker 0: a task that throws must still release the helpers.
-    struct Release {
-      std::atomic<bool>* flag;
-      ~Release() { flag->store(true, std::memory_order_release); }
-    } release{&split_done_};
-    // Rounds are ranges of created_ here: begin()'s pending list (the two
-    // roots, entries 0 and 1) is not used, and no pending list is built.
-    round_begin_ = 0;
-    for (;;) {
-      drain_.store(true, std::memory_order_relaxed);
-      while (claim_and_evaluate(kChunk, /*skip_dead=*/true)) {
-      }
-      // A helper may still be inside its last chunk (or preempted in it).
-      for (int spin = 0; evaluated_.load(std::memory_order_acquire) < created_count_; ++spin) {
-        if (spin < 256) {
-          cpu_relax();
-        } else {
-          std::this_thread::yield();
-        }
-      }
-      drain_.store(false, std::memory_order_relaxed);
-      const std::int32_t b = round_begin_;
-      const std::int32_t e = created_count_;
-      // A round that created anything leaves its last children alive, so an
-      // empty range is exactly split_round()'s empty pending list.
-      if (b == e) break;
-      round_begin_ = e;
-      int count = 0;
-      for (std::int32_t i = b; i < e; ++i) {
-        // Only the entries that want to split are checked for liveness:
-        // cheaper than promote_created() over all of them.
-        if (decision_[i] && nodes_[created_[i].slot].birth == created_[i].birth) order_[count++] = key_[i];
-      }
-      process_order(count);
-    }
-    pending_count_ = 0;
-  });
-}
-
-// Takes up to `chunk` published entries and evaluates them. False when
-// nothing published is left to take.
-bool Tritree::claim_and_evaluate(int chunk, bool skip_dead) {
-  std::int32_t b = claimed_.load(std::memory_order_relaxed);
-  for (;;) {
-    const std::int32_t published = published_.load(std::memory_order_acquire);
-    const std::int32_t limit =
-        drain_.load(std::memory_order_relaxed) ? published : published - kLag;
-    if (b >= limit) return false;
-    const std::int32_t e = std::min(limit, b + chunk);
-    if (claimed_.compare_exchange_weak(b, e, std::memory_order_relaxed)) {
-      for (std::int32_t i = b; i < e; ++i) {
-        // Births are unique, so a slot that shows another birth means the
-        // triangle is gone for good; one that still shows it may die later,
-        // which only wastes this evaluation.
-        const Created& c = created_[i];
-        if (skip_dead && __atomic_load_n(&nodes_[c.slot].birth, __ATOMIC_RELAXED) != c.birth) {
-          decision_[i] = 0;
-        } else {
-          evaluate_created(i);
-        }
-      }
-      evaluated_.fetch_add(e - b, std::memory_order_release);
-      return true;
-    }
-  }
 }
 
 void Tritree::begin(ImageView<const std::uint8_t> gray) {
@@ -160,7 +55,6 @@ void Tritree::begin(ImageView<const std::uint8_t> gray) {
   criterion_splits_ = 0;
   node_count_ = 2;
   created_count_ = 0;
-  round_begin_ = 0;
   pending_count_ = 0;
   const int xr = gray.width - 1;
   const int yb = gray.height - 1;
@@ -171,52 +65,39 @@ void Tritree::begin(ImageView<const std::uint8_t> gray) {
   promote_created();
 }
 
-// The decision of one created triangle; reads only the entry and the image.
-void Tritree::evaluate_created(int index) {
-  const Created& t = created_[index];
-  const int k = t.longest;
-  const int k1 = k == 2 ? 0 : k + 1;
-  const int k2 = k == 0 ? 2 : k - 1;
-  const Vertex a{t.x[k], t.y[k]}, b{t.x[k1], t.y[k1]}, c{t.x[k2], t.y[k2]};
-  // Cheap validity first: a triangle whose own bisection is invalid never splits.
-  const bool split = half_bisection_valid(a, b, c, snapped_midpoint(a, b)) &&
-                     tritree_wants_split(gray_, a, b, c, params_.max_area_px2, mse_q8_);
-  decision_[index] = split ? 1 : 0;
-  if (split) {
-    // The processing-order key, computed here because this part runs in parallel.
-    std::uint32_t key[3];
-    for (int j = 0; j < 3; ++j) key[j] = static_cast<std::uint32_t>(vertex_key(Vertex{t.x[j], t.y[j]}));
-    if (key[0] > key[1]) std::swap(key[0], key[1]);
-    if (key[1] > key[2]) std::swap(key[1], key[2]);
-    if (key[0] > key[1]) std::swap(key[0], key[1]);
-    key_[index] = OrderKey{(std::uint64_t{key[0]} << 32) | key[1], key[2], index};
-  }
-}
-
 void Tritree::evaluate_round(int begin, int end) {
-  for (int i = begin; i < end; ++i) evaluate_created(pending_[i]);
+  for (int i = begin; i < end; ++i) {
+    const Node& t = nodes_[pending_[i].slot];
+    const int k = t.longest;
+    const Vertex a = vertex(t, k), b = vertex(t, (k + 1) % 3), c = vertex(t, (k + 2) % 3);
+    // Cheap validity first: a triangle whose own bisection is invalid never splits.
+    const bool split = half_bisection_valid(a, b, c, snapped_midpoint(a, b)) &&
+                       tritree_wants_split(gray_, a, b, c, params_.max_area_px2, mse_q8_);
+    decision_[i] = split ? 1 : 0;
+    if (split) {
+      // The processing-order key, computed here because this part runs in parallel.
+      std::uint32_t key[3];
+      for (int j = 0; j < 3; ++j) key[j] = static_cast<std::uint32_t>(vertex_key(vertex(t, j)));
+      if (key[0] > key[1]) std::swap(key[0], key[1]);
+      if (key[1] > key[2]) std::swap(key[1], key[2]);
+      if (key[0] > key[1]) std::swap(key[0], key[1]);
+      key_[i] = OrderKey{(std::uint64_t{key[0]} << 32) | key[1], key[2], i};
+    }
+  }
 }
 
 void Tritree::split_round() {
   int count = 0;
   for (int i = 0; i < pending_count_; ++i) {
-    const std::int32_t c = pending_[i];
-    if (decision_[c]) order_[count++] = key_[c];
+    if (decision_[i]) order_[count++] = key_[i];
   }
-  process_order(count);
-  promote_created();
-}
-
-// Sorts order_[0, count) and refines each triangle in that order.
-void Tritree::process_order(int count) {
   sort_order(count);
   for (int i = 0; i < count; ++i) {
-    const Created& p = created_[order_[i].created];
+    const Pending& p = pending_[order_[i].pending_index];
     process(p.slot, p.birth);
-    // Hand the triangles created so far to the helpers (if any are running).
-    published_.store(created_count_, std::memory_order_release);
   }
   ++rounds_;
+  promote_created();
 }
 
 // Sorts order_[0, count) by order_less. Distinct leaves have distinct vertex
@@ -261,32 +142,27 @@ void Tritree::sort_order(int count) {
 // still exist (a child may already have been split again in the same round).
 void Tritree::promote_created() {
   pending_count_ = 0;
-  for (std::int32_t i = round_begin_; i < created_count_; ++i) {
-    if (nodes_[created_[i].slot].birth == created_[i].birth) pending_[pending_count_++] = i;
+  for (int i = 0; i < created_count_; ++i) {
+    if (nodes_[created_[i].slot].birth == created_[i].birth) pending_[pending_count_++] = created_[i];
   }
-  round_begin_ = created_count_;
+  created_count_ = 0;
 }
 
 void Tritree::set_node(std::int32_t slot, const Vertex& a, const Vertex& b, const Vertex& c,
                        std::int32_t nab, std::int32_t nbc, std::int32_t nca) {
   Node& n = nodes_[slot];
-  Created& e = created_[created_count_++];
   const Vertex v[3] = {a, b, c};
   for (int i = 0; i < 3; ++i) {
-    n.x[i] = e.x[i] = static_cast<std::int16_t>(v[i].x);
-    n.y[i] = e.y[i] = static_cast<std::int16_t>(v[i].y);
+    n.x[i] = static_cast<std::int16_t>(v[i].x);
+    n.y[i] = static_cast<std::int16_t>(v[i].y);
   }
   n.nb[0] = nab;
   n.nb[1] = nbc;
   n.nb[2] = nca;
-  const std::uint32_t birth = next_birth_++;
-  // Helpers read births concurrently (run_overlapped); a relaxed atomic store
-  // is a plain store on every target.
-  __atomic_store_n(&n.birth, birth, __ATOMIC_RELAXED);
-  n.longest = e.longest = static_cast<std::uint8_t>(longest_edge_index(v));
+  n.birth = next_birth_++;
+  n.longest = static_cast<std::uint8_t>(longest_edge_index(v));
   n.blocked = 0;
-  e.slot = slot;
-  e.birth = birth;
+  created_[created_count_++] = Pending{slot, n.birth};
 }
 
 void Tritree::replace_link(std::int32_t slot, std::int32_t old_nb, std::int32_t new_nb) {
