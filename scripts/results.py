@@ -144,7 +144,8 @@ def main():
             ev = evaluate(exe, disp, sdir, gt_scale, "nonocc", None, tmp, "%s_psnr%s" % (name, p))
             counts.append((st["vertices"], st["sample_fraction"], st["forced_splits"], ev["dense"]["bad_1"]))
         series[name] = counts
-        w("| %s | " % name + " | ".join("%d (%.1f%%, %d forced) %.2f" % c for c in counts) + " |")
+        w("| %s | " % name + " | ".join("%d (%.1f%%, %d forced) %.2f" % (v, 100 * f, fs, b)
+                                        for v, f, fs, b in counts) + " |")
     w("| mean bad > 1 px (nonocc) | " + " | ".join(
         "%.2f" % (sum(series[n][i][3] for n in series) / len(series)) for i in range(len(psnrs))) + " |")
     w("\nCells: vertices (sample fraction, forced splits) and the bad > 1 px rate (nonocc) of the "
