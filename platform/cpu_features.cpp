@@ -1,3 +1,4 @@
+#include "platform/text_util.hpp"
 #include "platform/cpu_features.hpp"
 
 #include <sched.h>
@@ -36,14 +37,6 @@ bool query_affinity(std::vector<int>* out) {
     if (errno != EINVAL) return false;
   }
   return false;
-}
-
-std::string trim(const std::string& s) {
-  size_t b = 0;
-  size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
 }
 
 [[noreturn]] void throw_bad_list(const std::string& text, const std::string& why) {
@@ -121,8 +114,8 @@ std::string cpu_model_name_from_cpuinfo(const std::string& cpuinfo_text) {
   while (std::getline(in, line)) {
     const size_t colon = line.find(':');
     if (colon == std::string::npos) continue;
-    const std::string key = trim(line.substr(0, colon));
-    const std::string value = trim(line.substr(colon + 1));
+    const std::string key = trim_spaces(line.substr(0, colon));
+    const std::string value = trim_spaces(line.substr(colon + 1));
     if (value.empty()) continue;
     if (key == "model name") return value;  // first CPU is enough
     if (key == "Hardware" && hardware.empty()) hardware = value;
@@ -148,22 +141,22 @@ std::string cpu_model_name() {
 }
 
 std::vector<int> parse_cpu_list(const std::string& text) {
-  const std::string body = trim(text);
+  const std::string body = trim_spaces(text);
   if (body.empty()) throw_bad_list(text, "the list is empty");
   std::vector<int> cpus;
   size_t start = 0;
   while (start <= body.size()) {
     size_t comma = body.find(',', start);
     if (comma == std::string::npos) comma = body.size();
-    const std::string item = trim(body.substr(start, comma - start));
+    const std::string item = trim_spaces(body.substr(start, comma - start));
     if (item.empty()) throw_bad_list(text, "empty item");
     // A leading '-' is a negative number, not a range separator.
     const size_t dash = item.find('-', 1);
     if (dash == std::string::npos) {
       cpus.push_back(parse_cpu_index(item, text));
     } else {
-      const int first = parse_cpu_index(trim(item.substr(0, dash)), text);
-      const int last = parse_cpu_index(trim(item.substr(dash + 1)), text);
+      const int first = parse_cpu_index(trim_spaces(item.substr(0, dash)), text);
+      const int last = parse_cpu_index(trim_spaces(item.substr(dash + 1)), text);
       if (last < first) throw_bad_list(text, "reversed range '" + item + "'");
       for (int cpu = first; cpu <= last; ++cpu) cpus.push_back(cpu);
     }

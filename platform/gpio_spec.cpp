@@ -1,6 +1,7 @@
 // The libgpiod-independent part of gpio.hpp (compiled in every build).
 #include <cctype>
 
+#include "platform/text_util.hpp"
 #include "platform/gpio.hpp"
 #include "tristereo/status.hpp"
 
@@ -24,22 +25,14 @@ bool all_digits(const std::string& s) {
   return true;
 }
 
-std::string trim(const std::string& s) {
-  size_t b = 0;
-  size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
 }  // namespace
 
 GpioLineSpec parse_gpio_spec(const std::string& text) {
-  const std::string body = trim(text);
+  const std::string body = trim_spaces(text);
   const size_t colon = body.rfind(':');
   if (colon == std::string::npos) throw_bad_spec(text, "missing ':' between chip and line");
-  const std::string chip = trim(body.substr(0, colon));
-  const std::string line = trim(body.substr(colon + 1));
+  const std::string chip = trim_spaces(body.substr(0, colon));
+  const std::string line = trim_spaces(body.substr(colon + 1));
   if (chip.empty()) throw_bad_spec(text, "missing chip");
   if (line.empty()) throw_bad_spec(text, "missing line number");
   if (!all_digits(line)) throw_bad_spec(text, "line '" + line + "' is not a non-negative number");
