@@ -40,7 +40,7 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   p.dp.subpixel = !a.flag("no-subpixel");
   validate_params(p);
   c.kernels = parse_kernel_choice(a.get("kernels", "auto"));
-  c.threads = a.get_int("threads", 1);
+  c.threads = a.get_int("threads", 0);
   if (c.threads < 0 || c.threads > 256) throw UsageError("--threads must be 0 (one per CPU) .. 256");
   if (a.has("cpus")) c.cpus = parse_cpu_list(a.get("cpus", ""));
   c.pin_threads = !a.flag("no-pin");
@@ -64,7 +64,7 @@ const char* stereo_options_help() {
   --dense              every pixel a DP sample (the paper's dense baseline)
 Run options:
   --kernels auto|scalar|sse2|avx2|neon   kernel set (default auto; env TRISTEREO_KERNELS)
-  --threads N          worker threads, 0 = one per allowed CPU (default 1)
+  --threads N          worker threads, 0 = one per allowed CPU (default 0)
   --cpus LIST          CPUs to pin workers to, e.g. 2,3 or 0-3 (default: allowed set)
   --no-pin             do not pin workers to CPUs
 )";

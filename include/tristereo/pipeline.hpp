@@ -25,7 +25,7 @@ struct PipelineConfig {
   int max_height = 480;
   StereoParams params;
   KernelChoice kernels = KernelChoice::kAuto;
-  int threads = 1;           // worker count; 0 = one per CPU in the allowed set
+  int threads = 0;           // worker count; 0 = one per CPU in the allowed set (default)
   std::vector<int> cpus;     // CPUs to pin workers to (empty = allowed set, in order)
   bool pin_threads = true;   // pin worker i to cpus[i % cpus.size()]
 };
