@@ -65,6 +65,9 @@ void bench_build(benchmark::State& state, const NamedImage* image) {
   state.counters["triangles"] = static_cast<double>(mesh.triangles.size());
   state.counters["vertices"] = static_cast<double>(mesh.vertices.size());
   state.counters["rounds"] = tree.rounds();
+  state.counters["regions"] = tree.regions();
+  state.counters["deferred"] = static_cast<double>(tree.deferred_propagations());
+  state.counters["criterion_splits"] = static_cast<double>(mesh.criterion_splits);
   state.SetItemsProcessed(state.iterations() * image->gray.width * image->gray.height);
 }
 

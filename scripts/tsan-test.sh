@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# ThreadSanitizer run of the thread-pool tests (and any test named after it).
+# ThreadSanitizer run of the thread-pool tests and of every test that runs the
+# tritree or the pipeline on a pool (parallel refinement regions, banded output,
+# row-banded matching).
 #
 #   scripts/tsan-test.sh [build-dir] [ctest -R regex]
 #
@@ -13,8 +15,8 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-${repo}/build-tsan}"
-regex="${2:-^(ThreadPool|Affinity)}"
-targets=(thread_pool_test platform_test)
+regex="${2:-^(ThreadPool|Affinity|Tritree\.(IdenticalForAnyThreadCount|PoolBuild|ManyRegions|BuildWithPool)|PipelineThreads)}"
+targets=(thread_pool_test platform_test tritree_test pipeline_threads_test)
 jobs="${TSAN_JOBS:-$(nproc)}"
 
 cmake -S "${repo}" -B "${build}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \

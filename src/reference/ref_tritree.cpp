@@ -55,6 +55,7 @@ struct Tri {
   std::array<Vertex, 3> v;  // positive orientation
   bool leaf = true;
   int round_created = -1;
+  bool wants = false;  // evaluated and wants to split: its split counts as a criterion split
 };
 
 class Builder {
@@ -81,6 +82,7 @@ class Builder {
                                      key_of(tris_[i].v[2])};
           std::sort(keys.begin(), keys.end());
           to_split.push_back({keys, i});
+          tris_[i].wants = true;
         }
       }
       std::sort(to_split.begin(), to_split.end());
@@ -197,8 +199,11 @@ class Builder {
     for (const auto& ch : children) {
       if (twice_area(ch[0], ch[1], ch[2]) < 2) return false;
     }
-    remove(x);
-    if (n >= 0) remove(n);
+    for (int id : {x, n}) {
+      if (id < 0) continue;
+      (tris_[id].wants ? criterion_splits_ : forced_splits_) += 1;
+      remove(id);
+    }
     for (const auto& ch : children) add(ch, round);
     return true;
   }
@@ -217,13 +222,6 @@ class Builder {
         x = n;
       }
       if (!bisect(x, n, round)) return;  // blocked: left as it is
-      const int splits = (n >= 0) ? 2 : 1;
-      if (x == id) {
-        criterion_splits_ += 1;
-        forced_splits_ += splits - 1;
-      } else {
-        forced_splits_ += splits;
-      }
     }
   }
 

@@ -7,12 +7,15 @@
 //   tree.reserve(mesh);                 // so build() never grows `mesh`
 //   tree.build(gray, mesh, &pool);      // no heap allocation; pool optional
 //
-// build() is begin() + rounds + finish(). A round is split into a parallel
-// part, evaluate_round() (the criterion of each pending triangle, independent
-// work writing one decision byte each), and a serial part, split_round()
-// (longest-edge propagation in the model's fixed order). A thread pool can
-// drive the stages itself and call evaluate_round() on disjoint bands; the
-// result does not depend on how the bands are cut nor on the worker count.
+// Refinement runs in rounds (docs/model.md section 1). The mesh is the least
+// fixpoint of "split every leaf that wants to, with its longest-edge
+// propagation", so it does not depend on the order in which splitting
+// triangles are processed. build() uses that to run each round on all pool
+// workers: after a few serial rounds the leaves are cut into one spatial
+// region per worker; a worker evaluates and splits its region's triangles,
+// touching only nodes of its region, and defers any propagation that would
+// cross into another region to a short serial pass at the end of the round.
+// Any worker count gives the same mesh (and split counts) as the reference.
 #pragma once
 
 #include <array>
@@ -29,11 +32,14 @@ class ThreadPool;
 
 class Tritree {
  public:
+  static constexpr int kMaxRegions = 64;
+
   // Allocates all storage for images up to max_width x max_height (2 ..
   // kMaxImageSide each). Throws Error(kInvalidArgument) naming the bad value
   // (sizes, params.max_area_px2 outside 1..kMaxAreaLimitPx2, psnr_deci_db
   // outside kMinPsnrDeciDb..kMaxPsnrDeciDb); the tree is then unconfigured.
-  // The criterion needs no per-worker memory, so any pool size works later.
+  // Regions for up to kMaxRegions workers are allocated here, so any pool
+  // size works later (a larger pool uses kMaxRegions of its workers).
   void configure(int max_width, int max_height, const TritreeParams& params);
   bool configured() const { return max_width_ > 0; }
 
@@ -44,26 +50,16 @@ class Tritree {
   // Builds the mesh of `gray` (1 channel, 2 .. max size, stride >= width).
   // Throws Error on bad input, leaving `mesh` untouched. No heap allocation
   // once `mesh` has been reserve()d. With a started `pool` (called from its
-  // owner thread), each round's criterion runs on all its workers; the mesh
-  // is identical for every pool size.
+  // owner thread), each round runs on all its workers; the mesh is identical
+  // for every pool size.
   void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr);
-
-  // --- Stages of build(), for drivers that parallelise evaluate_round().
-  // Validates `gray` (kept by pointer until finish()) and seeds the two roots.
-  void begin(ImageView<const std::uint8_t> gray);
-  // Triangles waiting for evaluation in the current round (0 = done).
-  int pending_count() const { return pending_count_; }
-  // Writes the decision of pending triangles [begin, end): split now or not.
-  // Reads shared state only; disjoint ranges may run concurrently.
-  void evaluate_round(int begin, int end);
-  // Serial: processes the triangles that decided to split, in the model's
-  // order, then makes the triangles created by this round pending.
-  void split_round();
-  // Writes the canonical mesh (raster-order vertices, canonical triangles).
-  void finish(Mesh& mesh);
 
   // --- Diagnostics of the last build.
   int rounds() const { return rounds_; }
+  // Regions the leaves were cut into (1: the build ran on one thread).
+  int regions() const { return region_count_; }
+  // Propagations that crossed a region border and were finished serially.
+  std::int64_t deferred_propagations() const { return deferred_; }
   // Leaves whose refinement was blocked by an invalid terminal bisection.
   // Allocates; meant for tests and tools.
   std::vector<std::array<Vertex, 3>> blocked_leaves() const;
@@ -79,30 +75,45 @@ class Tritree {
     std::uint32_t birth;
     std::uint8_t longest;   // index of the longest edge (model's edge order)
     std::uint8_t blocked;   // wanted to split but a terminal bisection was invalid
+    std::uint8_t wants;     // evaluated and wants to split: its split is a criterion split
+    // Owner region. Set when the slot is first used and never rewritten in a
+    // build, so a worker may read it on a node another worker is writing.
+    std::uint8_t region;
   };
   struct Pending {
     std::int32_t slot;
     std::uint32_t birth;
   };
-  // Processing order key: the triangle's three vertex keys, sorted.
-  struct OrderKey {
-    std::uint64_t k01;
-    std::uint32_t k2;
-    std::int32_t pending_index;
+  // A spatial part of the mesh, refined by one worker per round. It owns its
+  // node slots (new ones come from [slot_begin, slot_end)) and a range of the
+  // pending/created lists; Node::region says which region owns a slot.
+  struct alignas(64) Region {
+    std::int32_t slot_begin = 0, next_slot = 0, slot_end = 0;
+    std::int32_t list_begin = 0, list_capacity = 0;
+    std::int32_t pending_count = 0;   // after evaluate: the deferred ones, at the front
+    std::int32_t created_count = 0;
+    std::int64_t criterion_splits = 0, forced_splits = 0;
   };
-  static bool order_less(const OrderKey& p, const OrderKey& q) {
-    return p.k01 != q.k01 ? p.k01 < q.k01 : p.k2 < q.k2;
-  }
 
   Vertex vertex(const Node& n, int i) const { return Vertex{n.x[i], n.y[i]}; }
+  int region_of(std::int32_t slot) const { return nodes_[slot].region; }
   void set_node(std::int32_t slot, const Vertex& a, const Vertex& b, const Vertex& c,
                 std::int32_t nab, std::int32_t nbc, std::int32_t nca);
   void replace_link(std::int32_t slot, std::int32_t old_nb, std::int32_t new_nb);
+  std::int32_t new_slot(std::int32_t parent);
+  void count_split(std::int32_t slot);
   bool bisect_pair(std::int32_t t, std::int32_t n);
-  void process(std::int32_t slot, std::uint32_t birth);
+  bool process(std::int32_t slot, std::uint32_t birth, int region);
   void validate_image(ImageView<const std::uint8_t> gray) const;
-  void promote_created();
-  void sort_order(int count);
+  void begin(ImageView<const std::uint8_t> gray);
+  void refine_region(int region, bool local);
+  void process_deferred();
+  void partition(int region_count);
+  void finish(Mesh& mesh, ThreadPool* pool);
+  template <class Fn>
+  void for_each_slot(Fn&& fn) const;
+  template <class Fn>
+  void for_each_slot_of_part(int part, int parts, Fn&& fn) const;
 
   int max_width_ = 0;
   int max_height_ = 0;
@@ -112,24 +123,29 @@ class Tritree {
   // Per-build state.
   ImageView<const std::uint8_t> gray_;
   int rounds_ = 0;
-  std::uint32_t next_birth_ = 0;
+  std::int64_t criterion_splits_ = 0;    // of the rounds before partition()
   std::int64_t forced_splits_ = 0;
-  std::int64_t criterion_splits_ = 0;
+  std::int64_t deferred_ = 0;
 
   std::vector<Node> nodes_;              // capacity: max leaves
-  std::int32_t node_count_ = 0;
-  std::vector<Pending> pending_;         // this round's triangles
-  int pending_count_ = 0;
-  std::vector<std::uint8_t> decision_;   // one per pending triangle
-  std::vector<OrderKey> key_;            // per pending triangle, valid when it splits
-  std::vector<Pending> created_;         // triangles created this round
-  int created_count_ = 0;
-  std::vector<OrderKey> order_;          // splitting triangles, sorted
-  std::vector<OrderKey> order_tmp_;      // radix sort's second buffer
-  std::vector<std::int32_t> radix_count_;  // max(W, H) + 1 counters
-  std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex
+  std::int32_t initial_slots_ = 0;       // slots [0, initial_slots_) exist before regions
+  std::vector<Region> regions_;          // kMaxRegions, region_count_ in use
+  int region_count_ = 1;
+  std::vector<Pending> pending_;         // per region: this round's triangles
+  std::vector<Pending> created_;         // per region: triangles created this round
+  std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex; partition scratch
   std::vector<std::int32_t> bucket_;     // counting sort of triangles by first id
-  std::vector<Triangle> tri_scratch_;
+  std::vector<Triangle> tri_scratch_;    // per slot
 };
+
+// Every slot that holds a leaf: the slots that existed when the regions were
+// cut, then each region's own.
+template <class Fn>
+void Tritree::for_each_slot(Fn&& fn) const {
+  for (std::int32_t s = 0; s < initial_slots_; ++s) fn(s);
+  for (int g = 0; g < region_count_; ++g) {
+    for (std::int32_t s = regions_[g].slot_begin; s < regions_[g].next_slot; ++s) fn(s);
+  }
+}
 
 }  // namespace tristereo

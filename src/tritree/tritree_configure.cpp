@@ -38,14 +38,11 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
   nodes_.assign(leaves, Node{});
-  pending_.assign(leaves, Pending{});
-  decision_.assign(leaves, 0);
-  key_.assign(leaves, OrderKey{});
-  // Each split of the round adds one leaf and pushes two children.
+  regions_.assign(kMaxRegions, Region{});
+  // Per round, each bisection adds one slot of its region and creates two
+  // entries there; the region lists are carved from these (see partition()).
+  pending_.assign(2 * leaves, Pending{});
   created_.assign(2 * leaves, Pending{});
-  order_.assign(leaves, OrderKey{});
-  order_tmp_.assign(leaves, OrderKey{});
-  radix_count_.assign(static_cast<std::size_t>(std::max(max_width, max_height)) + 1, 0);
   vertex_id_.assign(pixels, -1);
   bucket_.assign(pixels + 1, 0);
   tri_scratch_.assign(leaves, Triangle{});

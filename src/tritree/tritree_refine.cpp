@@ -1,9 +1,17 @@
-// Tritree refinement: rounds of criterion evaluation (parallelisable) and
-// longest-edge-propagation bisection (serial), docs/model.md section 1.
+// Tritree refinement: rounds of criterion evaluation and longest-edge
+// propagation, run per spatial region (docs/model.md section 1, docs/tritree.md).
+//
+// Why regions give the reference's mesh: a triangle's children, its longest
+// edge and its split decision depend only on the triangle (and the image), and
+// processing a triangle performs a fixed sequence of bisections (its
+// propagation path, cut short where a bisection is invalid). The mesh after a
+// round is therefore the union of those sequences whatever the order, and
+// workers may process their regions concurrently as long as none writes a node
+// it does not own. A propagation that would read or relink another region's
+// node is stopped (bisections already done stay; they belong to the sequence
+// anyway) and finished by the serial pass at the end of the round.
 #include <algorithm>
-#include <atomic>
 #include <cassert>
-#include <utility>
 
 #include "platform/thread_pool.hpp"
 
@@ -15,137 +23,185 @@ namespace tristereo {
 
 namespace {
 
-// Rounds with fewer pending triangles run on the calling thread: waking the
-// pool costs more than evaluating them. Any value gives the same mesh.
-constexpr int kMinParallelPending = 512;
-// Work is handed out in chunks of this many pending triangles (an atomic
-// counter balances the uneven cost of triangles; each decision depends only
-// on its own triangle, so scheduling cannot change the result).
-constexpr int kChunk = 256;
+// Regions are cut once the mesh has this many leaves per region: the first
+// rounds (area-forced splits of a few large triangles) are cheap, and enough
+// leaves make regions of nearly equal area.
+constexpr std::int32_t kLeavesPerRegion = 64;
+// Rounds with fewer new triangles than this run on the calling thread: waking
+// the pool costs more. Neither constant changes the mesh.
+constexpr std::int32_t kMinParallelCreated = 1024;
 
 }  // namespace
 
 void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
   begin(gray);
   const int workers = (pool != nullptr) ? pool->size() : 1;
-  while (pending_count() > 0) {
-    const int n = pending_count();
-    if (workers > 1 && n >= kMinParallelPending) {
-      std::atomic<int> next{0};
-      pool->run([&](int) {
-        for (int b = next.fetch_add(kChunk, std::memory_order_relaxed); b < n;
-             b = next.fetch_add(kChunk, std::memory_order_relaxed)) {
-          evaluate_round(b, std::min(n, b + kChunk));
-        }
+  const int want_regions = std::min(workers, kMaxRegions);
+  for (;;) {
+    std::int32_t created = 0;
+    for (int g = 0; g < region_count_; ++g) created += regions_[g].created_count;
+    if (created == 0) break;
+    if (region_count_ == 1 && want_regions > 1 &&
+        regions_[0].next_slot >= kLeavesPerRegion * want_regions) {
+      partition(want_regions);
+    }
+    if (region_count_ > 1 && created >= kMinParallelCreated) {
+      pool->run([this](int worker) {
+        if (worker < region_count_) refine_region(worker, /*local=*/true);
       });
     } else {
-      evaluate_round(0, n);
+      // Local even here: a region must not split another's triangles before
+      // that region has evaluated them (the split counts would differ).
+      for (int g = 0; g < region_count_; ++g) refine_region(g, /*local=*/region_count_ > 1);
     }
-    split_round();
+    process_deferred();
+    ++rounds_;
   }
-  finish(mesh);
+  finish(mesh, pool);
 }
 
 void Tritree::begin(ImageView<const std::uint8_t> gray) {
   validate_image(gray);
   gray_ = gray;
   rounds_ = 0;
-  next_birth_ = 0;
-  forced_splits_ = 0;
   criterion_splits_ = 0;
-  node_count_ = 2;
-  created_count_ = 0;
-  pending_count_ = 0;
+  forced_splits_ = 0;
+  deferred_ = 0;
+  initial_slots_ = 0;
+  region_count_ = 1;
+  Region& r = regions_[0];
+  r = Region{};
+  r.slot_end = static_cast<std::int32_t>(nodes_.size());
+  r.list_capacity = static_cast<std::int32_t>(created_.size());
   const int xr = gray.width - 1;
   const int yb = gray.height - 1;
   // The two roots share the diagonal (0,0)-(W-1,H-1): edge 2 of root 0 is
   // edge 0 of root 1.
+  r.next_slot = 2;
+  nodes_[0].region = nodes_[1].region = 0;
   set_node(0, {0, 0}, {xr, 0}, {xr, yb}, -1, -1, 1);
   set_node(1, {0, 0}, {xr, yb}, {0, yb}, 0, -1, -1);
-  promote_created();
 }
 
-void Tritree::evaluate_round(int begin, int end) {
-  for (int i = begin; i < end; ++i) {
-    const Node& t = nodes_[pending_[i].slot];
+// One round of one region: promote the triangles created last round, decide
+// each, then process those that split. With `local`, propagations that would
+// touch another region are left in the pending list for process_deferred().
+void Tritree::refine_region(int g, bool local) {
+  Region& r = regions_[g];
+  Pending* pending = pending_.data() + r.list_begin;
+  const Pending* created = created_.data() + r.list_begin;
+  std::int32_t n = 0;
+  for (std::int32_t i = 0; i < r.created_count; ++i) {
+    // A child may already have been split again in the round that created it.
+    if (nodes_[created[i].slot].birth == created[i].birth) pending[n++] = created[i];
+  }
+  r.created_count = 0;
+
+  std::int32_t splitting = 0;
+  for (std::int32_t i = 0; i < n; ++i) {
+    Node& t = nodes_[pending[i].slot];
     const int k = t.longest;
     const Vertex a = vertex(t, k), b = vertex(t, (k + 1) % 3), c = vertex(t, (k + 2) % 3);
     // Cheap validity first: a triangle whose own bisection is invalid never splits.
-    const bool split = half_bisection_valid(a, b, c, snapped_midpoint(a, b)) &&
-                       tritree_wants_split(gray_, a, b, c, params_.max_area_px2, mse_q8_);
-    decision_[i] = split ? 1 : 0;
-    if (split) {
-      // The processing-order key, computed here because this part runs in parallel.
-      std::uint32_t key[3];
-      for (int j = 0; j < 3; ++j) key[j] = static_cast<std::uint32_t>(vertex_key(vertex(t, j)));
-      if (key[0] > key[1]) std::swap(key[0], key[1]);
-      if (key[1] > key[2]) std::swap(key[1], key[2]);
-      if (key[0] > key[1]) std::swap(key[0], key[1]);
-      key_[i] = OrderKey{(std::uint64_t{key[0]} << 32) | key[1], key[2], i};
+    if (half_bisection_valid(a, b, c, snapped_midpoint(a, b)) &&
+        tritree_wants_split(gray_, a, b, c, params_.max_area_px2, mse_q8_)) {
+      t.wants = 1;
+      pending[splitting++] = pending[i];
     }
   }
+
+  std::int32_t deferred = 0;
+  for (std::int32_t i = 0; i < splitting; ++i) {
+    if (!process(pending[i].slot, pending[i].birth, local ? g : -1)) pending[deferred++] = pending[i];
+  }
+  r.pending_count = deferred;
 }
 
-void Tritree::split_round() {
-  int count = 0;
-  for (int i = 0; i < pending_count_; ++i) {
-    if (decision_[i]) order_[count++] = key_[i];
-  }
-  sort_order(count);
-  for (int i = 0; i < count; ++i) {
-    const Pending& p = pending_[order_[i].pending_index];
-    process(p.slot, p.birth);
-  }
-  ++rounds_;
-  promote_created();
-}
-
-// Sorts order_[0, count) by order_less. Distinct leaves have distinct vertex
-// sets, so the order is strict and any correct sort gives the same sequence.
-// LSD counting sort on the smallest vertex key (x, then y: both < max side),
-// then an insertion sort of the short runs sharing that vertex; this replaced
-// a comparison sort that cost about as much as all the bisections.
-void Tritree::sort_order(int count) {
-  if (count < 64) {
-    std::sort(order_.begin(), order_.begin() + count, order_less);
-    return;
-  }
-  const int w = gray_.width;
-  const int h = gray_.height;
-  std::int32_t* cnt = radix_count_.data();
-  OrderKey* src = order_.data();
-  OrderKey* tmp = order_tmp_.data();
-  // Smallest vertex key = k01 >> 32 = (y << 16) | x.
-  std::fill(cnt, cnt + w + 1, 0);
-  for (int i = 0; i < count; ++i) ++cnt[((src[i].k01 >> 32) & 0xFFFF) + 1];
-  for (int x = 0; x < w; ++x) cnt[x + 1] += cnt[x];
-  for (int i = 0; i < count; ++i) tmp[cnt[(src[i].k01 >> 32) & 0xFFFF]++] = src[i];
-  std::fill(cnt, cnt + h + 1, 0);
-  for (int i = 0; i < count; ++i) ++cnt[(tmp[i].k01 >> 48) + 1];
-  for (int y = 0; y < h; ++y) cnt[y + 1] += cnt[y];
-  for (int i = 0; i < count; ++i) src[cnt[tmp[i].k01 >> 48]++] = tmp[i];
-  // Runs with the same smallest vertex: a vertex's fan, a handful of triangles.
-  int run = 0;
-  for (int i = 1; i <= count; ++i) {
-    if (i < count && (src[i].k01 >> 32) == (src[run].k01 >> 32)) continue;
-    for (int j = run + 1; j < i; ++j) {
-      const OrderKey key = src[j];
-      int k = j;
-      for (; k > run && order_less(key, src[k - 1]); --k) src[k] = src[k - 1];
-      src[k] = key;
-    }
-    run = i;
+void Tritree::process_deferred() {
+  for (int g = 0; g < region_count_; ++g) {
+    Region& r = regions_[g];
+    const Pending* pending = pending_.data() + r.list_begin;
+    deferred_ += r.pending_count;
+    for (std::int32_t i = 0; i < r.pending_count; ++i) process(pending[i].slot, pending[i].birth, -1);
+    r.pending_count = 0;
   }
 }
 
-// Next round's pending list: the triangles created since the last call that
-// still exist (a child may already have been split again in the same round).
-void Tritree::promote_created() {
-  pending_count_ = 0;
-  for (int i = 0; i < created_count_; ++i) {
-    if (nodes_[created_[i].slot].birth == created_[i].birth) pending_[pending_count_++] = created_[i];
+// Cuts the current leaves (slots [0, next_slot) of region 0) into stripes
+// across the longer image side, of nearly equal area, and gives each region
+// enough node slots and list space for any refinement of its stripe: its
+// leaves will always tile its area2 sum, each with area2 >= 2.
+void Tritree::partition(int region_count) {
+  Region& r0 = regions_[0];
+  const std::int32_t n0 = r0.next_slot;
+  criterion_splits_ += r0.criterion_splits;
+  forced_splits_ += r0.forced_splits;
+  const bool by_x = gray_.width >= gray_.height;
+  std::int32_t* order = vertex_id_.data();  // scratch: W x H >= n0 entries each
+  std::int32_t* centre3 = bucket_.data();
+  std::int64_t total_area2 = 0;
+  for (std::int32_t s = 0; s < n0; ++s) {
+    const Node& t = nodes_[s];
+    centre3[s] = by_x ? t.x[0] + t.x[1] + t.x[2] : t.y[0] + t.y[1] + t.y[2];
+    order[s] = s;
+    total_area2 += area2_of(vertex(t, 0), vertex(t, 1), vertex(t, 2));
   }
-  created_count_ = 0;
+  std::sort(order, order + n0, [centre3](std::int32_t p, std::int32_t q) {
+    return centre3[p] != centre3[q] ? centre3[p] < centre3[q] : p < q;
+  });
+  std::int64_t area2_of_region[kMaxRegions] = {};
+  std::int32_t leaves_of_region[kMaxRegions] = {};
+  std::int64_t before = 0;
+  for (std::int32_t i = 0; i < n0; ++i) {
+    const Node& t = nodes_[order[i]];
+    const std::int64_t a2 = area2_of(vertex(t, 0), vertex(t, 1), vertex(t, 2));
+    const int g = static_cast<int>(
+        std::min<std::int64_t>(region_count - 1, (2 * before + a2) * region_count / (2 * total_area2)));
+    nodes_[order[i]].region = static_cast<std::uint8_t>(g);
+    area2_of_region[g] += a2;
+    ++leaves_of_region[g];
+    before += a2;
+  }
+
+  // The created list of the last round moves to the regions' lists (through
+  // the pending list, which is empty between rounds).
+  const std::int32_t moved = r0.created_count;
+  std::copy(created_.begin(), created_.begin() + moved, pending_.begin());
+
+  std::int32_t slot = n0;
+  std::int32_t list = 0;
+  for (int g = 0; g < region_count; ++g) {
+    const std::int32_t capacity = static_cast<std::int32_t>(
+        std::max<std::int64_t>(0, area2_of_region[g] / 2 - leaves_of_region[g]));
+    Region& r = regions_[g];
+    r = Region{};
+    r.slot_begin = r.next_slot = slot;
+    r.slot_end = slot + capacity;
+    r.list_begin = list;
+    // Each bisection of a region triangle adds one of its slots and creates two entries.
+    r.list_capacity = 2 * capacity + leaves_of_region[g];
+    slot += capacity;
+    list += r.list_capacity;
+  }
+  assert(static_cast<std::size_t>(slot) <= nodes_.size());
+  assert(static_cast<std::size_t>(list) <= created_.size());
+  initial_slots_ = n0;
+  region_count_ = region_count;
+  for (std::int32_t i = 0; i < moved; ++i) {
+    const Pending p = pending_[i];
+    if (nodes_[p.slot].birth != p.birth) continue;
+    Region& r = regions_[region_of(p.slot)];
+    created_[r.list_begin + r.created_count++] = p;
+  }
+}
+
+std::int32_t Tritree::new_slot(std::int32_t parent) {
+  const std::uint8_t g = nodes_[parent].region;
+  Region& r = regions_[g];
+  assert(r.next_slot < r.slot_end);
+  const std::int32_t slot = r.next_slot++;
+  nodes_[slot].region = g;
+  return slot;
 }
 
 void Tritree::set_node(std::int32_t slot, const Vertex& a, const Vertex& b, const Vertex& c,
@@ -159,10 +215,13 @@ void Tritree::set_node(std::int32_t slot, const Vertex& a, const Vertex& b, cons
   n.nb[0] = nab;
   n.nb[1] = nbc;
   n.nb[2] = nca;
-  n.birth = next_birth_++;
+  ++n.birth;  // per slot: no counter shared between workers
   n.longest = static_cast<std::uint8_t>(longest_edge_index(v));
   n.blocked = 0;
-  created_[created_count_++] = Pending{slot, n.birth};
+  n.wants = 0;
+  Region& r = regions_[region_of(slot)];
+  assert(r.created_count < r.list_capacity);
+  created_[r.list_begin + r.created_count++] = Pending{slot, n.birth};
 }
 
 void Tritree::replace_link(std::int32_t slot, std::int32_t old_nb, std::int32_t new_nb) {
@@ -175,6 +234,17 @@ void Tritree::replace_link(std::int32_t slot, std::int32_t old_nb, std::int32_t 
     }
   }
   assert(false && "neighbour links out of sync");
+}
+
+// A bisected triangle's split is a criterion split when the triangle itself
+// was evaluated and wants to split, else a forced (conformity) split.
+void Tritree::count_split(std::int32_t slot) {
+  Region& r = regions_[region_of(slot)];
+  if (nodes_[slot].wants) {
+    ++r.criterion_splits;
+  } else {
+    ++r.forced_splits;
+  }
 }
 
 // Bisects leaf t on its longest edge AB together with n (the neighbour across
@@ -202,9 +272,13 @@ bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
     if (!half_bisection_valid(b, a, d, m)) return false;
   }
 
-  const std::int32_t t2 = node_count_++;
-  const std::int32_t n1 = (n >= 0) ? node_count_++ : -1;
-  assert(static_cast<std::size_t>(node_count_) <= nodes_.size());
+  count_split(t);
+  const std::int32_t t2 = new_slot(t);
+  std::int32_t n1 = -1;
+  if (n >= 0) {
+    count_split(n);
+    n1 = new_slot(n);
+  }
   set_node(t, a, m, c, n, t2, n_ca);    // (A, M, C) keeps t's slot
   set_node(t2, m, b, c, n1, n_bc, t);   // (M, B, C)
   replace_link(n_bc, t, t2);
@@ -217,38 +291,45 @@ bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
 }
 
 // Longest-edge propagation from `slot` until the triangle (identified by its
-// birth) has been bisected or a terminal bisection turns out invalid.
-void Tritree::process(std::int32_t slot, std::uint32_t birth) {
+// birth) has been bisected or a terminal bisection turns out invalid (then it
+// is blocked). With region >= 0, returns false as soon as the next bisection
+// would read or relink a node of another region.
+bool Tritree::process(std::int32_t slot, std::uint32_t birth, int region) {
   while (nodes_[slot].birth == birth) {
     std::int32_t x = slot;
     std::int32_t n = nodes_[x].nb[nodes_[x].longest];
     // Each step goes to a strictly longer edge (model's edge order): terminates.
-    while (n >= 0 && nodes_[n].nb[nodes_[n].longest] != x) {
+    while (n >= 0) {
+      if (region >= 0 && region_of(n) != region) return false;
+      if (nodes_[n].nb[nodes_[n].longest] == x) break;
       x = n;
       n = nodes_[x].nb[nodes_[x].longest];
     }
+    if (region >= 0) {
+      // The bisection relinks the neighbours across x's edge BC and n's edge DB.
+      const Node& nx = nodes_[x];
+      const std::int32_t n_bc = nx.nb[(nx.longest + 1) % 3];
+      if (n_bc >= 0 && region_of(n_bc) != region) return false;
+      if (n >= 0) {
+        const Node& nn = nodes_[n];
+        const std::int32_t n_db = nn.nb[(nn.longest + 2) % 3];
+        if (n_db >= 0 && region_of(n_db) != region) return false;
+      }
+    }
     if (!bisect_pair(x, n)) {
       nodes_[slot].blocked = 1;
-      return;
-    }
-    // The processed triangle's own split is a criterion split; every other
-    // split only keeps the mesh conforming.
-    const int pair_size = (n >= 0) ? 2 : 1;
-    if (x == slot) {
-      criterion_splits_ += 1;
-      forced_splits_ += pair_size - 1;
-    } else {
-      forced_splits_ += pair_size;
+      return true;
     }
   }
+  return true;
 }
 
 std::vector<std::array<Vertex, 3>> Tritree::blocked_leaves() const {
   std::vector<std::array<Vertex, 3>> out;
-  for (std::int32_t i = 0; i < node_count_; ++i) {
+  for_each_slot([&](std::int32_t i) {
     const Node& n = nodes_[i];
     if (n.blocked) out.push_back({vertex(n, 0), vertex(n, 1), vertex(n, 2)});
-  }
+  });
   return out;
 }
 
