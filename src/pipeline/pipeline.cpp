@@ -122,6 +122,29 @@ ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8&
   rgb_to_gray_bt601(in, dst);
   return {buffer.pixels.data(), in.width, in.height, 1, in.width};
 }
+// Sparse mode: row band `part` of `parts` with about equal work, counting a
+// row's samples plus a fixed per-row cost (rows are independent, so the cut
+// only moves work between workers). Equal-height bands left the worker with
+// the textured half of an image doing most of the matching.
+void sparse_row_band(const std::vector<std::int32_t>& row_start, int height, int parts, int part,
+                     int* y0, int* y1) {
+  constexpr std::int64_t kRowCost = 8;  // in samples: row setup, DP boundary
+  const auto work_before = [&](int y) {
+    return std::int64_t{row_start[static_cast<std::size_t>(y)]} + kRowCost * y;
+  };
+  const std::int64_t total = work_before(height);
+  const auto first_row_at = [&](std::int64_t target) {
+    int lo = 0, hi = height;  // smallest y with work_before(y) >= target
+    while (lo < hi) {
+      const int mid = lo + (hi - lo) / 2;
+      if (work_before(mid) < target) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+  };
+  *y0 = first_row_at(total * part / parts);
+  *y1 = (part + 1 == parts) ? height : first_row_at(total * (part + 1) / parts);
+}
+
 }  // namespace
 
 const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
@@ -167,7 +190,11 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     wk.cost_ns = 0;
     wk.dp_ns = 0;
     int y0, y1;
-    ThreadPool::split_range(0, height, workers, w, &y0, &y1);
+    if (params.dense) {
+      ThreadPool::split_range(0, height, workers, w, &y0, &y1);
+    } else {
+      sparse_row_band(mesh.row_start, height, workers, w, &y0, &y1);
+    }
     RowTimes times;
     for (int y = y0; y < y1; ++y) {
       if (params.dense) {
