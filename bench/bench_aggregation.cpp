@@ -5,8 +5,8 @@
 // reported time is the stage's milliseconds per frame on one thread.
 // CPU time (the default) is steadier than wall time on a shared machine.
 //
-//   bench_aggregation --benchmark_filter='aggregation/box/.*/128' \
-//       --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   bench_aggregation --benchmark_filter='aggregation/box/.*/128'
+//                     --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <cstdint>
 #include <string>
 #include <vector>
