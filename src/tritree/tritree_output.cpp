@@ -91,8 +91,8 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   // Triangles: rotated so the smallest id comes first (orientation kept),
   // counting-sorted by that id, then each vertex's small fan sorted. A part
   // owns a band of first ids and collects its triangles from all leaves.
-  std::int32_t tri_count = 0;
-  for_each_slot([&](std::int32_t) { ++tri_count; });
+  std::int32_t tri_count = initial_slots_;
+  for (int g = 0; g < region_count_; ++g) tri_count += regions_[g].next_slot - regions_[g].slot_begin;
   run([&](int part) {
     for_each_slot_of_part(part, parts, [&](std::int32_t s) {
       const Node& n = nodes_[s];
