@@ -97,6 +97,13 @@ class Tritree {
 
   Vertex vertex(const Node& n, int i) const { return Vertex{n.x[i], n.y[i]}; }
   int region_of(std::int32_t slot) const { return nodes_[slot].region; }
+  void prefetch_node(std::int32_t slot) const {
+#if defined(__GNUC__)
+    __builtin_prefetch(&nodes_[static_cast<std::size_t>(slot)]);
+#else
+    (void)slot;
+#endif
+  }
   void set_node(std::int32_t slot, const Vertex& a, const Vertex& b, const Vertex& c,
                 std::int32_t nab, std::int32_t nbc, std::int32_t nca);
   void replace_link(std::int32_t slot, std::int32_t old_nb, std::int32_t new_nb);
