@@ -1,6 +1,10 @@
 #!/usr/bin/python3
 """Runs bench/bench_pipeline (Google Benchmark) and writes docs/performance-tables.md.
 
+bench/bench_machine runs just before and just after it: the 2-thread/1-thread
+ceiling of plain loops on this machine at that time, to read the pipeline's
+thread speed-ups against (a shared VM's ceiling moves with its neighbours).
+
 Usage: /usr/bin/python3 scripts/perf_report.py [--build build] [--repetitions 5]
 All ratios are computed from the medians of one run of the benchmark binary:
 SIMD vs scalar per stage, sparse vs dense DP, N threads vs 1.
@@ -12,6 +16,35 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def machine_ceilings(build, tag):
+    """Medians of bench_machine: {loop name: 2-thread / 1-thread items per second}."""
+    exe = os.path.join(build, "bench", "bench_machine")
+    out_json = os.path.join(build, "bench_machine_%s.json" % tag)
+    cmd = [exe, "--benchmark_repetitions=5", "--benchmark_report_aggregates_only=true",
+           "--benchmark_enable_random_interleaving=true",
+           "--benchmark_out=" + out_json, "--benchmark_out_format=json"]
+    print(" ".join(cmd), flush=True)
+    subprocess.run(cmd, check=True, stdout=sys.stderr)
+    with open(out_json) as f:
+        data = json.load(f)
+    rate = {}
+    for b in data["benchmarks"]:
+        if b.get("aggregate_name") != "median":
+            continue
+        # machine/<loop>[/<KiB>]/real_time/threads:<n>
+        parts = b["run_name"].split("/")
+        loop = "/".join(p for p in parts[1:] if p != "real_time" and not p.startswith("threads:"))
+        rate[(loop, int(parts[-1].split(":")[1]))] = b["items_per_second"]
+    return {loop: rate[(loop, 2)] / rate[(loop, 1)] for (loop, t) in rate if t == 1 and (loop, 2) in rate}
+
+
+def describe_loop(loop):
+    if loop == "alu":
+        return "arithmetic in registers"
+    kib = int(loop.split("/")[1])
+    return "random 4-byte reads, %d MiB per thread" % (kib // 1024)
 
 
 def main():
@@ -30,8 +63,10 @@ def main():
            "--benchmark_out=" + out_json, "--benchmark_out_format=json"]
     if a.filter:
         cmd.append("--benchmark_filter=" + a.filter)
+    before = machine_ceilings(a.build, "before")
     print(" ".join(cmd), flush=True)
     subprocess.run(cmd, check=True, stdout=sys.stderr)
+    after = machine_ceilings(a.build, "after")
     with open(out_json) as f:
         data = json.load(f)
     med = {}
@@ -93,6 +128,14 @@ def main():
         lines.append("| %d | %s | %d (%s) | %.2f | %.2f | %.2f | %.2f | %.2f | %.2fx |" % (
             d, mode, t, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
             one["total_ms"] / b["total_ms"]))
+    lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
+    lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
+                 "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
+    lines.append("| loop | before | after |")
+    lines.append("|---|---|---|")
+    for loop in sorted(before, key=lambda l: (l != "alu", int(l.split("/")[1]) if "/" in l else 0)):
+        lines.append("| %s | %.2fx | %s |" % (describe_loop(loop), before[loop],
+                                             "%.2fx" % after[loop] if loop in after else "-"))
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("wrote", a.out)
