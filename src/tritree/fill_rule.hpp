@@ -113,6 +113,14 @@ class EdgeRows {
     const std::int32_t num = dy > 0 ? c : -c;
     const std::int32_t step = dy > 0 ? dx : -dx;
     den_ = dy > 0 ? dy : -dy;
+    if (den_ == 1) {
+      // Most edges of a fine mesh rise one row per step: no division.
+      t_ = num;
+      rem_ = 0;
+      q_step_ = step;
+      r_step_ = 0;
+      return;
+    }
     t_ = floor_div32(num, den_);
     rem_ = num - t_ * den_;
     q_step_ = floor_div32(step, den_);
