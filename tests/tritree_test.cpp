@@ -408,6 +408,23 @@ TEST(Tritree, BuildDoesNotAllocate) {
   EXPECT_GT(mesh.vertices.size(), 50u);
 }
 
+// A started pool (unpinned) and a tree configured and reserved for it: the
+// setup of every pooled-build test.
+struct PooledTree {
+  PooledTree(int workers, int max_width, int max_height, const TritreeParams& params) {
+    pool.start(workers, {}, /*pin=*/false);
+    tree.configure(max_width, max_height, params);
+    tree.reserve(mesh);
+  }
+  const Mesh& build(const ImageU8& img) {
+    tree.build(cview(img), mesh, &pool);
+    return mesh;
+  }
+  ThreadPool pool;
+  Tritree tree;
+  Mesh mesh;
+};
+
 TEST(Tritree, IdenticalForAnyThreadCount) {
   // The criterion runs in parallel chunks; the mesh must not depend on the
   // worker count (1, 2, 3, 8 workers, unpinned) nor differ from a pool-less build.
@@ -428,16 +445,10 @@ TEST(Tritree, IdenticalForAnyThreadCount) {
   for (const ImageU8& img : images) serial.push_back(build_mesh(img, params));
 
   for (const int workers : {1, 2, 3, 8}) {
-    ThreadPool pool;
-    pool.start(workers, {}, /*pin=*/false);
-    ASSERT_EQ(pool.size(), workers);
-    Tritree tree;
-    tree.configure(450, 383, params);
-    Mesh mesh;
-    tree.reserve(mesh);
+    PooledTree pooled(workers, 450, 383, params);
+    ASSERT_EQ(pooled.pool.size(), workers);
     for (std::size_t i = 0; i < images.size(); ++i) {
-      tree.build(cview(images[i]), mesh, &pool);
-      ASSERT_EQ(mesh, serial[i]) << workers << " workers, image " << i;
+      ASSERT_EQ(pooled.build(images[i]), serial[i]) << workers << " workers, image " << i;
     }
   }
   EXPECT_GT(serial[0].triangles.size(), 5000u);  // big enough to run the parallel path
@@ -457,14 +468,9 @@ TEST(Tritree, PoolBuildOfTinyAndThinImagesMatchesSerial) {
   params.max_area_px2 = 1;
   params.psnr_deci_db = kMaxPsnrDeciDb;
   for (const int workers : {2, 8, 20}) {
-    ThreadPool pool;
-    pool.start(workers, {}, /*pin=*/false);
-    Tritree tree;
-    tree.configure(64, 64, params);
-    Mesh mesh;
-    tree.reserve(mesh);
+    PooledTree pooled(workers, 64, 64, params);
     for (std::size_t i = 0; i < images.size(); ++i) {
-      tree.build(cview(images[i]), mesh, &pool);
+      const Mesh& mesh = pooled.build(images[i]);
       const Mesh serial = build_mesh(images[i], params);
       ASSERT_EQ(mesh, serial) << workers << " workers, image " << i;
       EXPECT_EQ(mesh.row_start.back(), static_cast<std::int32_t>(mesh.vertices.size()));
@@ -477,17 +483,12 @@ TEST(Tritree, BuildWithPoolDoesNotAllocate) {
   sp.width = 200;
   sp.height = 150;
   const ImageU8 img = make_synthetic_scene(sp).left;
-  ThreadPool pool;
-  pool.start(3, {}, /*pin=*/false);
-  Tritree tree;
-  tree.configure(200, 150, TritreeParams{});
-  Mesh mesh;
-  tree.reserve(mesh);
-  tree.build(cview(img), mesh, &pool);  // warm-up
+  PooledTree pooled(3, 200, 150, TritreeParams{});
+  pooled.build(img);  // warm-up
   test::start_counting_allocations();
-  tree.build(cview(img), mesh, &pool);
+  pooled.build(img);
   EXPECT_EQ(test::stop_counting_allocations(), 0);
-  EXPECT_GT(mesh.triangles.size(), 1000u);
+  EXPECT_GT(pooled.mesh.triangles.size(), 1000u);
 }
 
 TEST(Tritree, StrideMatchesPackedBuild) {
@@ -518,18 +519,13 @@ TEST(Tritree, ManyRegionsDeferCrossingPropagationsAndMatchSerial) {
   std::vector<ImageU8> images;
   for (int i = 0; i < 6; ++i) images.push_back(mixed_image(rng, rng.uniform(90, 200), rng.uniform(60, 160)));
   for (const int workers : {2, 5, 16}) {
-    ThreadPool pool;
-    pool.start(workers, {}, /*pin=*/false);
-    Tritree tree;
-    tree.configure(200, 160, params);
-    Mesh mesh;
-    tree.reserve(mesh);
+    PooledTree pooled(workers, 200, 160, params);
     std::int64_t deferred = 0;
     for (std::size_t i = 0; i < images.size(); ++i) {
-      tree.build(cview(images[i]), mesh, &pool);
-      ASSERT_EQ(mesh, build_mesh(images[i], params)) << workers << " workers, image " << i;
-      EXPECT_EQ(tree.regions(), workers);
-      deferred += tree.deferred_propagations();
+      ASSERT_EQ(pooled.build(images[i]), build_mesh(images[i], params))
+          << workers << " workers, image " << i;
+      EXPECT_EQ(pooled.tree.regions(), workers);
+      deferred += pooled.tree.deferred_propagations();
     }
     EXPECT_GT(deferred, 0) << workers << " workers: the serial pass was never exercised";
   }
