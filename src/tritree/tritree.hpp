@@ -92,6 +92,9 @@ class Tritree {
     std::int32_t list_begin = 0, list_capacity = 0;
     std::int32_t pending_count = 0;   // after evaluate: the deferred ones, at the front
     std::int32_t created_count = 0;
+    // Vertices created by this region's bisections, at new_vertices_[slot_begin ..):
+    // each bisection also takes a slot of the region, so they fit.
+    std::int32_t vertex_count = 0;
     std::int64_t criterion_splits = 0, forced_splits = 0;
   };
 
@@ -136,6 +139,11 @@ class Tritree {
 
   std::vector<Node> nodes_;              // capacity: max leaves
   std::int32_t initial_slots_ = 0;       // slots [0, initial_slots_) exist before regions
+  // Every bisection creates exactly one new vertex (docs/tritree.md, "Output"),
+  // recorded here by the region that made it: new_vertices_[0, initial_vertices_)
+  // before the regions were cut, then per region.
+  std::vector<Vertex> new_vertices_;     // capacity: max leaves
+  std::int32_t initial_vertices_ = 0;
   std::vector<Region> regions_;          // kMaxRegions, region_count_ in use
   int region_count_ = 1;
   std::vector<Pending> pending_;         // per region: this round's triangles
@@ -143,6 +151,11 @@ class Tritree {
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex; partition scratch
   std::vector<std::int32_t> bucket_;     // counting sort of triangles by first id
   std::vector<Triangle> tri_scratch_;    // per slot
+  std::vector<Triangle> tri_banded_;     // per output band, in band order (pooled finish)
+  std::vector<std::int32_t> band_of_row_;  // output band of each image row
+  // Triangles of part p (slot share) whose first vertex is in band b, then
+  // where part p's share of band b starts in tri_banded_.
+  std::vector<std::int32_t> band_fill_;  // kMaxRegions x kMaxRegions
 };
 
 // Every slot that holds a leaf: the slots that existed when the regions were

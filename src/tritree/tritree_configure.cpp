@@ -46,6 +46,10 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   vertex_id_.assign(pixels, -1);
   bucket_.assign(pixels + 1, 0);
   tri_scratch_.assign(leaves, Triangle{});
+  tri_banded_.assign(leaves, Triangle{});
+  new_vertices_.assign(leaves, Vertex{});
+  band_of_row_.assign(static_cast<std::size_t>(max_height), 0);
+  band_fill_.assign(static_cast<std::size_t>(kMaxRegions) * kMaxRegions, 0);
 
   params_ = params;
   mse_q8_ = mse_threshold_q8(params.psnr_deci_db);

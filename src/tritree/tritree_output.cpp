@@ -26,10 +26,13 @@ void Tritree::for_each_slot_of_part(int part, int parts, Fn&& fn) const {
 void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   const int w = gray_.width;
   const int h = gray_.height;
-  const int parts = (pool != nullptr) ? pool->size() : 1;
+  // One part per worker, at most kMaxRegions (band_fill_ is sized for that).
+  const int parts = (pool != nullptr) ? std::min(pool->size(), kMaxRegions) : 1;
   const auto run = [&](const auto& step) {
     if (parts > 1) {
-      pool->run([&](int part) { step(part); });
+      pool->run([&](int part) {
+        if (part < parts) step(part);
+      });
     } else {
       step(0);
     }
@@ -39,26 +42,28 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   mesh.height = h;
   mesh.row_start.resize(static_cast<std::size_t>(h) + 1);
 
-  // Vertex grid: clear, then mark every leaf corner. With several writers a
-  // corner is marked only by the leaf that owns its pixel (exactly one under
-  // the fill rule, and it has the corner as a vertex: the mesh is conforming),
-  // so no two threads write the same cell.
+  // Vertex grid: clear, then mark the four corners and every vertex a
+  // bisection created. Each of those is distinct (a valid bisection puts its
+  // midpoint strictly inside the quadrilateral, or strictly inside a border
+  // edge, of two leaves, where no vertex lies), so no two parts write one cell.
   run([&](int part) {
     int y0 = 0, y1 = 0;
     ThreadPool::split_range(0, h, parts, part, &y0, &y1);
     std::fill(grid_row(y0), grid_row(y1), -1);
   });
   run([&](int part) {
-    for_each_slot_of_part(part, parts, [&](std::int32_t s) {
-      const Node& n = nodes_[s];
-      for (int j = 0; j < 3; ++j) {
-        if (parts > 1 &&
-            !owns_pixel(vertex(n, 0), vertex(n, 1), vertex(n, 2), n.x[j], n.y[j], w, h)) {
-          continue;
-        }
-        grid_row(n.y[j])[n.x[j]] = 0;
-      }
-    });
+    const auto mark = [&](const Vertex* v, std::int32_t n) {
+      for (std::int32_t i = 0; i < n; ++i) grid_row(v[i].y)[v[i].x] = 0;
+    };
+    int b = 0, e = 0;
+    ThreadPool::split_range(0, initial_vertices_, parts, part, &b, &e);
+    mark(new_vertices_.data() + b, e - b);
+    for (int g = part; g < region_count_; g += parts) {
+      mark(new_vertices_.data() + regions_[g].slot_begin, regions_[g].vertex_count);
+    }
+    if (part == 0) {
+      grid_row(0)[0] = grid_row(0)[w - 1] = grid_row(h - 1)[0] = grid_row(h - 1)[w - 1] = 0;
+    }
   });
 
   // Vertex ids in raster order: count per row, prefix sum, then number them.
@@ -88,47 +93,85 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
     }
   });
 
-  // Triangles: rotated so the smallest id comes first (orientation kept),
-  // counting-sorted by that id, then each vertex's small fan sorted. A part
-  // owns a band of first ids and collects its triangles from all leaves.
-  std::int32_t tri_count = initial_slots_;
-  for (int g = 0; g < region_count_; ++g) tri_count += regions_[g].next_slot - regions_[g].slot_begin;
+  // Triangles, rotated so the smallest id comes first (orientation kept),
+  // sorted by that id and then within each vertex's fan. Output band b holds
+  // the first ids of rows [row_cut(b), row_cut(b + 1)), cut at equal vertex
+  // counts. Each part rotates its own leaves and counts them per band, then
+  // moves them to its share of each band in tri_banded_; each band is then
+  // counting-sorted by its owner. Every pass touches a part's own leaves or
+  // band only, so the work splits evenly however the leaves lie.
+  const auto row_cut = [&](int b) {  // first row of band b (h for b == parts)
+    const std::int64_t target = std::int64_t{count} * b / parts;
+    return static_cast<int>(std::lower_bound(mesh.row_start.begin(), mesh.row_start.end() - 1, target) -
+                            mesh.row_start.begin());
+  };
+  for (int b = 0; b < parts; ++b) {
+    const int y1 = (b + 1 == parts) ? h : row_cut(b + 1);
+    for (int y = row_cut(b); y < y1; ++y) band_of_row_[static_cast<std::size_t>(y)] = b;
+  }
+  std::int32_t* fill = band_fill_.data();  // fill[part * parts + band]
+  std::fill(fill, fill + parts * parts, 0);
+  // The per-part counters live on the stack while counting: parts' rows of
+  // band_fill_ share cache lines, and an increment per triangle there would
+  // make the two cores fight over them.
   run([&](int part) {
+    std::int32_t mine[kMaxRegions] = {};
     for_each_slot_of_part(part, parts, [&](std::int32_t s) {
       const Node& n = nodes_[s];
       Triangle t;
       for (int j = 0; j < 3; ++j) t[j] = grid_row(n.y[j])[n.x[j]];
       const int r = (t[1] < t[0] && t[1] < t[2]) ? 1 : (t[2] < t[0] && t[2] < t[1]) ? 2 : 0;
       tri_scratch_[s] = Triangle{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+      ++mine[band_of_row_[static_cast<std::size_t>(n.y[r])]];
     });
+    std::copy(mine, mine + parts, fill + part * parts);
   });
-  run([&](int part) {
-    int v0 = 0, v1 = 0;
-    ThreadPool::split_range(0, count, parts, part, &v0, &v1);
-    std::fill(bucket_.begin() + v0, bucket_.begin() + v1, 0);
-    for_each_slot([&](std::int32_t s) {
-      const std::int32_t first = tri_scratch_[s][0];
-      if (first >= v0 && first < v1) ++bucket_[first];
-    });
-  });
-  std::int32_t start = 0;
-  for (std::int32_t v = 0; v < count; ++v) {
-    const std::int32_t n = bucket_[v];
-    bucket_[v] = start;
-    start += n;
+  // Counts -> starts, band-major (band b holds parts 0..parts-1 in order).
+  std::int32_t band_start[kMaxRegions + 1];
+  std::int32_t total = 0;
+  for (int b = 0; b < parts; ++b) {
+    band_start[b] = total;
+    for (int p = 0; p < parts; ++p) {
+      const std::int32_t n = fill[p * parts + b];
+      fill[p * parts + b] = total;
+      total += n;
+    }
   }
-  mesh.triangles.resize(static_cast<std::size_t>(tri_count));
-  run([&](int part) {
-    int v0 = 0, v1 = 0;
-    ThreadPool::split_range(0, count, parts, part, &v0, &v1);
-    if (v0 == v1) return;
-    const std::int32_t band_begin = bucket_[v0];
-    for_each_slot([&](std::int32_t s) {
-      const std::int32_t first = tri_scratch_[s][0];
-      if (first >= v0 && first < v1) mesh.triangles[bucket_[first]++] = tri_scratch_[s];
+  band_start[parts] = total;
+  mesh.triangles.resize(static_cast<std::size_t>(total));
+  const bool banded = parts > 1;
+  if (banded) {
+    run([&](int part) {
+      std::int32_t next[kMaxRegions];
+      std::copy(fill + part * parts, fill + (part + 1) * parts, next);
+      for_each_slot_of_part(part, parts, [&](std::int32_t s) {
+        const Triangle& t = tri_scratch_[s];
+        const int y = mesh.vertices[static_cast<std::size_t>(t[0])].y;
+        tri_banded_[static_cast<std::size_t>(next[band_of_row_[static_cast<std::size_t>(y)]]++)] = t;
+      });
     });
+  }
+  run([&](int part) {
+    const std::int32_t v0 = mesh.row_start[static_cast<std::size_t>(row_cut(part))];
+    const std::int32_t v1 = (part + 1 == parts) ? count : mesh.row_start[static_cast<std::size_t>(row_cut(part + 1))];
+    const auto for_each_of_band = [&](auto&& fn) {
+      if (banded) {
+        for (std::int32_t i = band_start[part]; i < band_start[part + 1]; ++i) fn(tri_banded_[static_cast<std::size_t>(i)]);
+      } else {
+        for_each_slot([&](std::int32_t s) { fn(tri_scratch_[s]); });
+      }
+    };
+    std::fill(bucket_.begin() + v0, bucket_.begin() + v1, 0);
+    for_each_of_band([&](const Triangle& t) { ++bucket_[t[0]]; });
+    std::int32_t start = band_start[part];
+    for (std::int32_t v = v0; v < v1; ++v) {
+      const std::int32_t n = bucket_[v];
+      bucket_[v] = start;
+      start += n;
+    }
+    for_each_of_band([&](const Triangle& t) { mesh.triangles[bucket_[t[0]]++] = t; });
     // bucket_[v] now ends bucket v; bucket v starts where bucket v - 1 ended.
-    std::int32_t begin = band_begin;
+    std::int32_t begin = band_start[part];
     for (std::int32_t v = v0; v < v1; ++v) {
       const std::int32_t end = bucket_[v];
       if (end - begin > 1) std::sort(mesh.triangles.begin() + begin, mesh.triangles.begin() + end);

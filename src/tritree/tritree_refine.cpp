@@ -70,6 +70,7 @@ void Tritree::begin(ImageView<const std::uint8_t> gray) {
   forced_splits_ = 0;
   deferred_ = 0;
   initial_slots_ = 0;
+  initial_vertices_ = 0;
   region_count_ = 1;
   Region& r = regions_[0];
   r = Region{};
@@ -146,6 +147,7 @@ void Tritree::process_deferred() {
 void Tritree::partition(int region_count) {
   Region& r0 = regions_[0];
   const std::int32_t n0 = r0.next_slot;
+  initial_vertices_ = r0.vertex_count;  // at new_vertices_[0 ..), below slot n0
   criterion_splits_ += r0.criterion_splits;
   forced_splits_ += r0.forced_splits;
   const bool by_x = gray_.width >= gray_.height;
@@ -285,6 +287,8 @@ bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
   }
 
   count_split(t);
+  Region& owner = regions_[region_of(t)];
+  new_vertices_[static_cast<std::size_t>(owner.slot_begin + owner.vertex_count++)] = m;
   const std::int32_t t2 = new_slot(t);
   std::int32_t n1 = -1;
   if (n >= 0) {
