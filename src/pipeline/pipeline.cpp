@@ -1,10 +1,10 @@
 // The production pipeline: tritree -> cost aggregation + DP per row -> interpolation.
 //
 // Everything size-dependent is allocated in configure(); process() only writes
-// into that storage (tests/no_alloc_test.cpp counts allocations). Work is split
-// into static row bands (cost, DP) and triangle bands (interpolation); each
-// pixel/sample is computed by exactly one worker from the same inputs, so the
-// output is identical for any thread count.
+// into that storage (tests/no_alloc_test.cpp counts allocations). Rows (cost,
+// DP) and triangles (interpolation) are handed to the workers in chunks on
+// demand; each pixel/sample is computed by exactly one worker from the same
+// inputs, whichever it is, so the output is identical for any thread count.
 #include "tristereo/pipeline.hpp"
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
 #include "platform/thread_pool.hpp"
+#include "platform/work_chunks.hpp"
 #include "src/cost/match_context.hpp"
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_planes.hpp"
@@ -42,6 +43,8 @@ struct Pipeline::Impl {
     std::int64_t dp_ns = 0;
   };
   std::vector<Worker> workers;
+  WorkChunks rows;       // matching: rows handed out on demand
+  WorkChunks triangles;  // interpolation: triangles handed out on demand
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
   ImageU8 left_gray, right_gray;     // used when the input is RGB
   StereoOutput out;
@@ -112,6 +115,12 @@ void Pipeline::configure(const PipelineConfig& config) {
 }
 
 namespace {
+// Chunk sizes of the on-demand hand-out: small enough that the last chunks
+// even out the workers, large enough that claiming one (an atomic add) is
+// negligible. A row costs tens of microseconds, a triangle tens of nanoseconds.
+constexpr int kRowsPerChunk = 4;
+constexpr int kTrianglesPerChunk = 4096;
+
 // Gray view of an input: the view itself when it is gray, else `buffer` filled.
 ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8& buffer) {
   if (in.channels == 1) return in;
@@ -122,29 +131,6 @@ ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8&
   rgb_to_gray_bt601(in, dst);
   return {buffer.pixels.data(), in.width, in.height, 1, in.width};
 }
-// Sparse mode: row band `part` of `parts` with about equal work, counting a
-// row's samples plus a fixed per-row cost (rows are independent, so the cut
-// only moves work between workers). Equal-height bands left the worker with
-// the textured half of an image doing most of the matching.
-void sparse_row_band(const std::vector<std::int32_t>& row_start, int height, int parts, int part,
-                     int* y0, int* y1) {
-  constexpr std::int64_t kRowCost = 8;  // in samples: row setup, DP boundary
-  const auto work_before = [&](int y) {
-    return std::int64_t{row_start[static_cast<std::size_t>(y)]} + kRowCost * y;
-  };
-  const std::int64_t total = work_before(height);
-  const auto first_row_at = [&](std::int64_t target) {
-    int lo = 0, hi = height;  // smallest y with work_before(y) >= target
-    while (lo < hi) {
-      const int mid = lo + (hi - lo) / 2;
-      if (work_before(mid) < target) lo = mid + 1; else hi = mid;
-    }
-    return lo;
-  };
-  *y0 = first_row_at(total * part / parts);
-  *y1 = (part + 1 == parts) ? height : first_row_at(total * (part + 1) / parts);
-}
-
 }  // namespace
 
 const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
@@ -178,28 +164,28 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   });
   const std::int64_t t_prepared = monotonic_ns();
 
-  // 3. Cost aggregation + DP, row by row, static row bands.
+  // 3. Cost aggregation + DP, row by row. Rows are independent, so workers
+  // take chunks of rows on demand (platform/work_chunks.hpp): uneven rows
+  // (sparse mode) and a worker slowed from outside both even out.
   ImageS16& dense = m.out.disp_q4;
   dense.width = width;
   dense.height = height;
   dense.pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
   std::vector<std::int16_t>& vdisp = m.out.vertex_disp_q4;
   vdisp.resize(mesh.vertices.size());  // within capacity
+  m.rows.reset(0, height, kRowsPerChunk);
   m.pool.run([&](int w) {
     Impl::Worker& wk = m.workers[static_cast<std::size_t>(w)];
     wk.cost_ns = 0;
     wk.dp_ns = 0;
-    int y0, y1;
-    if (params.dense) {
-      ThreadPool::split_range(0, height, workers, w, &y0, &y1);
-    } else {
-      sparse_row_band(mesh.row_start, height, workers, w, &y0, &y1);
-    }
     RowTimes times;
-    for (int y = y0; y < y1; ++y) {
-      if (params.dense) {
-        wk.matcher.match_row(m.match, y, m.all_xs.data(), width, dense.row(y), &times);
-      } else {
+    int y0 = 0, y1 = 0;
+    while (m.rows.next(&y0, &y1)) {
+      for (int y = y0; y < y1; ++y) {
+        if (params.dense) {
+          wk.matcher.match_row(m.match, y, m.all_xs.data(), width, dense.row(y), &times);
+          continue;
+        }
         const int v0 = mesh.row_start[static_cast<std::size_t>(y)];
         const int v1 = mesh.row_start[static_cast<std::size_t>(y) + 1];
         for (int i = v0; i < v1; ++i) wk.xs[static_cast<std::size_t>(i - v0)] = mesh.vertices[static_cast<std::size_t>(i)].x;
@@ -218,12 +204,11 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
       vdisp[i] = dense.at(mesh.vertices[i].x, mesh.vertices[i].y);
   } else {
-    const int tri_count = static_cast<int>(mesh.triangles.size());
     ImageView<std::int16_t> dv = dense.view();
-    m.pool.run([&](int w) {
-      int t0, t1;
-      ThreadPool::split_range(0, tri_count, workers, w, &t0, &t1);
-      interpolate_triangles(mesh, vdisp.data(), t0, t1, dv);
+    m.triangles.reset(0, static_cast<int>(mesh.triangles.size()), kTrianglesPerChunk);
+    m.pool.run([&](int) {
+      int t0 = 0, t1 = 0;
+      while (m.triangles.next(&t0, &t1)) interpolate_triangles(mesh, vdisp.data(), t0, t1, dv);
     });
   }
   const std::int64_t t_end = monotonic_ns();

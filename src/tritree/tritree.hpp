@@ -11,10 +11,11 @@
 // fixpoint of "split every leaf that wants to, with its longest-edge
 // propagation", so it does not depend on the order in which splitting
 // triangles are processed. build() uses that to run each round on all pool
-// workers: after a few serial rounds the leaves are cut into one spatial
-// region per worker; a worker evaluates and splits its region's triangles,
-// touching only nodes of its region, and defers any propagation that would
-// cross into another region to a short serial pass at the end of the round.
+// workers: after a few serial rounds the leaves are cut into spatial regions
+// (kRegionsPerWorker per worker), which the workers take on demand each
+// round; refining a region touches only its own nodes, and a propagation
+// that would cross into another region is deferred to a short serial pass at
+// the end of the round.
 // Any worker count gives the same mesh (and split counts) as the reference.
 #pragma once
 
@@ -22,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "platform/work_chunks.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/mesh.hpp"
 #include "tristereo/params.hpp"
@@ -33,13 +35,17 @@ class ThreadPool;
 class Tritree {
  public:
   static constexpr int kMaxRegions = 64;
+  // Regions per pool worker (at most kMaxRegions in all). Taken on demand, so
+  // a worker that runs slower (a busy core, a VM neighbour) or a region with
+  // more work delays a round by at most about one region. More regions mean
+  // more propagations crossing a border (finished serially; cheap).
+  static constexpr int kRegionsPerWorker = 4;
 
   // Allocates all storage for images up to max_width x max_height (2 ..
   // kMaxImageSide each). Throws Error(kInvalidArgument) naming the bad value
   // (sizes, params.max_area_px2 outside 1..kMaxAreaLimitPx2, psnr_deci_db
   // outside kMinPsnrDeciDb..kMaxPsnrDeciDb); the tree is then unconfigured.
-  // Regions for up to kMaxRegions workers are allocated here, so any pool
-  // size works later (a larger pool uses kMaxRegions of its workers).
+  // kMaxRegions regions are allocated here, so any pool size works later.
   void configure(int max_width, int max_height, const TritreeParams& params);
   bool configured() const { return max_width_ > 0; }
 
@@ -146,6 +152,7 @@ class Tritree {
   std::int32_t initial_vertices_ = 0;
   std::vector<Region> regions_;          // kMaxRegions, region_count_ in use
   int region_count_ = 1;
+  WorkChunks region_chunks_;             // a parallel round hands regions out
   std::vector<Pending> pending_;         // per region: this round's triangles
   std::vector<Pending> created_;         // per region: triangles created this round
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex; partition scratch

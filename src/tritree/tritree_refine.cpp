@@ -27,6 +27,7 @@ namespace {
 // rounds (area-forced splits of a few large triangles) are cheap, and enough
 // leaves make regions of nearly equal area.
 constexpr std::int32_t kLeavesPerRegion = 64;
+
 // Rounds with fewer new triangles than this run on the calling thread: waking
 // the pool costs more. Neither constant changes the mesh.
 constexpr std::int32_t kMinParallelCreated = 1024;
@@ -38,7 +39,7 @@ constexpr std::int32_t kPrefetchAhead = 8;
 void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
   begin(gray);
   const int workers = (pool != nullptr) ? pool->size() : 1;
-  const int want_regions = std::min(workers, kMaxRegions);
+  const int want_regions = workers > 1 ? std::min(kRegionsPerWorker * workers, kMaxRegions) : 1;
   for (;;) {
     std::int32_t created = 0;
     for (int g = 0; g < region_count_; ++g) created += regions_[g].created_count;
@@ -48,8 +49,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       partition(want_regions);
     }
     if (region_count_ > 1 && created >= kMinParallelCreated) {
-      pool->run([this](int worker) {
-        if (worker < region_count_) refine_region(worker, /*local=*/true);
+      region_chunks_.reset(0, region_count_, 1);
+      pool->run([this](int) {
+        int g = 0, g_end = 0;
+        while (region_chunks_.next(&g, &g_end)) refine_region(g, /*local=*/true);
       });
     } else {
       // Local even here: a region must not split another's triangles before
