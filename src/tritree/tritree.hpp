@@ -73,8 +73,9 @@ class Tritree {
  private:
   // One leaf. Slots are recycled: a bisection writes one child over its
   // parent, so `birth` (unique per created triangle) tells a pending entry
-  // whether its triangle still exists.
-  struct Node {
+  // whether its triangle still exists. 32 bytes, aligned so that no node
+  // straddles two cache lines (the walks over the lists miss on nodes).
+  struct alignas(32) Node {
     std::int16_t x[3];
     std::int16_t y[3];
     std::int32_t nb[3];     // neighbour across edge (i, i+1), -1 on the border
@@ -86,6 +87,7 @@ class Tritree {
     // build, so a worker may read it on a node another worker is writing.
     std::uint8_t region;
   };
+  static_assert(sizeof(Node) == 32, "two nodes per cache line");
   struct Pending {
     std::int32_t slot;
     std::uint32_t birth;
