@@ -71,6 +71,27 @@ void bench_build(benchmark::State& state, const NamedImage* image) {
   state.SetItemsProcessed(state.iterations() * image->gray.width * image->gray.height);
 }
 
+// Independent single-threaded builds, one per benchmark thread at once (each
+// with its own tree and mesh). With 2 threads, the time per build against the
+// 1-thread row is what running two tritrees side by side costs on this
+// machine: the ceiling for the pooled build's speed-up, free of any sharing
+// in our code (docs/performance.md).
+void bench_independent(benchmark::State& state, const NamedImage* image) {
+  if (image->gray.width == 0) {
+    state.SkipWithError(("cannot read " + image->name + ": " + image->error).c_str());
+    return;
+  }
+  Tritree tree;
+  tree.configure(image->gray.width, image->gray.height, TritreeParams{});
+  Mesh mesh;
+  tree.reserve(mesh);
+  for (auto _ : state) {
+    tree.build(image->gray.view(), mesh);
+    benchmark::DoNotOptimize(mesh.triangles.data());
+  }
+  state.SetItemsProcessed(state.iterations() * image->gray.width * image->gray.height);
+}
+
 std::vector<NamedImage>& images() {
   static std::vector<NamedImage> all = [] {
     std::vector<NamedImage> v;
@@ -89,6 +110,11 @@ const bool registered = [] {
         ->ArgName("threads")
         ->Arg(1)
         ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+    benchmark::RegisterBenchmark(("tritree_independent/" + image.name).c_str(), bench_independent, &image)
+        ->Threads(1)
+        ->Threads(2)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
