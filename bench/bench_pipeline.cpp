@@ -6,8 +6,12 @@
 // (means over iterations) and Mdisp/s = samples * D / (cost + DP time).
 // scripts/perf_report.py turns the JSON output into docs/performance.md; ratios
 // (SIMD vs scalar, sparse vs dense, N threads vs 1) come from one run.
+// frame_pair/<scene>/D<d>/<mode>/<kernels>/t1_vs_t<N> alternates frames of a
+// 1-thread and an N-thread pipeline and reports the median of the per-pair
+// speed-ups (counter `speedup`).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -81,6 +85,71 @@ void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dens
   state.counters["Mdisp_per_s"] = static_cast<double>(samples) * ndisp / ((cost + dp) / n / 1e9) / 1e6;
 }
 
+// Frames on a 1-thread and an N-thread pipeline in alternation, each timed on
+// its own: the speed-up is the median over the pairs of t1 / tN. On a shared
+// machine whose speed drifts over seconds, the two frames of a pair meet the
+// same moment, which two separately repeated benchmarks do not.
+void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool dense, KernelChoice k,
+                      int threads) {
+  const auto make = [&](int t) {
+    auto pipe = std::make_unique<Pipeline>();
+    PipelineConfig c;
+    c.max_width = pair->left.width;
+    c.max_height = pair->left.height;
+    c.params.num_disp = ndisp;
+    c.params.dense = dense;
+    c.kernels = k;
+    c.threads = t;
+    c.pin_threads = true;
+    pipe->configure(c);
+    pipe->process(pair->left.view(), pair->right.view());  // warm-up
+    return pipe;
+  };
+  // The N-thread pipeline first: configuring pins the calling thread, and a
+  // pool started afterwards from it would see only that one CPU as allowed.
+  const std::unique_ptr<Pipeline> many = make(threads);
+  const std::unique_ptr<Pipeline> one = make(1);
+  // Per pair: total and the three stage groups, 1 thread / N threads.
+  std::vector<double> ms_one, ms_many, ratio, ratio_tritree, ratio_matching, ratio_interp;
+  for (auto* v : {&ms_one, &ms_many, &ratio, &ratio_tritree, &ratio_matching, &ratio_interp})
+    v->reserve(state.max_iterations);
+  const auto frame = [&](Pipeline& pipe) {
+    pipe.process(pair->left.view(), pair->right.view());
+    return pipe.last_timings();
+  };
+  bool one_first = true;
+  for (auto _ : state) {
+    FrameTimings a, b;
+    if (one_first) {
+      a = frame(*one);
+      b = frame(*many);
+    } else {
+      b = frame(*many);
+      a = frame(*one);
+    }
+    one_first = !one_first;
+    ms_one.push_back(static_cast<double>(a.total_ns) / 1e6);
+    ms_many.push_back(static_cast<double>(b.total_ns) / 1e6);
+    const auto r = [](std::int64_t x, std::int64_t y) { return y > 0 ? static_cast<double>(x) / y : 0.0; };
+    ratio.push_back(r(a.total_ns, b.total_ns));
+    ratio_tritree.push_back(r(a.tritree_ns, b.tritree_ns));
+    ratio_matching.push_back(r(a.cost_aggregation_ns + a.dp_ns, b.cost_aggregation_ns + b.dp_ns));
+    ratio_interp.push_back(r(a.interpolation_ns, b.interpolation_ns));
+  }
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+  };
+  state.counters["t1_ms"] = median(ms_one);
+  state.counters["tN_ms"] = median(ms_many);
+  state.counters["speedup"] = median(ratio);
+  state.counters["speedup_tritree"] = median(ratio_tritree);
+  state.counters["speedup_matching"] = median(ratio_matching);
+  state.counters["speedup_interp"] = median(ratio_interp);
+  state.counters["pairs"] = static_cast<double>(ratio.size());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -103,6 +172,24 @@ int main(int argc, char** argv) {
                 ->UseRealTime()
                 ->MinTime(0.5);
           }
+        }
+      }
+    }
+  }
+  if (!pairs.empty() && max_threads > 1) {
+    const Pair& p = pairs.front();  // the synthetic 640x480 scene (always first)
+    const KernelChoice best = available_kernel_sets().back();
+    for (int ndisp : {64, 128}) {
+      for (bool dense : {false, true}) {
+        for (int t = 2; t <= max_threads; ++t) {
+          const std::string name = "frame_pair/" + p.name + "/D" + std::to_string(ndisp) + "/" +
+                                   (dense ? "dense" : "sparse") + "/" + to_string(best) + "/t1_vs_t" +
+                                   std::to_string(t);
+          benchmark::RegisterBenchmark(name.c_str(), bench_frame_pair, &p, ndisp, dense, best, t)
+              ->Unit(benchmark::kMillisecond)
+              ->UseRealTime()
+              ->Iterations(60)
+              ->Repetitions(1);
         }
       }
     }

@@ -90,8 +90,12 @@ def main():
     with open(out_json) as f:
         data = json.load(f)
     med = {}
+    pairs = []  # frame_pair runs: one repetition each, their own median inside
     for b in data["benchmarks"]:
-        if b.get("aggregate_name") != "median":
+        if b["run_name"].startswith("frame_pair/") and b.get("run_type") == "iteration":
+            pairs.append(b)
+            continue
+        if b.get("aggregate_name") != "median" or not b["run_name"].startswith("frame/"):
             continue
         name = b["run_name"]  # frame/<scene>/D<d>/<mode>/<kernels>/t<threads>
         _, scene, d, mode, kernels, threads = name.split("/")[:6]
@@ -148,6 +152,16 @@ def main():
         lines.append("| %d | %s | %d (%s) | %.2f | %.2f | %.2f | %.2f | %.2f | %.2fx |" % (
             d, mode, t, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
             one["total_ms"] / b["total_ms"]))
+    if pairs:
+        lines.append("\n## Threads, paired frames (synthetic 640x480, best kernel set)\n")
+        lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
+                     "meeting the same moment of the machine; medians over the pairs.\n")
+        lines.append("| D | mode | threads | pairs | 1 thread ms | N threads ms | speed-up (median of pairs) |")
+        lines.append("|---|---|---|---|---|---|---|")
+        for b in sorted(pairs, key=lambda b: b["run_name"]):
+            _, scene, d, mode, kern, tt = b["run_name"].split("/")[:6]
+            lines.append("| %s | %s | %s (%s) | %d | %.2f | %.2f | %.2fx |" % (
+                d[1:], mode, tt.split("_t")[-1], kern, b["pairs"], b["t1_ms"], b["tN_ms"], b["speedup"]))
     lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
     lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
                  "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
