@@ -155,6 +155,7 @@ class Tritree {
   std::vector<Region> regions_;          // kMaxRegions, region_count_ in use
   int region_count_ = 1;
   WorkChunks region_chunks_;             // a parallel round hands regions out
+  WorkChunks finish_chunks_;             // the output hands leaf chunks and bands out
   std::vector<Pending> pending_;         // per region: this round's triangles
   std::vector<Pending> created_;         // per region: triangles created this round
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex; partition scratch
@@ -162,8 +163,8 @@ class Tritree {
   std::vector<Triangle> tri_scratch_;    // per slot
   std::vector<Triangle> tri_banded_;     // per output band, in band order (pooled finish)
   std::vector<std::int32_t> band_of_row_;  // output band of each image row
-  // Triangles of part p (slot share) whose first vertex is in band b, then
-  // where part p's share of band b starts in tri_banded_.
+  // Triangles of leaf chunk c whose first vertex is in output band b, then
+  // where chunk c's share of band b starts in tri_banded_.
   std::vector<std::int32_t> band_fill_;  // kMaxRegions x kMaxRegions
 };
 

@@ -116,27 +116,38 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   // Triangles, rotated so the smallest id comes first (orientation kept),
   // sorted by that id and then within each vertex's fan. Output band b holds
   // the first ids of rows [row_cut(b), row_cut(b + 1)), cut at equal vertex
-  // counts. Each part rotates its own leaves and counts them per band, then
-  // moves them to its share of each band in tri_banded_; each band is then
-  // counting-sorted by its owner. Every pass touches a part's own leaves or
-  // band only, so the work splits evenly however the leaves lie.
-  const auto row_cut = [&](int b) {  // first row of band b (h for b == parts)
-    const std::int64_t target = std::int64_t{count} * b / parts;
+  // counts. The leaves are taken in chunks (a region each, with a share of
+  // the slots older than the regions): a chunk's leaves are rotated and
+  // counted per band, then moved to the chunk's share of each band in
+  // tri_banded_, and each band is counting-sorted on its own. Chunks and bands
+  // are fixed, so any worker may take any of them (on demand, like the
+  // rounds) and the output does not depend on who did.
+  const bool banded = parts > 1;
+  const int chunks = banded ? region_count_ : 1;
+  const int bands = banded ? std::min(kMaxRegions, kRegionsPerWorker * parts) : 1;
+  const auto row_cut = [&](int b) {  // first row of band b (h for b == bands)
+    const std::int64_t target = std::int64_t{count} * b / bands;
     return static_cast<int>(std::lower_bound(mesh.row_start.begin(), mesh.row_start.end() - 1, target) -
                             mesh.row_start.begin());
   };
-  for (int b = 0; b < parts; ++b) {
-    const int y1 = (b + 1 == parts) ? h : row_cut(b + 1);
+  for (int b = 0; b < bands; ++b) {
+    const int y1 = (b + 1 == bands) ? h : row_cut(b + 1);
     for (int y = row_cut(b); y < y1; ++y) band_of_row_[static_cast<std::size_t>(y)] = b;
   }
-  std::int32_t* fill = band_fill_.data();  // fill[part * parts + band]
-  std::fill(fill, fill + parts * parts, 0);
-  // The per-part counters live on the stack while counting: parts' rows of
-  // band_fill_ share cache lines, and an increment per triangle there would
-  // make the two cores fight over them.
-  run([&](int part) {
+  const auto on_demand = [&](int n, const auto& fn) {  // fn(i) for i in [0, n), any worker
+    finish_chunks_.reset(0, n, 1);
+    run([&](int) {
+      int i = 0, i_end = 0;
+      while (finish_chunks_.next(&i, &i_end)) fn(i);
+    });
+  };
+  std::int32_t* fill = band_fill_.data();  // fill[chunk * bands + band]
+  // Counters live on the stack while counting: chunks' rows of band_fill_
+  // share cache lines, and an increment per triangle there would make the
+  // cores fight over them.
+  on_demand(chunks, [&](int c) {
     std::int32_t mine[kMaxRegions] = {};
-    for_each_slot_of_part(part, parts, [&](std::int32_t s) {
+    for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
       const Node& n = nodes_[s];
       Triangle t;
       for (int j = 0; j < 3; ++j) t[j] = grid_row(n.y[j])[n.x[j]];
@@ -144,46 +155,45 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
       tri_scratch_[s] = Triangle{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
       ++mine[band_of_row_[static_cast<std::size_t>(n.y[r])]];
     });
-    std::copy(mine, mine + parts, fill + part * parts);
+    std::copy(mine, mine + bands, fill + c * bands);
   });
-  // Counts -> starts, band-major (band b holds parts 0..parts-1 in order).
+  // Counts -> starts, band-major (band b holds chunks 0..chunks-1 in order).
   std::int32_t band_start[kMaxRegions + 1];
   std::int32_t total = 0;
-  for (int b = 0; b < parts; ++b) {
+  for (int b = 0; b < bands; ++b) {
     band_start[b] = total;
-    for (int p = 0; p < parts; ++p) {
-      const std::int32_t n = fill[p * parts + b];
-      fill[p * parts + b] = total;
+    for (int c = 0; c < chunks; ++c) {
+      const std::int32_t n = fill[c * bands + b];
+      fill[c * bands + b] = total;
       total += n;
     }
   }
-  band_start[parts] = total;
+  band_start[bands] = total;
   mesh.triangles.resize(static_cast<std::size_t>(total));
-  const bool banded = parts > 1;
   if (banded) {
-    run([&](int part) {
+    on_demand(chunks, [&](int c) {
       std::int32_t next[kMaxRegions];
-      std::copy(fill + part * parts, fill + (part + 1) * parts, next);
-      for_each_slot_of_part(part, parts, [&](std::int32_t s) {
+      std::copy(fill + c * bands, fill + (c + 1) * bands, next);
+      for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
         const Triangle& t = tri_scratch_[s];
         const int y = mesh.vertices[static_cast<std::size_t>(t[0])].y;
         tri_banded_[static_cast<std::size_t>(next[band_of_row_[static_cast<std::size_t>(y)]]++)] = t;
       });
     });
   }
-  run([&](int part) {
-    const std::int32_t v0 = mesh.row_start[static_cast<std::size_t>(row_cut(part))];
-    const std::int32_t v1 = (part + 1 == parts) ? count : mesh.row_start[static_cast<std::size_t>(row_cut(part + 1))];
+  on_demand(bands, [&](int b) {
+    const std::int32_t v0 = mesh.row_start[static_cast<std::size_t>(row_cut(b))];
+    const std::int32_t v1 = (b + 1 == bands) ? count : mesh.row_start[static_cast<std::size_t>(row_cut(b + 1))];
     const auto for_each_of_band = [&](auto&& fn) {
       if (banded) {
-        for (std::int32_t i = band_start[part]; i < band_start[part + 1]; ++i) fn(tri_banded_[static_cast<std::size_t>(i)]);
+        for (std::int32_t i = band_start[b]; i < band_start[b + 1]; ++i) fn(tri_banded_[static_cast<std::size_t>(i)]);
       } else {
         for_each_slot([&](std::int32_t s) { fn(tri_scratch_[s]); });
       }
     };
     std::fill(bucket_.begin() + v0, bucket_.begin() + v1, 0);
     for_each_of_band([&](const Triangle& t) { ++bucket_[t[0]]; });
-    std::int32_t start = band_start[part];
+    std::int32_t start = band_start[b];
     for (std::int32_t v = v0; v < v1; ++v) {
       const std::int32_t n = bucket_[v];
       bucket_[v] = start;
@@ -191,7 +201,7 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
     }
     for_each_of_band([&](const Triangle& t) { mesh.triangles[bucket_[t[0]]++] = t; });
     // bucket_[v] now ends bucket v; bucket v starts where bucket v - 1 ended.
-    std::int32_t begin = band_start[part];
+    std::int32_t begin = band_start[b];
     for (std::int32_t v = v0; v < v1; ++v) {
       const std::int32_t end = bucket_[v];
       if (end - begin > 1) sort_fan(mesh.triangles.data() + begin, mesh.triangles.data() + end);
