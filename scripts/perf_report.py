@@ -5,7 +5,7 @@ bench/bench_machine runs just before and just after it: the 2-thread/1-thread
 ceiling of plain loops on this machine at that time, to read the pipeline's
 thread speed-ups against (a shared VM's ceiling moves with its neighbours).
 
-Usage: /usr/bin/python3 scripts/perf_report.py [--build build] [--repetitions 5]
+Usage: /usr/bin/python3 scripts/perf_report.py [--build build] [--repetitions 5] [--reuse]
 All ratios are computed from the medians of one run of the benchmark binary:
 SIMD vs scalar per stage, sparse vs dense DP, N threads vs 1.
 """
@@ -18,6 +18,16 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+REUSE = False  # --reuse: tables from the JSON files of the last run, nothing is run
+
+
+def run_bench(cmd):
+    if REUSE:
+        return
+    print(" ".join(cmd), flush=True)
+    subprocess.run(cmd, check=True, stdout=sys.stderr)
+
+
 def machine_ceilings(build, tag):
     """Medians of bench_machine: {loop name: 2-thread / 1-thread items per second}."""
     exe = os.path.join(build, "bench", "bench_machine")
@@ -25,8 +35,7 @@ def machine_ceilings(build, tag):
     cmd = [exe, "--benchmark_repetitions=5", "--benchmark_report_aggregates_only=true",
            "--benchmark_enable_random_interleaving=true",
            "--benchmark_out=" + out_json, "--benchmark_out_format=json"]
-    print(" ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True, stdout=sys.stderr)
+    run_bench(cmd)
     with open(out_json) as f:
         data = json.load(f)
     rate = {}
@@ -48,8 +57,7 @@ def tritree_scaling(build):
     cmd = [exe, "--benchmark_filter=synthetic640x480", "--benchmark_repetitions=5",
            "--benchmark_report_aggregates_only=true", "--benchmark_enable_random_interleaving=true",
            "--benchmark_out=" + out_json, "--benchmark_out_format=json"]
-    print(" ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True, stdout=sys.stderr)
+    run_bench(cmd)
     with open(out_json) as f:
         data = json.load(f)
     med = {b["run_name"]: b for b in data["benchmarks"] if b.get("aggregate_name") == "median"}
@@ -72,7 +80,11 @@ def main():
     ap.add_argument("--repetitions", type=int, default=5)
     ap.add_argument("--filter", default="")
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "performance-tables.md"))
+    ap.add_argument("--reuse", action="store_true",
+                    help="write the tables from the JSON files of the last run without running anything")
     a = ap.parse_args()
+    global REUSE
+    REUSE = a.reuse
     exe = os.path.join(a.build, "bench", "bench_pipeline")
     out_json = os.path.join(a.build, "bench_pipeline.json")
     # Random interleaving spreads the repetitions of each benchmark over the whole
@@ -83,8 +95,7 @@ def main():
     if a.filter:
         cmd.append("--benchmark_filter=" + a.filter)
     before = machine_ceilings(a.build, "before")
-    print(" ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True, stdout=sys.stderr)
+    run_bench(cmd)
     after = machine_ceilings(a.build, "after")
     tritree = tritree_scaling(a.build)
     with open(out_json) as f:
@@ -156,12 +167,15 @@ def main():
         lines.append("\n## Threads, paired frames (synthetic 640x480, best kernel set)\n")
         lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
                      "meeting the same moment of the machine; medians over the pairs.\n")
-        lines.append("| D | mode | threads | pairs | 1 thread ms | N threads ms | speed-up (median of pairs) |")
-        lines.append("|---|---|---|---|---|---|---|")
+        lines.append("| D | mode | threads | pairs | 1 thread ms | N threads ms | speed-up (median of pairs) | "
+                     "tritree | matching (cost + DP) | interpolation |")
+        lines.append("|---|---|---|---|---|---|---|---|---|---|")
         for b in sorted(pairs, key=lambda b: b["run_name"]):
             _, scene, d, mode, kern, tt = b["run_name"].split("/")[:6]
-            lines.append("| %s | %s | %s (%s) | %d | %.2f | %.2f | %.2fx |" % (
-                d[1:], mode, tt.split("_t")[-1], kern, b["pairs"], b["t1_ms"], b["tN_ms"], b["speedup"]))
+            lines.append("| %s | %s | %s (%s) | %d | %.2f | %.2f | %.2fx | %.2fx | %.2fx | %s |" % (
+                d[1:], mode, tt.split("_t")[-1], kern, b["pairs"], b["t1_ms"], b["tN_ms"], b["speedup"],
+                b["speedup_tritree"], b["speedup_matching"],
+                "%.2fx" % b["speedup_interp"] if mode == "sparse" else "-"))
     lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
     lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
                  "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
