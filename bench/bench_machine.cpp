@@ -80,7 +80,7 @@ void bench_random_read(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kReadsPerIteration);
 }
 
-void register_all() {
+const bool registered = [] {
   benchmark::RegisterBenchmark("machine/alu", bench_alu)->UseRealTime()->Threads(1)->Threads(2);
   // 1 MiB fits a 2 MiB L2; 4 and 16 MiB per thread do not.
   for (int kib : {1024, 4096, 16384}) {
@@ -90,16 +90,10 @@ void register_all() {
         ->Threads(1)
         ->Threads(2);
   }
-}
+  return true;
+}();
 
 }  // namespace
 }  // namespace tristereo
 
-int main(int argc, char** argv) {
-  tristereo::register_all();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+BENCHMARK_MAIN();

@@ -50,8 +50,9 @@ std::vector<Pair> load_pairs() {
   return pairs;
 }
 
-void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dense, KernelChoice k,
-                 int threads) {
+// A pinned pipeline for the pair, configured and warmed up by one frame.
+std::unique_ptr<Pipeline> warm_pipeline(const Pair* pair, int ndisp, bool dense, KernelChoice k,
+                                        int threads) {
   PipelineConfig c;
   c.max_width = pair->left.width;
   c.max_height = pair->left.height;
@@ -60,9 +61,16 @@ void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dens
   c.kernels = k;
   c.threads = threads;
   c.pin_threads = true;
-  Pipeline pipe;
-  pipe.configure(c);
-  pipe.process(pair->left.view(), pair->right.view());  // warm-up
+  auto pipe = std::make_unique<Pipeline>();
+  pipe->configure(c);
+  pipe->process(pair->left.view(), pair->right.view());
+  return pipe;
+}
+
+void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dense, KernelChoice k,
+                 int threads) {
+  const std::unique_ptr<Pipeline> warm = warm_pipeline(pair, ndisp, dense, k, threads);
+  Pipeline& pipe = *warm;
   double tri = 0, cost = 0, dp = 0, interp = 0, total = 0;
   std::size_t samples = 0;
   for (auto _ : state) {
@@ -91,24 +99,10 @@ void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dens
 // same moment, which two separately repeated benchmarks do not.
 void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool dense, KernelChoice k,
                       int threads) {
-  const auto make = [&](int t) {
-    auto pipe = std::make_unique<Pipeline>();
-    PipelineConfig c;
-    c.max_width = pair->left.width;
-    c.max_height = pair->left.height;
-    c.params.num_disp = ndisp;
-    c.params.dense = dense;
-    c.kernels = k;
-    c.threads = t;
-    c.pin_threads = true;
-    pipe->configure(c);
-    pipe->process(pair->left.view(), pair->right.view());  // warm-up
-    return pipe;
-  };
   // The N-thread pipeline first: configuring pins the calling thread, and a
   // pool started afterwards from it would see only that one CPU as allowed.
-  const std::unique_ptr<Pipeline> many = make(threads);
-  const std::unique_ptr<Pipeline> one = make(1);
+  const std::unique_ptr<Pipeline> many = warm_pipeline(pair, ndisp, dense, k, threads);
+  const std::unique_ptr<Pipeline> one = warm_pipeline(pair, ndisp, dense, k, 1);
   // Per pair: total and the three stage groups, 1 thread / N threads.
   std::vector<double> ms_one, ms_many, ratio, ratio_tritree, ratio_matching, ratio_interp;
   for (auto* v : {&ms_one, &ms_many, &ratio, &ratio_tritree, &ratio_matching, &ratio_interp})
