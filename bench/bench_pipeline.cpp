@@ -144,6 +144,12 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
   state.counters["pairs"] = static_cast<double>(ratio.size());
 }
 
+// <kind>/<scene>/D<d>/<sparse|dense>/<kernels>
+std::string bench_name(const char* kind, const Pair& p, int ndisp, bool dense, KernelChoice k) {
+  return std::string(kind) + "/" + p.name + "/D" + std::to_string(ndisp) + "/" + (dense ? "dense" : "sparse") +
+         "/" + to_string(k);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -158,9 +164,7 @@ int main(int argc, char** argv) {
           if (synthetic && k == available_kernel_sets().back())
             for (int t = 2; t <= max_threads; ++t) thread_counts.push_back(t);
           for (int t : thread_counts) {
-            const std::string name = "frame/" + p.name + "/D" + std::to_string(ndisp) + "/" +
-                                     (dense ? "dense" : "sparse") + "/" + to_string(k) + "/t" +
-                                     std::to_string(t);
+            const std::string name = bench_name("frame", p, ndisp, dense, k) + "/t" + std::to_string(t);
             benchmark::RegisterBenchmark(name.c_str(), bench_frame, &p, ndisp, dense, k, t)
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime()
@@ -176,9 +180,8 @@ int main(int argc, char** argv) {
     for (int ndisp : {64, 128}) {
       for (bool dense : {false, true}) {
         for (int t = 2; t <= max_threads; ++t) {
-          const std::string name = "frame_pair/" + p.name + "/D" + std::to_string(ndisp) + "/" +
-                                   (dense ? "dense" : "sparse") + "/" + to_string(best) + "/t1_vs_t" +
-                                   std::to_string(t);
+          const std::string name =
+              bench_name("frame_pair", p, ndisp, dense, best) + "/t1_vs_t" + std::to_string(t);
           benchmark::RegisterBenchmark(name.c_str(), bench_frame_pair, &p, ndisp, dense, best, t)
               ->Unit(benchmark::kMillisecond)
               ->UseRealTime()
