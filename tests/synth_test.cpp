@@ -75,7 +75,9 @@ TEST(Synth, PlanarSceneMatchesExactly) {
       for (int x = 0; x < 64; ++x) {
         ASSERT_EQ(s.disp_left.at(x, y), static_cast<float>(disp));
         ASSERT_EQ(s.nonocc_mask.at(x, y), x >= disp ? 255 : 0) << x;
-        if (x >= disp) ASSERT_EQ(s.right.at(x - disp, y), s.left.at(x, y)) << x << "," << y;
+        if (x >= disp) {
+          ASSERT_EQ(s.right.at(x - disp, y), s.left.at(x, y)) << x << "," << y;
+        }
       }
     }
   }
