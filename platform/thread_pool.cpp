@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "platform/affinity.hpp"
+#include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
 #include "tristereo/status.hpp"
 
@@ -11,10 +12,19 @@ namespace tristereo {
 
 namespace {
 
-// Spinning before blocking saves the futex wake-up (tens of microseconds) when
-// stages follow each other quickly, but burns a core that an oversubscribed
-// or shared machine may need, so it is kept short (tens of microseconds at most).
-constexpr int kSpinIterations = 1000;
+// How long a waiting thread spins before it blocks on a condition variable.
+// Blocking costs a futex wake-up on the next run(): tens of microseconds on
+// bare metal, and up to hundreds in a VM, where the idle vCPU halts and must
+// be woken by the host. Inside one frame the stages and the tritree's rounds
+// follow each other with serial gaps of at most ~0.2 ms (docs/threads.md), so
+// a worker that owns its core spins long enough to bridge them. A worker that
+// shares its core (more workers than CPUs) spins only briefly: there its
+// spinning would take the CPU from a worker that still has work.
+constexpr std::int64_t kSpinOwnCoreNs = 500'000;
+constexpr std::int64_t kSpinSharedCoreNs = 20'000;
+// Pauses between two clock reads while spinning (a clock read costs about as
+// much as a few pauses, and the deadline needs no better resolution).
+constexpr int kPausesPerClockRead = 64;
 
 inline void cpu_relax() noexcept {
 #if defined(__x86_64__) || defined(__i386__)
@@ -88,6 +98,11 @@ void ThreadPool::start(int num_workers, const std::vector<int>& cpus, bool pin) 
 
   stop();
   owner_ = std::this_thread::get_id();
+  // Own core: pinned to distinct CPUs, or unpinned and no more workers than CPUs.
+  std::vector<int> cores = pin ? requested : allowed;
+  std::sort(cores.begin(), cores.end());
+  cores.erase(std::unique(cores.begin(), cores.end()), cores.end());
+  spin_ns_ = static_cast<std::size_t>(num_workers) <= cores.size() ? kSpinOwnCoreNs : kSpinSharedCoreNs;
   slots_.reset(new WorkerSlot[static_cast<size_t>(num_workers)]);
 
   if (pin) {
@@ -157,11 +172,21 @@ void ThreadPool::worker_main(int index, int cpu, std::uint64_t start_generation)
   }
 }
 
+template <class Ready>
+bool ThreadPool::spin_until(Ready ready) const {
+  const std::int64_t deadline = monotonic_ns() + spin_ns_;
+  for (;;) {
+    for (int i = 0; i < kPausesPerClockRead; ++i) {
+      if (ready()) return true;
+      cpu_relax();
+    }
+    if (monotonic_ns() >= deadline) return false;
+  }
+}
+
 std::uint64_t ThreadPool::wait_for_new_generation(std::uint64_t seen) {
-  for (int i = 0; i < kSpinIterations; ++i) {
-    const std::uint64_t g = generation_.load(std::memory_order_acquire);
-    if (g != seen) return g;
-    cpu_relax();
+  if (spin_until([&] { return generation_.load(std::memory_order_acquire) != seen; })) {
+    return generation_.load(std::memory_order_acquire);
   }
   std::unique_lock<std::mutex> lock(mutex_);
   wake_cv_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
@@ -169,10 +194,7 @@ std::uint64_t ThreadPool::wait_for_new_generation(std::uint64_t seen) {
 }
 
 void ThreadPool::wait_until_all_done() {
-  for (int i = 0; i < kSpinIterations; ++i) {
-    if (pending_.load(std::memory_order_acquire) == 0) return;
-    cpu_relax();
-  }
+  if (spin_until([&] { return pending_.load(std::memory_order_acquire) == 0; })) return;
   std::unique_lock<std::mutex> lock(mutex_);
   done_cv_.wait(lock, [&] { return pending_.load(std::memory_order_acquire) == 0; });
 }

@@ -11,7 +11,8 @@
 //   affinity stop() restores (when stop() is called from the same thread).
 // - run() performs no heap allocation: the task is a FunctionRef to a
 //   callable on the caller's stack, and hand-off is a generation counter
-//   (workers spin briefly, then block on a condition variable).
+//   (waiting threads spin, then block on a condition variable; see
+//   spin_ns()).
 // - Determinism is the caller's job and is easy: give worker i a fixed band of
 //   the work (split_range) and write results to disjoint memory, then the
 //   output does not depend on the worker count or on scheduling.
@@ -68,6 +69,12 @@ class ThreadPool {
   void run(FunctionRef<void(int worker)> task);
 
   int size() const { return size_; }
+  // How long a waiting thread (a worker between runs, the owner at the end of
+  // a run) spins before it blocks: 0.5 ms when every worker has a core of its
+  // own, so a frame's back-to-back runs never pay a wake-up; 20 us when
+  // workers share cores (more workers than CPUs), so spinning does not take
+  // the CPU from a worker that still has work.
+  std::int64_t spin_ns() const { return spin_ns_; }
   bool pinned() const { return pinned_; }
 
   // CPU each worker was pinned to, -1 for unpinned workers; size() entries.
@@ -99,6 +106,8 @@ class ThreadPool {
   };
 
   void worker_main(int index, int cpu, std::uint64_t start_generation);
+  template <class Ready>
+  bool spin_until(Ready ready) const;
   std::uint64_t wait_for_new_generation(std::uint64_t seen);
   void wait_until_all_done();
   void run_on_this_thread(int index) noexcept;
@@ -107,6 +116,7 @@ class ThreadPool {
   std::unique_ptr<WorkerSlot[]> slots_;
   int size_ = 1;
   bool pinned_ = false;
+  std::int64_t spin_ns_ = 0;  // set by start() before any worker exists
   std::vector<int> worker_cpus_{-1};
 
   // Hand-off. task_ is written by the owner before the release increment of

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <set>
 #include <stdexcept>
@@ -107,6 +108,44 @@ TEST(ThreadPool, EveryWorkerRunsExactlyOncePerRun) {
     // Worker 0 is the caller; the others are distinct background threads.
     EXPECT_EQ(ids[0], std::this_thread::get_id());
     EXPECT_EQ(std::set<std::thread::id>(ids.begin(), ids.end()).size(), static_cast<size_t>(n));
+  }
+}
+
+// Runs spaced wider than the spin budget: every worker has blocked on the
+// condition variable in between, so each run() goes through the wake-up path.
+TEST(ThreadPool, RunsAfterWorkersBlockedStillReachEveryWorker) {
+  ThreadPool pool;
+  pool.start(2, {}, false);
+  std::vector<std::atomic<int>> counts(2);
+  constexpr int kRuns = 5;
+  for (int r = 0; r < kRuns; ++r) {
+    std::this_thread::sleep_for(std::chrono::nanoseconds(4 * pool.spin_ns()));
+    pool.run([&](int w) { counts[w].fetch_add(1); });
+  }
+  for (int w = 0; w < 2; ++w) EXPECT_EQ(counts[w].load(), kRuns) << "w=" << w;
+}
+
+// Waiting threads spin long only when no two workers share a CPU.
+TEST(ThreadPool, SpinsLongOnlyWhenEveryWorkerHasItsOwnCpu) {
+  const std::vector<int> allowed = allowed_cpus();
+  const int n = static_cast<int>(allowed.size());
+  ThreadPool pool;
+  pool.start(n, {}, true);
+  const std::int64_t own_core_ns = pool.spin_ns();
+  pool.start(n + 1, {}, true);
+  const std::int64_t shared_core_ns = pool.spin_ns();
+  EXPECT_LT(shared_core_ns, own_core_ns);
+  EXPECT_EQ(own_core_ns, 500'000);
+  EXPECT_EQ(shared_core_ns, 20'000);
+  pool.start(2, {allowed[0], allowed[0]}, true);  // a CPU listed twice
+  EXPECT_EQ(pool.spin_ns(), shared_core_ns);
+  pool.start(n, {}, false);
+  EXPECT_EQ(pool.spin_ns(), own_core_ns);
+  pool.start(2 * n, {}, false);
+  EXPECT_EQ(pool.spin_ns(), shared_core_ns);
+  if (n >= 2) {
+    pool.start(2, {allowed[0], allowed[1]}, true);
+    EXPECT_EQ(pool.spin_ns(), own_core_ns);
   }
 }
 
