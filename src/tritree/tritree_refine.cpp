@@ -49,10 +49,19 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       partition(want_regions);
     }
     if (region_count_ > 1 && created >= kMinParallelCreated) {
+      // Largest first (by entries to evaluate): the regions taken last are
+      // the small ones, so the workers finish the round close together.
+      std::int8_t order[kMaxRegions];
+      for (int g = 0; g < region_count_; ++g) order[g] = static_cast<std::int8_t>(g);
+      std::sort(order, order + region_count_, [this](int p, int q) {
+        return regions_[p].created_count != regions_[q].created_count
+                   ? regions_[p].created_count > regions_[q].created_count
+                   : p < q;
+      });
       region_chunks_.reset(0, region_count_, 1);
-      pool->run([this](int) {
+      pool->run([this, &order](int) {
         int g = 0, g_end = 0;
-        while (region_chunks_.next(&g, &g_end)) refine_region(g, /*local=*/true);
+        while (region_chunks_.next(&g, &g_end)) refine_region(order[g], /*local=*/true);
       });
     } else {
       // Local even here: a region must not split another's triangles before
