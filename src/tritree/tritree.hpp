@@ -160,8 +160,7 @@ class Tritree {
   std::vector<Pending> created_;         // per region: triangles created this round
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex; partition scratch
   std::vector<std::int32_t> bucket_;     // counting sort of triangles by first id
-  std::vector<Triangle> tri_scratch_;    // per slot
-  std::vector<Triangle> tri_banded_;     // per output band, in band order (pooled finish)
+  std::vector<Triangle> tri_banded_;     // rotated leaves grouped by output band (one per slot)
   std::vector<std::int32_t> band_of_row_;  // output band of each image row
   // Triangles of leaf chunk c whose first vertex is in output band b, then
   // where chunk c's share of band b starts in tri_banded_.

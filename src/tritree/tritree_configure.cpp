@@ -45,7 +45,6 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   created_.assign(2 * leaves, Pending{});
   vertex_id_.assign(pixels, -1);
   bucket_.assign(pixels + 1, 0);
-  tri_scratch_.assign(leaves, Triangle{});
   tri_banded_.assign(leaves, Triangle{});
   new_vertices_.assign(leaves, Vertex{});
   band_of_row_.assign(static_cast<std::size_t>(max_height), 0);

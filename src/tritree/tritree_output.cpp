@@ -99,6 +99,39 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   for (int y = 0; y < h; ++y) mesh.row_start[y + 1] += mesh.row_start[y];
   const std::int32_t count = mesh.row_start[h];
   mesh.vertices.resize(static_cast<std::size_t>(count));
+
+  // Triangles, rotated so the smallest id comes first (orientation kept),
+  // sorted by that id and then within each vertex's fan. Output band b holds
+  // the first ids of rows [row_cut(b), row_cut(b + 1)), cut at equal vertex
+  // counts; a triangle's first vertex is one of its topmost, so its band is
+  // known from the leaf's rows alone, before any id exists. The leaves are
+  // taken in chunks (a region each, with a share of the slots older than the
+  // regions): a chunk's leaves are counted per band while the vertices are
+  // numbered, then rotated straight into the chunk's share of each band in
+  // tri_banded_, and each band is counting-sorted on its own. Chunks and
+  // bands are fixed, so any worker may take any of them (on demand, like the
+  // rounds) and the output does not depend on who did.
+  const bool banded = parts > 1;
+  const int chunks = banded ? region_count_ : 1;
+  const int bands = banded ? std::min(kMaxRegions, kRegionsPerWorker * parts) : 1;
+  std::int32_t row_cut[kMaxRegions + 1];  // first row of each band, then h
+  for (int b = 0; b < bands; ++b) {
+    const std::int64_t target = std::int64_t{count} * b / bands;
+    row_cut[b] = static_cast<std::int32_t>(
+        std::lower_bound(mesh.row_start.begin(), mesh.row_start.end() - 1, target) - mesh.row_start.begin());
+  }
+  row_cut[bands] = h;
+  for (int b = 0; b < bands; ++b) {
+    std::fill(band_of_row_.begin() + row_cut[b], band_of_row_.begin() + row_cut[b + 1], b);
+  }
+  const auto band_of = [&](const Node& n) {
+    return band_of_row_[static_cast<std::size_t>(std::min({n.y[0], n.y[1], n.y[2]}))];
+  };
+  std::int32_t* fill = band_fill_.data();  // fill[chunk * bands + band]
+
+  // Vertex ids in raster order; meanwhile, the triangles of each chunk are
+  // counted per band (on demand: they only read the leaves).
+  finish_chunks_.reset(0, banded ? chunks : 0, 1);
   run([&](int part) {
     int y0 = 0, y1 = 0;
     ThreadPool::split_range(0, h, parts, part, &y0, &y1);
@@ -111,56 +144,26 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
         mesh.vertices[id++] = Vertex{x, y};
       }
     }
-  });
-
-  // Triangles, rotated so the smallest id comes first (orientation kept),
-  // sorted by that id and then within each vertex's fan. Output band b holds
-  // the first ids of rows [row_cut(b), row_cut(b + 1)), cut at equal vertex
-  // counts. The leaves are taken in chunks (a region each, with a share of
-  // the slots older than the regions): a chunk's leaves are rotated and
-  // counted per band, then moved to the chunk's share of each band in
-  // tri_banded_, and each band is counting-sorted on its own. Chunks and bands
-  // are fixed, so any worker may take any of them (on demand, like the
-  // rounds) and the output does not depend on who did.
-  const bool banded = parts > 1;
-  const int chunks = banded ? region_count_ : 1;
-  const int bands = banded ? std::min(kMaxRegions, kRegionsPerWorker * parts) : 1;
-  const auto row_cut = [&](int b) {  // first row of band b (h for b == bands)
-    const std::int64_t target = std::int64_t{count} * b / bands;
-    return static_cast<int>(std::lower_bound(mesh.row_start.begin(), mesh.row_start.end() - 1, target) -
-                            mesh.row_start.begin());
-  };
-  for (int b = 0; b < bands; ++b) {
-    const int y1 = (b + 1 == bands) ? h : row_cut(b + 1);
-    for (int y = row_cut(b); y < y1; ++y) band_of_row_[static_cast<std::size_t>(y)] = b;
-  }
-  const auto on_demand = [&](int n, const auto& fn) {  // fn(i) for i in [0, n), any worker
-    finish_chunks_.reset(0, n, 1);
-    run([&](int) {
-      int i = 0, i_end = 0;
-      while (finish_chunks_.next(&i, &i_end)) fn(i);
-    });
-  };
-  std::int32_t* fill = band_fill_.data();  // fill[chunk * bands + band]
-  // Counters live on the stack while counting: chunks' rows of band_fill_
-  // share cache lines, and an increment per triangle there would make the
-  // cores fight over them.
-  on_demand(chunks, [&](int c) {
-    std::int32_t mine[kMaxRegions] = {};
-    for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
-      const Node& n = nodes_[s];
-      Triangle t;
-      for (int j = 0; j < 3; ++j) t[j] = grid_row(n.y[j])[n.x[j]];
-      const int r = (t[1] < t[0] && t[1] < t[2]) ? 1 : (t[2] < t[0] && t[2] < t[1]) ? 2 : 0;
-      tri_scratch_[s] = Triangle{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
-      ++mine[band_of_row_[static_cast<std::size_t>(n.y[r])]];
-    });
-    std::copy(mine, mine + bands, fill + c * bands);
+    int c = 0, c_end = 0;
+    while (finish_chunks_.next(&c, &c_end)) {
+      // On the stack while counting: chunks' rows of band_fill_ share cache
+      // lines, and an increment per triangle there would make the cores
+      // fight over them.
+      std::int32_t mine[kMaxRegions] = {};
+      for_each_slot_of_part(c, chunks, [&](std::int32_t s) { ++mine[band_of(nodes_[s])]; });
+      std::copy(mine, mine + bands, fill + c * bands);
+    }
   });
   // Counts -> starts, band-major (band b holds chunks 0..chunks-1 in order).
+  // One band and chunk: every leaf, in slot order.
   std::int32_t band_start[kMaxRegions + 1];
   std::int32_t total = 0;
-  for (int b = 0; b < bands; ++b) {
+  if (!banded) {
+    fill[0] = 0;
+    total = initial_slots_;
+    for (int g = 0; g < region_count_; ++g) total += regions_[g].next_slot - regions_[g].slot_begin;
+  }
+  for (int b = 0; b < bands && banded; ++b) {
     band_start[b] = total;
     for (int c = 0; c < chunks; ++c) {
       const std::int32_t n = fill[c * bands + b];
@@ -168,38 +171,42 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
       total += n;
     }
   }
+  band_start[0] = 0;
   band_start[bands] = total;
   mesh.triangles.resize(static_cast<std::size_t>(total));
-  if (banded) {
-    on_demand(chunks, [&](int c) {
-      std::int32_t next[kMaxRegions];
-      std::copy(fill + c * bands, fill + (c + 1) * bands, next);
-      for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
-        const Triangle& t = tri_scratch_[s];
-        const int y = mesh.vertices[static_cast<std::size_t>(t[0])].y;
-        tri_banded_[static_cast<std::size_t>(next[band_of_row_[static_cast<std::size_t>(y)]]++)] = t;
-      });
+
+  const auto on_demand = [&](int n, const auto& fn) {  // fn(i) for i in [0, n), any worker
+    finish_chunks_.reset(0, n, 1);
+    run([&](int) {
+      int i = 0, i_end = 0;
+      while (finish_chunks_.next(&i, &i_end)) fn(i);
     });
-  }
+  };
+  on_demand(chunks, [&](int c) {
+    std::int32_t next[kMaxRegions];
+    std::copy(fill + c * bands, fill + (c + 1) * bands, next);
+    for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
+      const Node& n = nodes_[s];
+      Triangle t;
+      for (int j = 0; j < 3; ++j) t[j] = grid_row(n.y[j])[n.x[j]];
+      const int r = (t[1] < t[0] && t[1] < t[2]) ? 1 : (t[2] < t[0] && t[2] < t[1]) ? 2 : 0;
+      tri_banded_[static_cast<std::size_t>(next[band_of(n)]++)] = Triangle{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+    });
+  });
   on_demand(bands, [&](int b) {
-    const std::int32_t v0 = mesh.row_start[static_cast<std::size_t>(row_cut(b))];
-    const std::int32_t v1 = (b + 1 == bands) ? count : mesh.row_start[static_cast<std::size_t>(row_cut(b + 1))];
-    const auto for_each_of_band = [&](auto&& fn) {
-      if (banded) {
-        for (std::int32_t i = band_start[b]; i < band_start[b + 1]; ++i) fn(tri_banded_[static_cast<std::size_t>(i)]);
-      } else {
-        for_each_slot([&](std::int32_t s) { fn(tri_scratch_[s]); });
-      }
-    };
+    const std::int32_t v0 = mesh.row_start[static_cast<std::size_t>(row_cut[b])];
+    const std::int32_t v1 = mesh.row_start[static_cast<std::size_t>(row_cut[b + 1])];
+    const Triangle* first = tri_banded_.data() + band_start[b];
+    const Triangle* last = tri_banded_.data() + band_start[b + 1];
     std::fill(bucket_.begin() + v0, bucket_.begin() + v1, 0);
-    for_each_of_band([&](const Triangle& t) { ++bucket_[t[0]]; });
+    for (const Triangle* t = first; t != last; ++t) ++bucket_[(*t)[0]];
     std::int32_t start = band_start[b];
     for (std::int32_t v = v0; v < v1; ++v) {
       const std::int32_t n = bucket_[v];
       bucket_[v] = start;
       start += n;
     }
-    for_each_of_band([&](const Triangle& t) { mesh.triangles[bucket_[t[0]]++] = t; });
+    for (const Triangle* t = first; t != last; ++t) mesh.triangles[bucket_[(*t)[0]]++] = *t;
     // bucket_[v] now ends bucket v; bucket v starts where bucket v - 1 ended.
     std::int32_t begin = band_start[b];
     for (std::int32_t v = v0; v < v1; ++v) {
