@@ -14,12 +14,16 @@
 // workers: after a few serial rounds the leaves are cut into spatial regions
 // (kRegionsPerWorker per worker), which the workers take on demand each
 // round; refining a region touches only its own nodes, and a propagation
-// that would cross into another region is deferred to a short serial pass at
-// the end of the round.
+// that would cross into another region is deferred. Deferred propagations are
+// finished in a binary tree over the regions: when both halves of a group of
+// neighbouring regions are done, the worker that finished last takes up the
+// group's deferred propagations with the whole group as its territory, so
+// only those crossing the middle border are left for the last worker.
 // Any worker count gives the same mesh (and split counts) as the reference.
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -64,8 +68,8 @@ class Tritree {
   int rounds() const { return rounds_; }
   // Regions the leaves were cut into (1: the build ran on one thread).
   int regions() const { return region_count_; }
-  // Propagations that crossed a region border and were finished serially.
-  std::int64_t deferred_propagations() const { return deferred_; }
+  // Propagations that crossed a region border and were deferred.
+  std::int64_t deferred_propagations() const;
   // Leaves whose refinement was blocked by an invalid terminal bisection.
   // Allocates; meant for tests and tools.
   std::vector<std::array<Vertex, 3>> blocked_leaves() const;
@@ -104,7 +108,11 @@ class Tritree {
     // each bisection also takes a slot of the region, so they fit.
     std::int32_t vertex_count = 0;
     std::int64_t criterion_splits = 0, forced_splits = 0;
+    std::int64_t deferred = 0;  // entries left in pending by refine_region, all rounds
   };
+  // Levels of the tree over regions in which deferred propagations are merged.
+  static constexpr int kMergeLevels = 7;  // 2^(kMergeLevels - 1) >= kMaxRegions
+  static_assert((1 << (kMergeLevels - 1)) >= kMaxRegions, "merge tree too shallow");
 
   Vertex vertex(const Node& n, int i) const { return Vertex{n.x[i], n.y[i]}; }
   int region_of(std::int32_t slot) const { return nodes_[slot].region; }
@@ -121,11 +129,13 @@ class Tritree {
   std::int32_t new_slot(std::int32_t parent);
   void count_split(std::int32_t slot);
   bool bisect_pair(std::int32_t t, std::int32_t n);
-  bool process(std::int32_t slot, std::uint32_t birth, int region);
+  // Regions [lo, hi) are the territory a propagation may touch.
+  bool process(std::int32_t slot, std::uint32_t birth, int lo, int hi);
   void validate_image(ImageView<const std::uint8_t> gray) const;
   void begin(ImageView<const std::uint8_t> gray);
   void refine_region(int region, bool local);
-  void process_deferred();
+  void merge_deferred(int region);
+  void process_deferred(int lo, int hi);
   void partition(int region_count);
   void finish(Mesh& mesh, ThreadPool* pool);
   template <class Fn>
@@ -143,7 +153,6 @@ class Tritree {
   int rounds_ = 0;
   std::int64_t criterion_splits_ = 0;    // of the rounds before partition()
   std::int64_t forced_splits_ = 0;
-  std::int64_t deferred_ = 0;
 
   std::vector<Node> nodes_;              // capacity: max leaves
   std::int32_t initial_slots_ = 0;       // slots [0, initial_slots_) exist before regions
@@ -155,6 +164,9 @@ class Tritree {
   std::vector<Region> regions_;          // kMaxRegions, region_count_ in use
   int region_count_ = 1;
   WorkChunks region_chunks_;             // a parallel round hands regions out
+  // Per merge level and group: how many of the group's two halves are done
+  // this round (0 or 1 between rounds).
+  std::atomic<int> merge_arrivals_[kMergeLevels][kMaxRegions] = {};
   WorkChunks finish_chunks_;             // the output hands leaf chunks and bands out
   std::vector<Pending> pending_;         // per region: this round's triangles
   std::vector<Pending> created_;         // per region: triangles created this round

@@ -61,17 +61,26 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       region_chunks_.reset(0, region_count_, 1);
       pool->run([this, &order](int) {
         int g = 0, g_end = 0;
-        while (region_chunks_.next(&g, &g_end)) refine_region(order[g], /*local=*/true);
+        while (region_chunks_.next(&g, &g_end)) {
+          refine_region(order[g], /*local=*/true);
+          merge_deferred(order[g]);
+        }
       });
     } else {
       // Local even here: a region must not split another's triangles before
       // that region has evaluated them (the split counts would differ).
       for (int g = 0; g < region_count_; ++g) refine_region(g, /*local=*/region_count_ > 1);
+      process_deferred(0, region_count_);
     }
-    process_deferred();
     ++rounds_;
   }
   finish(mesh, pool);
+}
+
+std::int64_t Tritree::deferred_propagations() const {
+  std::int64_t sum = 0;
+  for (int g = 0; g < region_count_; ++g) sum += regions_[g].deferred;
+  return sum;
 }
 
 void Tritree::begin(ImageView<const std::uint8_t> gray) {
@@ -80,7 +89,6 @@ void Tritree::begin(ImageView<const std::uint8_t> gray) {
   rounds_ = 0;
   criterion_splits_ = 0;
   forced_splits_ = 0;
-  deferred_ = 0;
   initial_slots_ = 0;
   initial_vertices_ = 0;
   region_count_ = 1;
@@ -100,7 +108,7 @@ void Tritree::begin(ImageView<const std::uint8_t> gray) {
 
 // One round of one region: promote the triangles created last round, decide
 // each, then process those that split. With `local`, propagations that would
-// touch another region are left in the pending list for process_deferred().
+// touch another region are left in the pending list (deferred).
 void Tritree::refine_region(int g, bool local) {
   Region& r = regions_[g];
   Pending* pending = pending_.data() + r.list_begin;
@@ -137,18 +145,45 @@ void Tritree::refine_region(int g, bool local) {
       const std::int32_t nb = ahead.nb[ahead.longest];
       if (nb >= 0) prefetch_node(nb);
     }
-    if (!process(pending[i].slot, pending[i].birth, local ? g : -1)) pending[deferred++] = pending[i];
+    const int lo = local ? g : 0, hi = local ? g + 1 : region_count_;
+    if (!process(pending[i].slot, pending[i].birth, lo, hi)) pending[deferred++] = pending[i];
   }
   r.pending_count = deferred;
+  r.deferred += deferred;
 }
 
-void Tritree::process_deferred() {
-  for (int g = 0; g < region_count_; ++g) {
+// Called by the worker that refined region g this round. Walks up the merge
+// tree: at each level, the first of a group's two halves to finish stops
+// there; the second finishes the group's deferred propagations, now free to
+// touch the whole group. Why this is safe: a group's regions are done with
+// the round (their evaluations included, so split counts are unaffected) and
+// no other worker touches them until the round ends; disjoint groups run
+// concurrently. The top group is every region, so the round ends with nothing
+// deferred.
+void Tritree::merge_deferred(int g) {
+  for (int level = 1; level < kMergeLevels; ++level) {
+    const int lo = (g >> level) << level;
+    const int mid = lo + (1 << (level - 1));
+    const int hi = std::min(lo + (1 << level), region_count_);
+    if (mid >= hi) continue;  // one half only: nothing new to merge
+    std::atomic<int>& arrivals = merge_arrivals_[level][g >> level];
+    if (arrivals.fetch_add(1, std::memory_order_acq_rel) == 0) return;
+    arrivals.store(0, std::memory_order_relaxed);  // for the next round (run() orders it)
+    process_deferred(lo, hi);
+  }
+}
+
+// Processes the deferred propagations of regions [lo, hi) within that
+// territory, keeping those that still cross its border.
+void Tritree::process_deferred(int lo, int hi) {
+  for (int g = lo; g < hi; ++g) {
     Region& r = regions_[g];
-    const Pending* pending = pending_.data() + r.list_begin;
-    deferred_ += r.pending_count;
-    for (std::int32_t i = 0; i < r.pending_count; ++i) process(pending[i].slot, pending[i].birth, -1);
-    r.pending_count = 0;
+    Pending* pending = pending_.data() + r.list_begin;
+    std::int32_t kept = 0;
+    for (std::int32_t i = 0; i < r.pending_count; ++i) {
+      if (!process(pending[i].slot, pending[i].birth, lo, hi)) pending[kept++] = pending[i];
+    }
+    r.pending_count = kept;
   }
 }
 
@@ -213,6 +248,9 @@ void Tritree::partition(int region_count) {
   assert(static_cast<std::size_t>(list) <= created_.size());
   initial_slots_ = n0;
   region_count_ = region_count;
+  for (auto& level : merge_arrivals_) {
+    for (auto& arrivals : level) arrivals.store(0, std::memory_order_relaxed);
+  }
   for (std::int32_t i = 0; i < moved; ++i) {
     const Pending p = pending_[i];
     if (nodes_[p.slot].birth != p.birth) continue;
@@ -320,28 +358,32 @@ bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
 
 // Longest-edge propagation from `slot` until the triangle (identified by its
 // birth) has been bisected or a terminal bisection turns out invalid (then it
-// is blocked). With region >= 0, returns false as soon as the next bisection
-// would read or relink a node of another region.
-bool Tritree::process(std::int32_t slot, std::uint32_t birth, int region) {
+// is blocked). Returns false as soon as the next bisection would read or
+// relink a node outside regions [lo, hi).
+bool Tritree::process(std::int32_t slot, std::uint32_t birth, int lo, int hi) {
+  const bool everywhere = lo == 0 && hi >= region_count_;
+  const auto outside = [&](std::int32_t s) {
+    return static_cast<unsigned>(region_of(s) - lo) >= static_cast<unsigned>(hi - lo);
+  };
   while (nodes_[slot].birth == birth) {
     std::int32_t x = slot;
     std::int32_t n = nodes_[x].nb[nodes_[x].longest];
     // Each step goes to a strictly longer edge (model's edge order): terminates.
     while (n >= 0) {
-      if (region >= 0 && region_of(n) != region) return false;
+      if (!everywhere && outside(n)) return false;
       if (nodes_[n].nb[nodes_[n].longest] == x) break;
       x = n;
       n = nodes_[x].nb[nodes_[x].longest];
     }
-    if (region >= 0) {
+    if (!everywhere) {
       // The bisection relinks the neighbours across x's edge BC and n's edge DB.
       const Node& nx = nodes_[x];
       const std::int32_t n_bc = nx.nb[(nx.longest + 1) % 3];
-      if (n_bc >= 0 && region_of(n_bc) != region) return false;
+      if (n_bc >= 0 && outside(n_bc)) return false;
       if (n >= 0) {
         const Node& nn = nodes_[n];
         const std::int32_t n_db = nn.nb[(nn.longest + 2) % 3];
-        if (n_db >= 0 && region_of(n_db) != region) return false;
+        if (n_db >= 0 && outside(n_db)) return false;
       }
     }
     if (!bisect_pair(x, n)) {
