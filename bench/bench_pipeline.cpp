@@ -99,8 +99,8 @@ void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dens
 // same moment, which two separately repeated benchmarks do not.
 void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool dense, KernelChoice k,
                       int threads) {
-  // The N-thread pipeline first: configuring pins the calling thread, and a
-  // pool started afterwards from it would see only that one CPU as allowed.
+  // Both pools pin this thread (to the same first CPU); destroyed in reverse
+  // order, they leave its affinity as they found it.
   const std::unique_ptr<Pipeline> many = warm_pipeline(pair, ndisp, dense, k, threads);
   const std::unique_ptr<Pipeline> one = warm_pipeline(pair, ndisp, dense, k, 1);
   // Per pair: total and the three stage groups, 1 thread / N threads.

@@ -26,6 +26,12 @@ constexpr std::int64_t kSpinSharedCoreNs = 20'000;
 // much as a few pauses, and the deadline needs no better resolution).
 constexpr int kPausesPerClockRead = 64;
 
+// Pools pin their owner thread. What that thread could use before the first
+// of its pools pinned it, and how many of its pools have it pinned now; see
+// available_cpus().
+thread_local std::vector<int> t_affinity_before_pools;
+thread_local int t_pools_pinning_this_thread = 0;
+
 inline void cpu_relax() noexcept {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
@@ -39,6 +45,10 @@ inline void cpu_relax() noexcept {
 ThreadPool::ThreadPool() = default;
 
 ThreadPool::~ThreadPool() { stop(); }
+
+std::vector<int> ThreadPool::available_cpus() {
+  return t_pools_pinning_this_thread > 0 ? t_affinity_before_pools : allowed_cpus();
+}
 
 void ThreadPool::split_range(int begin, int end, int parts, int part, int* b, int* e) {
   if (b == nullptr || e == nullptr) {
@@ -71,10 +81,9 @@ void ThreadPool::start(int num_workers, const std::vector<int>& cpus, bool pin) 
                 "ThreadPool: num_workers " + std::to_string(num_workers) + " is outside 0.." +
                     std::to_string(kMaxWorkers) + " (0 = one per CPU)");
   }
-  // While our own pin is in place the owner's affinity is a single CPU; the
-  // set the process may use is the one saved before pinning.
-  const std::vector<int> allowed =
-      owner_affinity_changed_ ? owner_saved_affinity_ : allowed_cpus();
+  // Not allowed_cpus(): while a pool's pin is in place, this thread's own
+  // affinity is a single CPU.
+  const std::vector<int> allowed = available_cpus();
   const std::vector<int>& requested = (pin && !cpus.empty()) ? cpus : allowed;
   if (num_workers == 0) {
     num_workers = std::min<int>(static_cast<int>(requested.size()), kMaxWorkers);
@@ -112,6 +121,7 @@ void ThreadPool::start(int num_workers, const std::vector<int>& cpus, bool pin) 
       throw Error(ErrorCode::kPlatform, "ThreadPool: worker 0 (the calling thread): " + error);
     }
     owner_affinity_changed_ = true;
+    if (t_pools_pinning_this_thread++ == 0) t_affinity_before_pools = owner_saved_affinity_;
   }
 
   // Workers report in (pinned or not) by counting pending_ down; start()
@@ -304,8 +314,9 @@ void ThreadPool::stop() noexcept {
   }
   // Another thread cannot restore the owner's settings; they are per thread.
   const bool is_owner = std::this_thread::get_id() == owner_;
-  if (owner_affinity_changed_ && is_owner && !owner_saved_affinity_.empty()) {
-    set_current_thread_affinity(owner_saved_affinity_, nullptr);
+  if (owner_affinity_changed_ && is_owner) {
+    if (!owner_saved_affinity_.empty()) set_current_thread_affinity(owner_saved_affinity_, nullptr);
+    if (--t_pools_pinning_this_thread == 0) t_affinity_before_pools.clear();
   }
   if (owner_scheduling_changed_ && is_owner) restore_thread_scheduling(owner_saved_scheduling_);
   if (memory_locked_) unlock_memory();

@@ -7,7 +7,7 @@
 //   that was never started (or was stopped) has size() 1 and runs tasks
 //   inline on the caller.
 // - With pinning, worker i is pinned to cpus[i % cpus.size()] (cpus empty =
-//   allowed_cpus()). That includes the calling thread, whose previous
+//   available_cpus()). That includes the calling thread, whose previous
 //   affinity stop() restores (when stop() is called from the same thread).
 // - run() performs no heap allocation: the task is a FunctionRef to a
 //   callable on the caller's stack, and hand-off is a generation counter
@@ -89,6 +89,13 @@ class ThreadPool {
   // mlockall. All or nothing: on Error every worker's previous scheduling is
   // restored. Lasts until stop(); a restarted pool is not real-time.
   void set_realtime(int priority);
+
+  // The CPUs a pool started from the calling thread may use: allowed_cpus(),
+  // except while pools owned by this thread have pinned it, when it is the
+  // set the thread had before the first of them (its own affinity is then one
+  // CPU). So a second pool (a second Pipeline) configured from the same
+  // thread still gets every CPU. Pins nest: stop the pools in reverse order.
+  static std::vector<int> available_cpus();
 
   // Contiguous, balanced, deterministic bands: splits [begin, end) into
   // `parts` bands and stores band `part` in [*b, *e). The first

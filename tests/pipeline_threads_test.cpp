@@ -79,6 +79,22 @@ TEST(PipelineThreads, WorkersArePinnedToTheRequestedCpus) {
   EXPECT_EQ(pipe.worker_count(), static_cast<int>(cpus.size()));
 }
 
+// The first pipeline pins this thread to one CPU; the second, configured from
+// the same thread, must still get one worker per CPU the process may use.
+TEST(PipelineThreads, SecondPipelineFromTheSameThreadGetsEveryCpu) {
+  const std::vector<int> cpus = allowed_cpus();
+  PipelineConfig c;
+  c.max_width = 64;
+  c.max_height = 48;
+  c.params.num_disp = 8;
+  Pipeline first;
+  first.configure(c);
+  Pipeline second;
+  second.configure(c);
+  EXPECT_EQ(first.worker_count(), static_cast<int>(cpus.size()));
+  EXPECT_EQ(second.worker_count(), static_cast<int>(cpus.size()));
+}
+
 TEST(PipelineThreads, ReconfigureManyTimesDoesNotHangOrLeak) {
   SynthParams sp;
   sp.width = 96;

@@ -125,6 +125,30 @@ TEST(ThreadPool, RunsAfterWorkersBlockedStillReachEveryWorker) {
   for (int w = 0; w < 2; ++w) EXPECT_EQ(counts[w].load(), kRuns) << "w=" << w;
 }
 
+// A pinned pool pins its owner; a second pool started from that thread must
+// still see (and pin its workers to) every CPU, and the pins unwind in order.
+TEST(ThreadPool, SecondPoolFromTheSameThreadGetsEveryCpu) {
+  const std::vector<int> allowed = allowed_cpus();
+  ThreadPool first;
+  first.start(0, {}, true);
+  EXPECT_EQ(current_thread_affinity(), std::vector<int>{allowed[0]});
+  EXPECT_EQ(ThreadPool::available_cpus(), allowed);
+  {
+    ThreadPool second;
+    second.start(0, {}, true);
+    EXPECT_EQ(second.size(), static_cast<int>(allowed.size()));
+    EXPECT_EQ(second.worker_cpus(), allowed);
+    const std::vector<std::vector<int>> read_back = second.read_back_worker_affinity();
+    for (std::size_t i = 0; i < allowed.size(); ++i) {
+      EXPECT_EQ(read_back[i], std::vector<int>{allowed[i]}) << "worker " << i;
+    }
+  }  // second.stop(): back to the first pool's pin
+  EXPECT_EQ(current_thread_affinity(), std::vector<int>{allowed[0]});
+  first.stop();
+  EXPECT_EQ(current_thread_affinity(), allowed);
+  EXPECT_EQ(ThreadPool::available_cpus(), allowed);
+}
+
 // Waiting threads spin long only when no two workers share a CPU.
 TEST(ThreadPool, SpinsLongOnlyWhenEveryWorkerHasItsOwnCpu) {
   const std::vector<int> allowed = allowed_cpus();

@@ -83,7 +83,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   const KernelChoice active = resolve_kernel_choice(config.kernels);
   const KernelSet& kernels = kernel_set_for(active);
 
-  std::vector<int> cpus = config.cpus.empty() ? allowed_cpus() : config.cpus;
+  std::vector<int> cpus = config.cpus.empty() ? ThreadPool::available_cpus() : config.cpus;
   const int threads = config.threads > 0 ? config.threads
                                          : std::max<int>(1, static_cast<int>(cpus.size()));
 

@@ -1,7 +1,7 @@
 // verify: the float reference against every runnable kernel set and thread count.
 #include <algorithm>
 
-#include "platform/cpu_features.hpp"
+#include "platform/thread_pool.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/reference.hpp"
 #include "tristereo/verify.hpp"
@@ -12,7 +12,7 @@ VerifyReport verify_bit_exact(const ImageU8& left, const ImageU8& right, const S
                               std::vector<int> thread_counts) {
   if (thread_counts.empty()) {
     thread_counts.push_back(1);
-    const int n = static_cast<int>(allowed_cpus().size());
+    const int n = static_cast<int>(ThreadPool::available_cpus().size());
     if (n > 1) thread_counts.push_back(n);
   }
   VerifyReport report;
