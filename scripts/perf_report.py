@@ -12,6 +12,7 @@ SIMD vs scalar per stage, sparse vs dense DP, N threads vs 1.
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 
@@ -89,7 +90,9 @@ def main():
     out_json = os.path.join(a.build, "bench_pipeline.json")
     # Random interleaving spreads the repetitions of each benchmark over the whole
     # run, so slow drifts of a shared machine hit every configuration alike.
-    cmd = [exe, "--benchmark_repetitions=%d" % a.repetitions, "--benchmark_report_aggregates_only=true",
+    # The JSON keeps every repetition (the frame_pair table shows their range);
+    # the console shows only the aggregates.
+    cmd = [exe, "--benchmark_repetitions=%d" % a.repetitions, "--benchmark_display_aggregates_only=true",
            "--benchmark_enable_random_interleaving=true",
            "--benchmark_out=" + out_json, "--benchmark_out_format=json"]
     if a.filter:
@@ -101,10 +104,10 @@ def main():
     with open(out_json) as f:
         data = json.load(f)
     med = {}
-    pairs = []  # frame_pair runs: one repetition each, their own median inside
+    pairs = {}  # frame_pair run name -> its repetitions, each with its own median of pairs
     for b in data["benchmarks"]:
         if b["run_name"].startswith("frame_pair/") and b.get("run_type") == "iteration":
-            pairs.append(b)
+            pairs.setdefault(b["run_name"], []).append(b)
             continue
         if b.get("aggregate_name") != "median" or not b["run_name"].startswith("frame/"):
             continue
@@ -166,16 +169,21 @@ def main():
     if pairs:
         lines.append("\n## Threads, paired frames (synthetic 640x480, best kernel set)\n")
         lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
-                     "meeting the same moment of the machine; medians over the pairs.\n")
-        lines.append("| D | mode | threads | pairs | 1 thread ms | N threads ms | speed-up (median of pairs) | "
+                     "meeting the same moment of the machine. Each run takes the median over its pairs; the "
+                     "runs are spread over the whole benchmark run by the random interleaving. Shown: the "
+                     "median of the runs' medians, and their range.\n")
+        lines.append("| D | mode | threads | runs x pairs | 1 thread ms | N threads ms | speed-up | range of runs | "
                      "tritree | matching (cost + DP) | interpolation |")
-        lines.append("|---|---|---|---|---|---|---|---|---|---|")
-        for b in sorted(pairs, key=lambda b: b["run_name"]):
-            _, scene, d, mode, kern, tt = b["run_name"].split("/")[:6]
-            lines.append("| %s | %s | %s (%s) | %d | %.2f | %.2f | %.2fx | %.2fx | %.2fx | %s |" % (
-                d[1:], mode, tt.split("_t")[-1], kern, b["pairs"], b["t1_ms"], b["tN_ms"], b["speedup"],
-                b["speedup_tritree"], b["speedup_matching"],
-                "%.2fx" % b["speedup_interp"] if mode == "sparse" else "-"))
+        lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
+        for name in sorted(pairs):
+            runs = pairs[name]
+            _, scene, d, mode, kern, tt = name.split("/")[:6]
+            m = lambda key: statistics.median(r[key] for r in runs)
+            lines.append("| %s | %s | %s (%s) | %d x %d | %.2f | %.2f | **%.2fx** | %.2f-%.2fx | %.2fx | %.2fx | %s |" % (
+                d[1:], mode, tt.split("_t")[-1], kern, len(runs), runs[0]["pairs"], m("t1_ms"), m("tN_ms"),
+                m("speedup"), min(r["speedup"] for r in runs), max(r["speedup"] for r in runs),
+                m("speedup_tritree"), m("speedup_matching"),
+                "%.2fx" % m("speedup_interp") if mode == "sparse" else "-"))
     lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
     lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
                  "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
