@@ -425,6 +425,27 @@ struct PooledTree {
   Mesh mesh;
 };
 
+TEST(Tritree, BuildTimesCoverRoundsIdleAndOutput) {
+  SynthParams sp;
+  sp.width = 320;
+  sp.height = 240;
+  const ImageU8 img = make_synthetic_scene(sp).left;
+  PooledTree one(1, sp.width, sp.height, TritreeParams{});
+  PooledTree two(2, sp.width, sp.height, TritreeParams{});
+  one.build(img);
+  two.build(img);
+  for (const PooledTree* p : {&one, &two}) {
+    const Tritree::BuildTimes& t = p->tree.build_times();
+    EXPECT_GT(t.rounds_ns, 0);
+    EXPECT_GT(t.output_ns, 0);
+    // Each worker's busy time lies inside its round's wall time.
+    EXPECT_GE(t.round_idle_ns, 0);
+  }
+  // One worker: no parallel round, so no idle time is counted.
+  EXPECT_EQ(one.tree.build_times().round_idle_ns, 0);
+  EXPECT_GT(two.tree.regions(), 1);
+}
+
 TEST(Tritree, IdenticalForAnyThreadCount) {
   // The criterion runs in parallel chunks; the mesh must not depend on the
   // worker count (1, 2, 3, 8 workers, unpinned) nor differ from a pool-less build.
@@ -532,6 +553,36 @@ TEST(Tritree, ManyRegionsDeferCrossingPropagationsAndMatchSerial) {
   }
 }
 
+TEST(Tritree, RegionOutOfSlotsFallsBackToOneRegion) {
+  // The midpoint snap moves slivers of area between the two triangles of a
+  // pair, so a region's leaves can outgrow its stripe's area bound. Without
+  // spare slots, image 31 of this sequence (115x106, 3 workers, 24 regions)
+  // runs a region out of slots: the build must start over on one region and
+  // still give the serial mesh. With the default spare none of them does.
+  const TritreeParams params;
+  std::vector<ImageU8> images;
+  Rng rng(7);
+  for (int i = 0; i < 32; ++i) {
+    const int w = rng.uniform(40, 200);
+    const int h = rng.uniform(40, 200);  // drawn in order: argument order is unspecified
+    images.push_back(mixed_image(rng, w, h));
+  }
+  PooledTree no_spare(3, 200, 200, params);
+  no_spare.tree.limit_spare_slots_for_testing(0);
+  PooledTree with_spare(3, 200, 200, params);
+  int fallbacks = 0, partitioned = 0;
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const Mesh serial = build_mesh(images[i], params);
+    ASSERT_EQ(no_spare.build(images[i]), serial) << "image " << i << ", no spare slots";
+    fallbacks += no_spare.tree.fell_back_to_one_region() ? 1 : 0;
+    ASSERT_EQ(with_spare.build(images[i]), serial) << "image " << i;
+    EXPECT_FALSE(with_spare.tree.fell_back_to_one_region()) << "image " << i;
+    partitioned += with_spare.tree.regions() == 3 * Tritree::kRegionsPerWorker ? 1 : 0;
+  }
+  EXPECT_GE(fallbacks, 1);
+  EXPECT_GE(partitioned, 16);  // the small images never reach 64 leaves per region
+}
+
 TEST(Tritree, CountsCriterionAndForcedSplits) {
   // Every split is one of the two kinds, and each split adds one triangle.
   Rng rng(9);
@@ -607,3 +658,4 @@ TEST(Tritree, RejectsBadImagesWithoutTouchingTheMesh) {
 
 }  // namespace
 }  // namespace tristereo
+

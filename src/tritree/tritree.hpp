@@ -73,6 +73,22 @@ class Tritree {
   int regions() const { return region_count_; }
   // Propagations that crossed a region border and were deferred.
   std::int64_t deferred_propagations() const;
+  // Wall time of the last build (monotonic clock), for benchmarks: the
+  // refinement rounds, the output, and the time workers spent idle inside
+  // parallel rounds (round wall time x workers - their busy time, summed over
+  // workers: the ends of uneven rounds and the hand-offs).
+  struct BuildTimes {
+    std::int64_t rounds_ns = 0;
+    std::int64_t round_idle_ns = 0;
+    std::int64_t output_ns = 0;
+  };
+  const BuildTimes& build_times() const { return times_; }
+  // True when a region of the last build ran out of node slots and the build
+  // was redone on one region (same mesh, slower; see partition()).
+  bool fell_back_to_one_region() const { return fell_back_; }
+  // For tests: share out at most `slots` spare node slots among the regions
+  // (configure() resets it to all of them), to force the fallback.
+  void limit_spare_slots_for_testing(std::size_t slots) { spare_limit_ = slots; }
   // Leaves whose refinement was blocked by an invalid terminal bisection.
   // Allocates; meant for tests and tools.
   std::vector<std::array<Vertex, 3>> blocked_leaves() const;
@@ -131,11 +147,13 @@ class Tritree {
   void replace_link(std::int32_t slot, std::int32_t old_nb, std::int32_t new_nb);
   std::int32_t new_slot(std::int32_t parent);
   void count_split(std::int32_t slot);
-  bool bisect_pair(std::int32_t t, std::int32_t n);
+  enum class Bisect { kDone, kInvalid, kNoSlot };
+  Bisect bisect_pair(std::int32_t t, std::int32_t n);
   // Regions [lo, hi) are the territory a propagation may touch.
   bool process(std::int32_t slot, std::uint32_t birth, int lo, int hi);
   void validate_image(ImageView<const std::uint8_t> gray) const;
   void begin(ImageView<const std::uint8_t> gray);
+  bool refine(ImageView<const std::uint8_t> gray, ThreadPool* pool, int want_regions);
   void refine_region(int region, bool local);
   void merge_deferred(int region);
   void process_deferred(int lo, int hi);
@@ -154,6 +172,10 @@ class Tritree {
   // Per-build state.
   ImageView<const std::uint8_t> gray_;
   int rounds_ = 0;
+  BuildTimes times_;
+  bool fell_back_ = false;
+  std::size_t spare_limit_ = 0;            // see limit_spare_slots_for_testing()
+  std::atomic<bool> out_of_slots_{false};  // a region had no free node slot
   std::int64_t criterion_splits_ = 0;    // of the rounds before partition()
   std::int64_t forced_splits_ = 0;
 

@@ -37,16 +37,20 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
 
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
-  nodes_.assign(leaves, Node{});
+  // An eighth more node slots than leaves: the spare that partition() shares
+  // out among the regions.
+  const std::size_t slots = leaves + leaves / 8 + kMaxRegions;
+  nodes_.assign(slots, Node{});
+  spare_limit_ = slots;
   regions_.assign(kMaxRegions, Region{});
   // Per round, each bisection adds one slot of its region and creates two
   // entries there; the region lists are carved from these (see partition()).
-  pending_.assign(2 * leaves, Pending{});
-  created_.assign(2 * leaves, Pending{});
+  pending_.assign(2 * slots, Pending{});
+  created_.assign(2 * slots, Pending{});
   vertex_id_.assign(pixels, -1);
   bucket_.assign(pixels + 1, 0);
   tri_banded_.assign(leaves, Triangle{});
-  new_vertices_.assign(leaves, Vertex{});
+  new_vertices_.assign(slots, Vertex{});
   band_of_row_.assign(static_cast<std::size_t>(max_height), 0);
   band_fill_.assign(static_cast<std::size_t>(kMaxRegions) * kMaxRegions, 0);
 

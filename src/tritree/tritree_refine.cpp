@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cassert>
 
+#include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
 
 #include "src/tritree/tritree.hpp"
@@ -37,9 +38,30 @@ constexpr std::int32_t kPrefetchAhead = 8;
 }  // namespace
 
 void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
-  begin(gray);
+  const std::int64_t t_begin = monotonic_ns();
+  validate_image(gray);
+  times_ = BuildTimes{};
+  fell_back_ = false;
   const int workers = (pool != nullptr) ? pool->size() : 1;
   const int want_regions = workers > 1 ? std::min(kRegionsPerWorker * workers, kMaxRegions) : 1;
+  if (!refine(gray, pool, want_regions)) {
+    // A region ran out of node slots (see partition()); nothing was written
+    // outside the tree's own arrays. One region cannot run out, and the mesh
+    // does not depend on the regions, so the result is the same, only slower.
+    fell_back_ = true;
+    refine(gray, nullptr, 1);
+  }
+  const std::int64_t t_output = monotonic_ns();
+  finish(mesh, pool);
+  times_.rounds_ns = t_output - t_begin;
+  times_.output_ns = monotonic_ns() - t_output;
+}
+
+// The refinement rounds; false when a region ran out of node slots (the tree
+// is then unusable and must be rebuilt).
+bool Tritree::refine(ImageView<const std::uint8_t> gray, ThreadPool* pool, int want_regions) {
+  begin(gray);
+  const int workers = (pool != nullptr) ? pool->size() : 1;
   for (;;) {
     std::int32_t created = 0;
     for (int g = 0; g < region_count_; ++g) created += regions_[g].created_count;
@@ -59,22 +81,28 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
                    : p < q;
       });
       region_chunks_.reset(0, region_count_, 1);
-      pool->run([this, &order](int) {
+      std::atomic<std::int64_t> busy_ns{0};
+      const std::int64_t t_round = monotonic_ns();
+      pool->run([this, &order, &busy_ns](int) {
+        const std::int64_t t_worker = monotonic_ns();
         int g = 0, g_end = 0;
         while (region_chunks_.next(&g, &g_end)) {
           refine_region(order[g], /*local=*/true);
           merge_deferred(order[g]);
         }
+        busy_ns.fetch_add(monotonic_ns() - t_worker, std::memory_order_relaxed);
       });
+      times_.round_idle_ns += (monotonic_ns() - t_round) * workers - busy_ns.load(std::memory_order_relaxed);
     } else {
       // Local even here: a region must not split another's triangles before
       // that region has evaluated them (the split counts would differ).
       for (int g = 0; g < region_count_; ++g) refine_region(g, /*local=*/region_count_ > 1);
       process_deferred(0, region_count_);
     }
+    if (out_of_slots_.load(std::memory_order_relaxed)) return false;
     ++rounds_;
   }
-  finish(mesh, pool);
+  return true;
 }
 
 std::int64_t Tritree::deferred_propagations() const {
@@ -84,8 +112,8 @@ std::int64_t Tritree::deferred_propagations() const {
 }
 
 void Tritree::begin(ImageView<const std::uint8_t> gray) {
-  validate_image(gray);
   gray_ = gray;
+  out_of_slots_.store(false, std::memory_order_relaxed);
   rounds_ = 0;
   criterion_splits_ = 0;
   forced_splits_ = 0;
@@ -189,8 +217,13 @@ void Tritree::process_deferred(int lo, int hi) {
 
 // Cuts the current leaves (slots [0, next_slot) of region 0) into stripes
 // across the longer image side, of nearly equal area, and gives each region
-// enough node slots and list space for any refinement of its stripe: its
-// leaves will always tile its area2 sum, each with area2 >= 2.
+// node slots and list space for its stripe's refinement: area2 / 2 leaves
+// (each leaf has area2 >= 2) plus an equal share of the spare slots. The area
+// bound alone is not enough: the floored midpoint snap moves a sliver of area
+// across the edge it splits, so when the two triangles of a pair belong to two
+// regions, one region's leaves can outgrow its stripe's area. The spare
+// covers that in practice; if a region still runs out, build() redoes the
+// build on one region (Tritree.RegionOutOfSlotsFallsBackToOneRegion).
 void Tritree::partition(int region_count) {
   Region& r0 = regions_[0];
   const std::int32_t n0 = r0.next_slot;
@@ -229,11 +262,17 @@ void Tritree::partition(int region_count) {
   const std::int32_t moved = r0.created_count;
   std::copy(created_.begin(), created_.begin() + moved, pending_.begin());
 
+  std::int64_t area_capacity[kMaxRegions];
+  std::int64_t spare = static_cast<std::int64_t>(nodes_.size()) - n0;
+  for (int g = 0; g < region_count; ++g) {
+    area_capacity[g] = std::max<std::int64_t>(0, area2_of_region[g] / 2 - leaves_of_region[g]);
+    spare -= area_capacity[g];
+  }
+  spare = std::min<std::int64_t>(spare, static_cast<std::int64_t>(spare_limit_));
   std::int32_t slot = n0;
   std::int32_t list = 0;
   for (int g = 0; g < region_count; ++g) {
-    const std::int32_t capacity = static_cast<std::int32_t>(
-        std::max<std::int64_t>(0, area2_of_region[g] / 2 - leaves_of_region[g]));
+    const std::int32_t capacity = static_cast<std::int32_t>(area_capacity[g] + spare / region_count);
     Region& r = regions_[g];
     r = Region{};
     r.slot_begin = r.next_slot = slot;
@@ -259,10 +298,15 @@ void Tritree::partition(int region_count) {
   }
 }
 
+// A free slot of the parent's region, or -1 (and out_of_slots_ set) when the
+// region has none left.
 std::int32_t Tritree::new_slot(std::int32_t parent) {
   const std::uint8_t g = nodes_[parent].region;
   Region& r = regions_[g];
-  assert(r.next_slot < r.slot_end);
+  if (r.next_slot >= r.slot_end) {
+    out_of_slots_.store(true, std::memory_order_relaxed);
+    return -1;
+  }
   const std::int32_t slot = r.next_slot++;
   nodes_[slot].region = g;
   return slot;
@@ -313,15 +357,16 @@ void Tritree::count_split(std::int32_t slot) {
 
 // Bisects leaf t on its longest edge AB together with n (the neighbour across
 // AB, whose longest edge is AB too), or alone when AB is on the border (n < 0).
-// Returns false, changing nothing, when any child would have area2 < 2.
-bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
+// Changes no node when any child would have area2 < 2 (kInvalid) or a region
+// has no free slot (kNoSlot).
+Tritree::Bisect Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
   const Node& nt = nodes_[t];
   const int k = nt.longest;
   const Vertex a = vertex(nt, k), b = vertex(nt, (k + 1) % 3), c = vertex(nt, (k + 2) % 3);
   const std::int32_t n_bc = nt.nb[(k + 1) % 3];
   const std::int32_t n_ca = nt.nb[(k + 2) % 3];
   const Vertex m = snapped_midpoint(a, b);
-  if (!half_bisection_valid(a, b, c, m)) return false;
+  if (!half_bisection_valid(a, b, c, m)) return Bisect::kInvalid;
 
   Vertex d{};
   std::int32_t n_ad = -1, n_db = -1;
@@ -333,18 +378,16 @@ bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
     d = vertex(nn, (j + 2) % 3);
     n_ad = nn.nb[(j + 1) % 3];
     n_db = nn.nb[(j + 2) % 3];
-    if (!half_bisection_valid(b, a, d, m)) return false;
+    if (!half_bisection_valid(b, a, d, m)) return Bisect::kInvalid;
   }
 
+  const std::int32_t t2 = new_slot(t);
+  const std::int32_t n1 = (n >= 0) ? new_slot(n) : -1;
+  if (t2 < 0 || (n >= 0 && n1 < 0)) return Bisect::kNoSlot;
   count_split(t);
+  if (n >= 0) count_split(n);
   Region& owner = regions_[region_of(t)];
   new_vertices_[static_cast<std::size_t>(owner.slot_begin + owner.vertex_count++)] = m;
-  const std::int32_t t2 = new_slot(t);
-  std::int32_t n1 = -1;
-  if (n >= 0) {
-    count_split(n);
-    n1 = new_slot(n);
-  }
   set_node(t, a, m, c, n, t2, n_ca);    // (A, M, C) keeps t's slot
   set_node(t2, m, b, c, n1, n_bc, t);   // (M, B, C)
   replace_link(n_bc, t, t2);
@@ -353,7 +396,7 @@ bool Tritree::bisect_pair(std::int32_t t, std::int32_t n) {
     set_node(n1, b, m, d, t2, n, n_db); // (B, M, D)
     replace_link(n_db, n, n1);
   }
-  return true;
+  return Bisect::kDone;
 }
 
 // Longest-edge propagation from `slot` until the triangle (identified by its
@@ -386,10 +429,12 @@ bool Tritree::process(std::int32_t slot, std::uint32_t birth, int lo, int hi) {
         if (n_db >= 0 && outside(n_db)) return false;
       }
     }
-    if (!bisect_pair(x, n)) {
+    const Bisect result = bisect_pair(x, n);
+    if (result == Bisect::kInvalid) {
       nodes_[slot].blocked = 1;
       return true;
     }
+    if (result == Bisect::kNoSlot) return true;  // build() starts over on one region
   }
   return true;
 }
