@@ -46,7 +46,7 @@ class ThreadPool {
   ThreadPool(const ThreadPool&) = delete;
   ThreadPool& operator=(const ThreadPool&) = delete;
 
-  // Starts num_workers workers (0 = one per entry of `cpus`, or per allowed
+  // Starts num_workers workers (0 = one per entry of `cpus`, or per available
   // CPU when `cpus` is empty). A running pool is stopped first, so restarting
   // with another size or CPU list is just another start().
   // Throws Error(kInvalidArgument) for num_workers outside 0..kMaxWorkers and
