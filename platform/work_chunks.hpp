@@ -14,6 +14,13 @@
 //     int y0, y1;
 //     while (rows.next(&y0, &y1)) { ... rows [y0, y1) ... }
 //   });
+//
+// HomeChunks adds locality: each worker owns a home, a fixed band of the
+// range, and takes its own items first; only then does it help the other
+// homes. Use it when the same items come back run after run (the tritree's
+// regions, round after round): a worker then mostly meets the data it
+// touched last time, still in its own core's caches, while a slow worker is
+// still covered by the others.
 #pragma once
 
 #include <algorithm>
@@ -49,6 +56,56 @@ class WorkChunks {
   alignas(64) std::atomic<int> next_{0};
   alignas(64) int end_ = 0;
   int chunk_ = 1;
+};
+
+// Items [0, count) in homes: home h is the band
+// [h * count / homes, (h + 1) * count / homes). Taken one item at a time.
+//
+//   HomeChunks regions;
+//   regions.reset(region_count, pool.size());  // before run()
+//   pool.run([&](int worker) {
+//     regions.for_each(worker, [&](int i) { ... item i ... });
+//   });
+class HomeChunks {
+ public:
+  static constexpr int kMaxHomes = 64;
+
+  // homes is clamped to 1 .. min(count, kMaxHomes) (at least 1). Not
+  // thread-safe: call it before the run() that hands the items out.
+  void reset(int count, int homes) {
+    count_ = std::max(0, count);
+    homes_ = std::max(1, std::min({homes, count_, kMaxHomes}));
+    for (int h = 0; h < homes_; ++h) {
+      int b = 0, e = 0;
+      home_range(h, &b, &e);
+      chunks_[h].reset(b, e, 1);
+    }
+  }
+
+  int homes() const { return homes_; }
+
+  // Items [*b, *e) of home h (0 <= h < homes()).
+  void home_range(int h, int* b, int* e) const {
+    *b = static_cast<int>(static_cast<long long>(count_) * h / homes_);
+    *e = static_cast<int>(static_cast<long long>(count_) * (h + 1) / homes_);
+  }
+
+  // Calls fn(i) for the items this worker claims: its home's (worker %
+  // homes()), then the next homes' in turn. Every item goes to exactly one
+  // caller. Safe to call from every worker at once.
+  template <class Fn>
+  void for_each(int worker, Fn&& fn) {
+    for (int k = 0; k < homes_; ++k) {
+      WorkChunks& home = chunks_[(worker + k) % homes_];
+      int i = 0, i_end = 0;
+      while (home.next(&i, &i_end)) fn(i);
+    }
+  }
+
+ private:
+  WorkChunks chunks_[kMaxHomes];
+  int count_ = 0;
+  int homes_ = 1;
 };
 
 }  // namespace tristereo

@@ -188,11 +188,12 @@ class Tritree {
   std::int32_t initial_vertices_ = 0;
   std::vector<Region> regions_;          // kMaxRegions, region_count_ in use
   int region_count_ = 1;
-  WorkChunks region_chunks_;             // a parallel round hands regions out
+  HomeChunks region_homes_;              // a parallel round hands regions out, each worker's own first
   // Per merge level and group: how many of the group's two halves are done
   // this round (0 or 1 between rounds).
   std::atomic<int> merge_arrivals_[kMergeLevels][kMaxRegions] = {};
-  WorkChunks finish_chunks_;             // the output hands leaf chunks and bands out
+  HomeChunks chunk_homes_;               // the output hands leaf chunks out, each worker's own first
+  WorkChunks finish_chunks_;             // the output hands bands out
   std::vector<Pending> pending_;         // per region: this round's triangles
   std::vector<Pending> created_;         // per region: triangles created this round
   std::vector<std::int32_t> vertex_id_;  // W x H grid, -1 = no vertex; partition scratch

@@ -71,6 +71,11 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
     ThreadPool::split_range(0, h, parts, part, &y0, &y1);
     std::fill(grid_row(y0), grid_row(y1), -1);
   });
+  // Leaf chunks: one per region, each worker's own regions (its home in the
+  // rounds, see refine()) first, so it reads nodes its core wrote.
+  const bool banded = parts > 1;
+  const int chunks = banded ? region_count_ : 1;
+  chunk_homes_.reset(chunks, parts);
   run([&](int part) {
     const auto mark = [&](const Vertex* v, std::int32_t n) {
       for (std::int32_t i = 0; i < n; ++i) grid_row(v[i].y)[v[i].x] = 0;
@@ -78,7 +83,10 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
     int b = 0, e = 0;
     ThreadPool::split_range(0, initial_vertices_, parts, part, &b, &e);
     mark(new_vertices_.data() + b, e - b);
-    for (int g = part; g < region_count_; g += parts) {
+    int g0 = 0, g1 = 0;
+    if (banded && part < chunk_homes_.homes()) chunk_homes_.home_range(part, &g0, &g1);
+    if (!banded) g1 = region_count_;
+    for (int g = g0; g < g1; ++g) {
       mark(new_vertices_.data() + regions_[g].slot_begin, regions_[g].vertex_count);
     }
     if (part == 0) {
@@ -111,8 +119,6 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   // tri_banded_, and each band is counting-sorted on its own. Chunks and
   // bands are fixed, so any worker may take any of them (on demand, like the
   // rounds) and the output does not depend on who did.
-  const bool banded = parts > 1;
-  const int chunks = banded ? region_count_ : 1;
   const int bands = banded ? std::min(kMaxRegions, kRegionsPerWorker * parts) : 1;
   std::int32_t row_cut[kMaxRegions + 1];  // first row of each band, then h
   for (int b = 0; b < bands; ++b) {
@@ -130,8 +136,7 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   std::int32_t* fill = band_fill_.data();  // fill[chunk * bands + band]
 
   // Vertex ids in raster order; meanwhile, the triangles of each chunk are
-  // counted per band (on demand: they only read the leaves).
-  finish_chunks_.reset(0, banded ? chunks : 0, 1);
+  // counted per band.
   run([&](int part) {
     int y0 = 0, y1 = 0;
     ThreadPool::split_range(0, h, parts, part, &y0, &y1);
@@ -144,15 +149,15 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
         mesh.vertices[id++] = Vertex{x, y};
       }
     }
-    int c = 0, c_end = 0;
-    while (finish_chunks_.next(&c, &c_end)) {
+    if (!banded) return;
+    chunk_homes_.for_each(part, [&](int c) {
       // On the stack while counting: chunks' rows of band_fill_ share cache
       // lines, and an increment per triangle there would make the cores
       // fight over them.
       std::int32_t mine[kMaxRegions] = {};
       for_each_slot_of_part(c, chunks, [&](std::int32_t s) { ++mine[band_of(nodes_[s])]; });
       std::copy(mine, mine + bands, fill + c * bands);
-    }
+    });
   });
   // Counts -> starts, band-major (band b holds chunks 0..chunks-1 in order).
   // One band and chunk: every leaf, in slot order.
@@ -182,15 +187,18 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
       while (finish_chunks_.next(&i, &i_end)) fn(i);
     });
   };
-  on_demand(chunks, [&](int c) {
-    std::int32_t next[kMaxRegions];
-    std::copy(fill + c * bands, fill + (c + 1) * bands, next);
-    for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
-      const Node& n = nodes_[s];
-      Triangle t;
-      for (int j = 0; j < 3; ++j) t[j] = grid_row(n.y[j])[n.x[j]];
-      const int r = (t[1] < t[0] && t[1] < t[2]) ? 1 : (t[2] < t[0] && t[2] < t[1]) ? 2 : 0;
-      tri_banded_[static_cast<std::size_t>(next[band_of(n)]++)] = Triangle{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+  chunk_homes_.reset(chunks, parts);
+  run([&](int part) {
+    chunk_homes_.for_each(part, [&](int c) {
+      std::int32_t next[kMaxRegions];
+      std::copy(fill + c * bands, fill + (c + 1) * bands, next);
+      for_each_slot_of_part(c, chunks, [&](std::int32_t s) {
+        const Node& n = nodes_[s];
+        Triangle t;
+        for (int j = 0; j < 3; ++j) t[j] = grid_row(n.y[j])[n.x[j]];
+        const int r = (t[1] < t[0] && t[1] < t[2]) ? 1 : (t[2] < t[0] && t[2] < t[1]) ? 2 : 0;
+        tri_banded_[static_cast<std::size_t>(next[band_of(n)]++)] = Triangle{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+      });
     });
   });
   on_demand(bands, [&](int b) {

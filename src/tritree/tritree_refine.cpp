@@ -71,25 +71,32 @@ bool Tritree::refine(ImageView<const std::uint8_t> gray, ThreadPool* pool, int w
       partition(want_regions);
     }
     if (region_count_ > 1 && created >= kMinParallelCreated) {
-      // Largest first (by entries to evaluate): the regions taken last are
-      // the small ones, so the workers finish the round close together.
+      // Each worker has a home: a contiguous run of regions, the same every
+      // round, so a region's nodes stay in the caches of the core that
+      // refined it last round. It takes its home regions largest first (by
+      // entries to evaluate), then helps the other homes with what is left
+      // there, so a slow worker or a heavy home delays the round by about
+      // one region.
+      region_homes_.reset(region_count_, workers);
       std::int8_t order[kMaxRegions];
       for (int g = 0; g < region_count_; ++g) order[g] = static_cast<std::int8_t>(g);
-      std::sort(order, order + region_count_, [this](int p, int q) {
-        return regions_[p].created_count != regions_[q].created_count
-                   ? regions_[p].created_count > regions_[q].created_count
-                   : p < q;
-      });
-      region_chunks_.reset(0, region_count_, 1);
+      for (int h = 0; h < region_homes_.homes(); ++h) {
+        int b = 0, e = 0;
+        region_homes_.home_range(h, &b, &e);
+        std::sort(order + b, order + e, [this](int p, int q) {
+          return regions_[p].created_count != regions_[q].created_count
+                     ? regions_[p].created_count > regions_[q].created_count
+                     : p < q;
+        });
+      }
       std::atomic<std::int64_t> busy_ns{0};
       const std::int64_t t_round = monotonic_ns();
-      pool->run([this, &order, &busy_ns](int) {
+      pool->run([this, &order, &busy_ns](int worker) {
         const std::int64_t t_worker = monotonic_ns();
-        int g = 0, g_end = 0;
-        while (region_chunks_.next(&g, &g_end)) {
-          refine_region(order[g], /*local=*/true);
-          merge_deferred(order[g]);
-        }
+        region_homes_.for_each(worker, [this, &order](int i) {
+          refine_region(order[i], /*local=*/true);
+          merge_deferred(order[i]);
+        });
         busy_ns.fetch_add(monotonic_ns() - t_worker, std::memory_order_relaxed);
       });
       times_.round_idle_ns += (monotonic_ns() - t_round) * workers - busy_ns.load(std::memory_order_relaxed);
