@@ -8,7 +8,11 @@
 // (SIMD vs scalar, sparse vs dense, N threads vs 1) come from one run.
 // frame_pair/<scene>/D<d>/<mode>/<kernels>/t1_vs_t<N> alternates frames of a
 // 1-thread and an N-thread pipeline and reports the median of the per-pair
-// speed-ups (counter `speedup`).
+// speed-ups (counter `speedup`). Each pair also runs N independent 1-thread
+// frames at once, one per CPU of the N-thread pool: their throughput over one
+// frame's (counter `ceiling`) is what this machine gives N cores at that
+// moment with no sharing at all, and `of_ceiling` = speedup / ceiling is the
+// part of it the parallel pipeline achieves.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -18,7 +22,9 @@
 #include <string>
 #include <vector>
 
+#include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
+#include "platform/thread_pool.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
@@ -50,9 +56,10 @@ std::vector<Pair> load_pairs() {
   return pairs;
 }
 
-// A pinned pipeline for the pair, configured and warmed up by one frame.
+// A pipeline for the pair (pinned unless `pin` is false), configured and
+// warmed up by one frame.
 std::unique_ptr<Pipeline> warm_pipeline(const Pair* pair, int ndisp, bool dense, KernelChoice k,
-                                        int threads) {
+                                        int threads, bool pin = true) {
   PipelineConfig c;
   c.max_width = pair->left.width;
   c.max_height = pair->left.height;
@@ -60,7 +67,7 @@ std::unique_ptr<Pipeline> warm_pipeline(const Pair* pair, int ndisp, bool dense,
   c.params.dense = dense;
   c.kernels = k;
   c.threads = threads;
-  c.pin_threads = true;
+  c.pin_threads = pin;
   auto pipe = std::make_unique<Pipeline>();
   pipe->configure(c);
   pipe->process(pair->left.view(), pair->right.view());
@@ -103,25 +110,38 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
   // order, they leave its affinity as they found it.
   const std::unique_ptr<Pipeline> many = warm_pipeline(pair, ndisp, dense, k, threads);
   const std::unique_ptr<Pipeline> one = warm_pipeline(pair, ndisp, dense, k, 1);
+  // The ceiling: N unpinned 1-thread pipelines, each run by one worker of a
+  // pool pinned like `many`'s.
+  ThreadPool side_by_side;
+  side_by_side.start(threads, {}, /*pin=*/true);
+  std::vector<std::unique_ptr<Pipeline>> solo;
+  for (int i = 0; i < threads; ++i) solo.push_back(warm_pipeline(pair, ndisp, dense, k, 1, /*pin=*/false));
   // Per pair: total and the three stage groups, 1 thread / N threads.
-  std::vector<double> ms_one, ms_many, ratio, ratio_tritree, ratio_matching, ratio_interp;
-  for (auto* v : {&ms_one, &ms_many, &ratio, &ratio_tritree, &ratio_matching, &ratio_interp})
+  std::vector<double> ms_one, ms_many, ratio, ratio_tritree, ratio_matching, ratio_interp, ceiling, of_ceiling;
+  for (auto* v : {&ms_one, &ms_many, &ratio, &ratio_tritree, &ratio_matching, &ratio_interp, &ceiling, &of_ceiling})
     v->reserve(state.max_iterations);
   const auto frame = [&](Pipeline& pipe) {
     pipe.process(pair->left.view(), pair->right.view());
     return pipe.last_timings();
   };
-  bool one_first = true;
+  const auto frames_side_by_side = [&] {
+    const std::int64_t t0 = monotonic_ns();
+    side_by_side.run([&](int w) { solo[static_cast<std::size_t>(w)]->process(pair->left.view(), pair->right.view()); });
+    return monotonic_ns() - t0;
+  };
+  int turn = 0;
   for (auto _ : state) {
+    // The three in turn in each of three rotations, so none always follows another.
     FrameTimings a, b;
-    if (one_first) {
-      a = frame(*one);
-      b = frame(*many);
-    } else {
-      b = frame(*many);
-      a = frame(*one);
+    std::int64_t together_ns = 0;
+    for (int step = 0; step < 3; ++step) {
+      switch ((turn + step) % 3) {
+        case 0: a = frame(*one); break;
+        case 1: b = frame(*many); break;
+        default: together_ns = frames_side_by_side(); break;
+      }
     }
-    one_first = !one_first;
+    turn = (turn + 1) % 3;
     ms_one.push_back(static_cast<double>(a.total_ns) / 1e6);
     ms_many.push_back(static_cast<double>(b.total_ns) / 1e6);
     const auto r = [](std::int64_t x, std::int64_t y) { return y > 0 ? static_cast<double>(x) / y : 0.0; };
@@ -129,6 +149,8 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
     ratio_tritree.push_back(r(a.tritree_ns, b.tritree_ns));
     ratio_matching.push_back(r(a.cost_aggregation_ns + a.dp_ns, b.cost_aggregation_ns + b.dp_ns));
     ratio_interp.push_back(r(a.interpolation_ns, b.interpolation_ns));
+    ceiling.push_back(r(std::int64_t{threads} * a.total_ns, together_ns));
+    of_ceiling.push_back(r(together_ns, std::int64_t{threads} * b.total_ns));
   }
   const auto median = [](std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -141,6 +163,8 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
   state.counters["speedup_tritree"] = median(ratio_tritree);
   state.counters["speedup_matching"] = median(ratio_matching);
   state.counters["speedup_interp"] = median(ratio_interp);
+  state.counters["ceiling"] = median(ceiling);
+  state.counters["of_ceiling"] = median(of_ceiling);
   state.counters["pairs"] = static_cast<double>(ratio.size());
 }
 

@@ -171,17 +171,22 @@ def main():
         lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
                      "meeting the same moment of the machine. Each run takes the median over its pairs; the "
                      "runs are spread over the whole benchmark run by the random interleaving. Shown: the "
-                     "median of the runs' medians, and their range.\n")
+                     "median of the runs' medians, and their range. Each pair also runs N independent "
+                     "1-thread frames at once, one per pinned CPU: *ceiling* is their throughput over one "
+                     "frame's, what the machine gives N cores at that moment without any sharing, and "
+                     "*of ceiling* is speed-up / ceiling per pair (1.00: the parallel pipeline loses nothing "
+                     "beyond what running N frames side by side costs).\n")
         lines.append("| D | mode | threads | runs x pairs | 1 thread ms | N threads ms | speed-up | range of runs | "
-                     "tritree | matching (cost + DP) | interpolation |")
-        lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
+                     "ceiling | of ceiling | tritree | matching (cost + DP) | interpolation |")
+        lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for name in sorted(pairs):
             runs = pairs[name]
             _, scene, d, mode, kern, tt = name.split("/")[:6]
             m = lambda key: statistics.median(r[key] for r in runs)
-            lines.append("| %s | %s | %s (%s) | %d x %d | %.2f | %.2f | **%.2fx** | %.2f-%.2fx | %.2fx | %.2fx | %s |" % (
+            lines.append("| %s | %s | %s (%s) | %d x %d | %.2f | %.2f | **%.2fx** | %.2f-%.2fx | %.2fx | %.2f | %.2fx | %.2fx | %s |" % (
                 d[1:], mode, tt.split("_t")[-1], kern, len(runs), runs[0]["pairs"], m("t1_ms"), m("tN_ms"),
                 m("speedup"), min(r["speedup"] for r in runs), max(r["speedup"] for r in runs),
+                m("ceiling"), m("of_ceiling"),
                 m("speedup_tritree"), m("speedup_matching"),
                 "%.2fx" % m("speedup_interp") if mode == "sparse" else "-"))
     lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
