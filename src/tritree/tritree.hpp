@@ -13,8 +13,9 @@
 // triangles are processed. build() uses that to run each round on all pool
 // workers: after a few serial rounds the leaves are cut into spatial regions
 // (kRegionsPerWorker per worker), which the workers take on demand each
-// round; refining a region touches only its own nodes, and a propagation
-// that would cross into another region is deferred. Deferred propagations are
+// round, each its own home's first (HomeChunks); refining a region touches
+// only its own nodes, and a propagation that would cross into another region
+// is deferred. Deferred propagations are
 // finished in a binary tree over the regions: when both halves of a group of
 // neighbouring regions are done, the worker that finished last takes up the
 // group's deferred propagations with the whole group as its territory, so
