@@ -10,8 +10,14 @@
 #   TRISTEREO_CROSS_REQUIRE_SIMD  ON (default) fails the configure step if the
 #                               NEON kernels cannot be built, instead of testing
 #                               a scalar-only build
-#   TRISTEREO_CROSS_SKIP_DEPS   1 to skip scripts/install-cross-deps.sh
+#   TRISTEREO_CROSS_SKIP_DEPS   1 to skip scripts/install-cross-deps.sh (the
+#                               test command installs and checks them itself)
+#   TRISTEREO_CROSS_TARGETS     build only these targets (default: everything)
+#   TRISTEREO_CROSS_TEST_REGEX  run only the tests matching it (ctest -R)
+#   TRISTEREO_CROSS_WERROR      ON (default) makes every warning an error
 #
+# Build trees are configured through scripts/configure.sh, which removes a tree
+# that an earlier failed configure left stale instead of building on it.
 # Each target uses its CMake preset (aarch64-release, armhf-release), so the
 # toolchain file and its qemu emulator setting make plain ctest run the ARM
 # binaries. Exit status: 0 only if every target configured, built and passed.
@@ -28,6 +34,9 @@ build_root="${TRISTEREO_CROSS_BUILD_ROOT:-$repo}"
 jobs="${TRISTEREO_CROSS_JOBS:-2}"
 bench="${TRISTEREO_CROSS_BENCH:-OFF}"
 require_simd="${TRISTEREO_CROSS_REQUIRE_SIMD:-ON}"
+werror="${TRISTEREO_CROSS_WERROR:-ON}"
+build_targets="${TRISTEREO_CROSS_TARGETS:-}"
+test_regex="${TRISTEREO_CROSS_TEST_REGEX:-}"
 cd "$repo" || exit 1  # cmake --preset reads CMakePresets.json from here
 
 if [ "${TRISTEREO_CROSS_SKIP_DEPS:-0}" != "1" ]; then
@@ -45,21 +54,24 @@ for t in $targets; do
   status="passed"
   t0=$(now)
   echo "==== $log_prefix: configure ($dir)"
-  if ! cmake --preset "$t-release" -B "$dir" \
-       -DTRISTEREO_BUILD_BENCH="$bench" -DTRISTEREO_REQUIRE_SIMD="$require_simd"; then
+  if ! sh "$repo/scripts/configure.sh" "$dir" --preset "$t-release" \
+       -DTRISTEREO_BUILD_BENCH="$bench" -DTRISTEREO_REQUIRE_SIMD="$require_simd" \
+       -DTRISTEREO_WERROR="$werror"; then
     status="CONFIGURE FAILED"
   fi
   t1=$(now)
   if [ "$status" = "passed" ]; then
-    echo "==== $log_prefix: build"
-    cmake --build "$dir" -j "$jobs" || status="BUILD FAILED"
+    echo "==== $log_prefix: build${build_targets:+ (targets: $build_targets)}"
+    # shellcheck disable=SC2086
+    cmake --build "$dir" -j "$jobs" ${build_targets:+--target $build_targets} || status="BUILD FAILED"
   fi
   t2=$(now)
   tests="-"
   if [ "$status" = "passed" ]; then
-    echo "==== $log_prefix: ctest under qemu"
+    echo "==== $log_prefix: ctest under qemu${test_regex:+ (-R $test_regex)}"
     ctest_log="$dir/cross-ctest.log"
-    ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" 2>&1 | tee "$ctest_log"
+    ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" \
+      ${test_regex:+-R "$test_regex"} 2>&1 | tee "$ctest_log"
     # tee hides ctest's exit status from a POSIX shell; its summary line tells.
     tests=$(grep -E '^[0-9]+% tests passed' "$ctest_log" | tail -n 1)
     case "$tests" in
@@ -75,5 +87,5 @@ for t in $targets; do
 done
 
 echo
-echo "==== cross-test summary (jobs=$jobs, bench=$bench)$summary"
+echo "==== cross-test summary (jobs=$jobs, bench=$bench, werror=$werror)$summary"
 exit "$failed"

@@ -1,8 +1,10 @@
 #!/bin/sh
-# The main job on a built-in default, on a fresh Debian 12 machine:
-# installs dependencies, builds, then runs `tristereo demo` (synthetic scene with
-# exact ground truth -> sparse and dense DP, scores, reference check, files in
-# demo-out/) and, when ../shared/data is present, `tristereo match` on Tsukuba.
+# The main job on a built-in default, on a fresh Debian 12 machine: installs
+# what it needs (scripts/build.sh: compiler, CMake, libraries; no test
+# frameworks, no plotting), builds build/tristereo, then runs `tristereo demo`
+# (synthetic scene with exact ground truth -> sparse and dense DP, scores,
+# reference check, files in demo-out/) and, when ../shared/data is present,
+# `tristereo match` on Tsukuba.
 set -eu
 cd "$(dirname "$0")/.."
 scripts/build.sh

@@ -1,24 +1,82 @@
 #!/bin/sh
-# Installs every Debian package the build, tests, benchmarks and docs need.
-# Usage: scripts/install-deps.sh [--cross]   (--cross adds ARM cross compilers, qemu
-# and the arm64/armhf multiarch target libraries)
+# Installs the Debian 12 packages a job needs, then checks that everything it
+# promises is there (exit 1 naming what is missing). Works on a minimal root
+# (debootstrap --variant=minbase): it brings the compiler, make, CMake and
+# pkg-config too. Runs as root, or through sudo.
+#
+# Usage: scripts/install-deps.sh [PROFILE...]     (default: main)
+#   main   building the library and the tristereo program (scripts/demo.sh):
+#          g++, make, CMake, pkg-config, Eigen, xsimd, libpng, zlib, libgpiod
+#   test   main + what scripts/test.sh builds and runs: GoogleTest, Google
+#          Benchmark (the benchmarks are built so they cannot rot), shellcheck
+#   cross  test + the ARM cross compilers, qemu-user and the arm64/armhf target
+#          libraries (scripts/install-cross-deps.sh all)
+#   plot   python3 with matplotlib and NumPy (scripts/plot_latency.py and the
+#          plots of scripts/results.py)
 set -eu
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-PKGS="build-essential cmake pkg-config libeigen3-dev libxsimd-dev libpng-dev zlib1g-dev
-      libgpiod-dev googletest libgtest-dev libbenchmark-dev python3 python3-matplotlib"
-missing=""
-for p in $PKGS; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+here=$(cd "$(dirname "$0")" && pwd)
+deps_name="install-deps"
+# shellcheck source=scripts/deps-lib.sh
+. "$here/deps-lib.sh"
+
+main=0 test=0 cross=0 plot=0
+[ $# -eq 0 ] && main=1
+for arg in "$@"; do
+  case "$arg" in
+    main) main=1 ;;
+    test) main=1 test=1 ;;
+    cross|--cross) main=1 test=1 cross=1 ;;
+    plot) plot=1 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    *) echo "install-deps: unknown profile '$arg' (expected main, test, cross or plot)" >&2; exit 2 ;;
+  esac
 done
-if [ -n "$missing" ]; then
-  export DEBIAN_FRONTEND=noninteractive
-  # A partial index failure (e.g. a foreign-architecture mirror) must not stop
-  # the install when the packages we need are reachable.
-  $SUDO apt-get update -q || echo "install-deps: apt-get update reported errors; trying the install anyway" >&2
-  # shellcheck disable=SC2086
-  $SUDO apt-get install -y -q --no-install-recommends $missing
+
+pkgs=""
+profiles=""
+if [ "$main" -eq 1 ]; then
+  pkgs="$pkgs g++ make cmake pkg-config libeigen3-dev libxsimd-dev libpng-dev zlib1g-dev libgpiod-dev"
+  profiles="$profiles main"
 fi
-if [ "${1:-}" = "--cross" ]; then
-  exec "$(dirname "$0")/install-cross-deps.sh"
+if [ "$test" -eq 1 ]; then
+  # googletest: the sources the suite builds for every target (/usr/src/googletest).
+  pkgs="$pkgs googletest libgtest-dev libgmock-dev libbenchmark-dev shellcheck"
+  profiles="$profiles test"
+fi
+if [ "$plot" -eq 1 ]; then
+  pkgs="$pkgs python3 python3-matplotlib python3-numpy"
+  profiles="$profiles plot"
+fi
+# shellcheck disable=SC2086
+deps_install $pkgs
+
+# ---------------------------------------------------------------- what was promised
+# shellcheck disable=SC2086
+deps_need_pkg $pkgs
+if [ "$main" -eq 1 ]; then
+  deps_need_cmd g++ "C++ compiler"
+  deps_need_cmd make "build tool"
+  deps_need_cmd cmake "build system"
+  deps_need_cmd pkg-config "library lookup"
+  deps_need_file /usr/share/eigen3/cmake/Eigen3Config.cmake "Eigen's CMake package"
+  deps_need_file /usr/include/xsimd/xsimd.hpp "xsimd headers"
+  deps_need_file /usr/include/png.h "libpng headers"
+  deps_need_file /usr/include/zlib.h "zlib headers"
+  deps_need_file /usr/include/gpiod.h "libgpiod v1 headers"
+fi
+if [ "$test" -eq 1 ]; then
+  deps_need_file /usr/src/googletest/CMakeLists.txt "GoogleTest sources"
+  deps_need_file /usr/include/benchmark/benchmark.h "Google Benchmark headers"
+  deps_need_cmd shellcheck "script linter"
+fi
+if [ "$plot" -eq 1 ]; then
+  deps_need_cmd python3 "Python"
+  if ! python3 -c 'import matplotlib, numpy' 2>/dev/null; then
+    deps_problem "python3 modules matplotlib and numpy"
+  fi
+fi
+deps_verify "profiles:$profiles"
+
+if [ "$cross" -eq 1 ]; then
+  exec "$here/install-cross-deps.sh" all
 fi

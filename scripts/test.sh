@@ -1,21 +1,185 @@
 #!/bin/sh
-# The test command: on a fresh Debian 12 machine, installs what it needs, builds
-# and runs every test:
-#   1. native Release build, the whole GoogleTest suite (ctest);
-#   2. the whole suite again with each kernel set forced (TRISTEREO_KERNELS);
-#   3. the thread-pool tests under ThreadSanitizer;
-#   4. the whole suite cross-built for aarch64 and armhf, run under qemu-user.
-# Set TRISTEREO_SKIP_CROSS=1 to skip step 4 (e.g. on a machine without qemu).
-set -eu
-cd "$(dirname "$0")/.."
+# The test command: on a fresh Debian 12 machine (as root, or with sudo),
+# installs what it needs, builds and runs every test. Stages, in order:
+#   install      scripts/install-deps.sh test (+ cross: the ARM compilers,
+#                qemu-user and the target libraries)
+#   lint         shellcheck on every script in scripts/ and .ci/
+#   build        native Release build with warnings as errors (library,
+#                program, tests, benchmarks)
+#   ctest        the whole GoogleTest suite (kernel sets chosen at run time)
+#   kernels-SET  the whole suite again with TRISTEREO_KERNELS=SET forced, for
+#                every set this build compiled and this CPU runs
+#   tsan         the thread-pool, tritree and pipeline thread tests under
+#                ThreadSanitizer (scripts/tsan-test.sh)
+#   aarch64, armhf  the whole suite cross-built (warnings as errors) and run
+#                under qemu-user (scripts/cross-test.sh)
+# Every stage prints what it ran and its counts; the command ends with one
+# summary line per stage and exits non-zero if any stage failed.
+#
+# Environment:
+#   TRISTEREO_SKIP_CROSS=1   leave out the ARM stages (e.g. no qemu wanted)
+#   TRISTEREO_TEST_SUBSET=exactness   the fresh-root job's subset: build the
+#                exactness tests only and run them natively and on each ARM
+#                target (no kernel-set reruns, no TSan)
+#   TRISTEREO_ALLOW_MISSING_DATA=1   tests that need ../shared/data skip
+#                instead of failing when it is absent
+set -u
+cd "$(dirname "$0")/.." || exit 1
 jobs=$(nproc)
-scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j"$jobs"
-ctest --test-dir build --output-on-failure -j"$jobs"
-if [ -x scripts/kernel-sets-test.sh ]; then scripts/kernel-sets-test.sh build; fi
-if [ -x scripts/tsan-test.sh ]; then scripts/tsan-test.sh; fi
-if [ "${TRISTEREO_SKIP_CROSS:-0}" != "1" ] && [ -x scripts/cross-test.sh ]; then
-  scripts/cross-test.sh all
+subset="${TRISTEREO_TEST_SUBSET:-all}"
+case "$subset" in
+  all|exactness) ;;
+  *) echo "test: TRISTEREO_TEST_SUBSET='$subset' (expected all or exactness)" >&2; exit 2 ;;
+esac
+cross=1
+[ "${TRISTEREO_SKIP_CROSS:-0}" = "1" ] && cross=0
+
+# The exactness tests: integer path == float reference, SIMD == scalar, golden
+# digests (which the ARM builds must reproduce), identical for any thread count.
+exact_targets="simd_kernels_test match_reference_test pipeline_reference_test golden_digest_test tritree_reference_test interp_test pipeline_threads_test"
+exact_regex='^(SimdKernels|KernelSets|MatchReference|RandomBitExact|SyntheticBitExact|All/MiddleburyBitExact|GoldenDigest|TritreeReference|Interpolate|PipelineThreads)'
+
+summary=""
+failed=0
+passed=0
+log_dir=$(mktemp -d)
+trap 'rm -rf "$log_dir"' EXIT
+
+skipped=0
+# record NAME STATUS SECONDS DETAIL   (STATUS: passed, FAILED or skipped)
+record() {
+  summary="$summary
+  $(printf '%-14s %-7s %5s s  %s' "$1" "$2" "$3" "$4")"
+  case "$2" in
+    passed) passed=$((passed + 1)) ;;
+    skipped) skipped=$((skipped + 1)) ;;
+    *) failed=$((failed + 1)) ;;
+  esac
+}
+
+# run_logged LOG COMMAND...: runs COMMAND with its output shown live and kept
+# in LOG; sets rc to its exit status (a plain pipe into tee would lose it).
+run_logged() {
+  _log=$1
+  shift
+  rm -f "$_log.rc"
+  { "$@" 2>&1; echo $? >"$_log.rc"; } | tee "$_log"
+  rc=$(cat "$_log.rc" 2>/dev/null || echo 1)
+}
+
+# ctest_counts LOG: ctest's closing line, or a note that it printed none.
+ctest_counts() {
+  line=$(grep -E '^[0-9]+% tests passed' "$1" | tail -n 1)
+  echo "${line:-no ctest summary}"
+}
+
+# run_ctest NAME ctest-args...: one ctest stage, counted from its summary line.
+run_ctest() {
+  name=$1
+  shift
+  echo "==== test: $name: ctest $*"
+  t0=$(date +%s)
+  log="$log_dir/$name.log"
+  run_logged "$log" ctest --output-on-failure --no-tests=error "$@"
+  counts=$(ctest_counts "$log")
+  status=passed
+  [ "$rc" -eq 0 ] || status=FAILED
+  record "$name" "$status" $(($(date +%s) - t0)) "$counts"
+}
+
+finish() {
+  echo
+  echo "==== test: summary (subset: $subset)$summary"
+  echo "stages: $passed passed, $failed failed, $skipped skipped"
+  [ "$failed" -eq 0 ] || exit 1
+  exit 0
+}
+
+# ---------------------------------------------------------------- install
+t0=$(date +%s)
+profile="test"
+[ "$cross" -eq 1 ] && profile=cross
+echo "==== test: install: scripts/install-deps.sh $profile"
+if scripts/install-deps.sh "$profile"; then
+  record install passed $(($(date +%s) - t0)) "profile $profile"
+else
+  record install FAILED $(($(date +%s) - t0)) "scripts/install-deps.sh $profile (its message above names what is missing)"
+  finish
 fi
-echo "tristereo: all tests passed"
+
+# ---------------------------------------------------------------- shellcheck
+t0=$(date +%s)
+scripts_checked=$(find scripts .ci -type f \( -name '*.sh' -o -path '.ci/run' \) | sort)
+n=$(echo "$scripts_checked" | wc -l)
+echo "==== test: lint: shellcheck on $n scripts"
+# shellcheck disable=SC2086
+if shellcheck -x $scripts_checked; then
+  record lint passed $(($(date +%s) - t0)) "$n scripts clean"
+else
+  record lint FAILED $(($(date +%s) - t0)) "$n scripts, findings above"
+fi
+
+# ---------------------------------------------------------------- native build
+t0=$(date +%s)
+echo "==== test: build: native Release, -DTRISTEREO_WERROR=ON"
+build_targets=""
+if [ "$subset" = "exactness" ]; then
+  build_targets="--target $exact_targets"
+fi
+# shellcheck disable=SC2086
+if scripts/configure.sh build -S . -DCMAKE_BUILD_TYPE=Release -DTRISTEREO_WERROR=ON \
+     -DTRISTEREO_BUILD_TESTS=ON -DTRISTEREO_BUILD_BENCH=ON -DTRISTEREO_BUILD_APPS=ON &&
+   cmake --build build -j"$jobs" $build_targets; then
+  record build passed $(($(date +%s) - t0)) "build/ ($subset)"
+  if [ "$subset" = "exactness" ]; then
+    run_ctest ctest --test-dir build -j"$jobs" -R "$exact_regex"
+  else
+    run_ctest ctest --test-dir build -j"$jobs"
+    # ---------------------------------------------------------- kernel sets
+    sets=$(build/tristereo info 2>/dev/null | sed -n 's/^kernel sets available on this CPU: *//p')
+    if [ -z "$sets" ]; then
+      record kernels FAILED 0 "'build/tristereo info' printed no 'kernel sets available on this CPU' line"
+    fi
+    for set in $sets; do
+      TRISTEREO_KERNELS=$set
+      export TRISTEREO_KERNELS
+      run_ctest "kernels-$set" --test-dir build -j"$jobs"
+    done
+    unset TRISTEREO_KERNELS
+  fi
+else
+  record build FAILED $(($(date +%s) - t0)) "configure or build of build/ failed (see above)"
+fi
+
+# ---------------------------------------------------------------- ThreadSanitizer
+if [ "$subset" = "all" ]; then
+  t0=$(date +%s)
+  echo "==== test: tsan: scripts/tsan-test.sh"
+  run_logged "$log_dir/tsan.log" scripts/tsan-test.sh
+  status=passed
+  [ "$rc" -eq 0 ] || status=FAILED
+  record tsan "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/tsan.log")"
+fi
+
+# ---------------------------------------------------------------- ARM under qemu
+if [ "$cross" -eq 1 ]; then
+  for t in aarch64 armhf; do
+    t0=$(date +%s)
+    echo "==== test: $t: scripts/cross-test.sh $t"
+    if [ "$subset" = "exactness" ]; then
+      export TRISTEREO_CROSS_TARGETS="$exact_targets" TRISTEREO_CROSS_TEST_REGEX="$exact_regex"
+    fi
+    export TRISTEREO_CROSS_SKIP_DEPS=1  # the install stage did it, and checked it
+    run_logged "$log_dir/$t.log" scripts/cross-test.sh "$t"
+    status=passed
+    [ "$rc" -eq 0 ] || status=FAILED
+    detail=$(sed -n "s/^  $t: //p" "$log_dir/$t.log" | tail -n 1)
+    record "$t" "$status" $(($(date +%s) - t0)) "${detail:-no cross-test summary}"
+  done
+else
+  echo "==== test: ARM stages left out (TRISTEREO_SKIP_CROSS=1)"
+  record aarch64 skipped 0 "TRISTEREO_SKIP_CROSS=1: not built, not run"
+  record armhf skipped 0 "TRISTEREO_SKIP_CROSS=1: not built, not run"
+fi
+
+finish

@@ -14,6 +14,7 @@
 #include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
+#include "support/data.hpp"
 
 namespace fs = std::filesystem;
 
@@ -112,9 +113,10 @@ TEST(Eval, BadInput) {
   EXPECT_EQ(code_of([&] { evaluate_disparity({}, cview(f.gt), {}); }), ErrorCode::kInvalidArgument);
 }
 
-std::string middlebury() { return std::string(TRISTEREO_DATA_DIR) + "/middlebury"; }
+std::string middlebury() { return test::data_set_dir("middlebury"); }
 
 TEST(Eval, DatasetsTsvAndMiddleburyGroundTruth) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
   const std::vector<MiddleburyScene> s = read_datasets_tsv(middlebury() + "/datasets.tsv");
   ASSERT_EQ(s.size(), 4u);
   EXPECT_EQ(s[0].name, "tsukuba");

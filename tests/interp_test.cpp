@@ -15,6 +15,7 @@
 #include "tristereo/io.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
+#include "support/data.hpp"
 
 namespace tristereo {
 namespace {
@@ -190,12 +191,12 @@ TEST(Interpolate, EqualsReferenceOnRandomMeshesAndAnyTriangleBands) {
 }
 
 TEST(Interpolate, EqualsReferenceOnTritreeMeshesOfMiddlebury) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
   // Real meshes: slanted edges of every length, long thin triangles, border
   // vertices everywhere. Disparities are random, so every pixel is rounded.
   std::mt19937 rng(6);
   for (const char* scene : {"tsukuba", "cones"}) {
-    const ImageU8 gray = to_gray(read_image_u8(std::string(TRISTEREO_DATA_DIR) + "/middlebury/" +
-                                               scene + "/left.png"));
+    const ImageU8 gray = to_gray(read_image_u8(test::data_set_dir("middlebury") + "/" + scene + "/left.png"));
     for (int area : {16, 100, 1024}) {
       TritreeParams tp;
       tp.max_area_px2 = area;

@@ -24,6 +24,7 @@
 #include "tristereo/eval.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
+#include "support/data.hpp"
 
 namespace fs = std::filesystem;
 
@@ -89,6 +90,24 @@ ImageView<const T> cview(const Image<T>& img) {
 
 // Writes an arbitrary PNG variant with libpng directly (the library under test
 // only writes 8-bit gray/RGB and 16-bit gray).
+// libpng's errors longjmp back into this frame, which changes no local after
+// setjmp (a local assigned after it would be indeterminate there: -Wclobbered).
+bool write_png_body(png_structp png, png_infop info, std::FILE* f, int w, int h, int bit_depth,
+                    int color_type, png_bytep* rows, bool interlace,
+                    const std::vector<png_color>& palette, const std::vector<png_byte>& trns) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_init_io(png, f);
+  png_set_IHDR(png, info, w, h, bit_depth, color_type,
+               interlace ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  if (!palette.empty()) png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
+  if (!trns.empty()) png_set_tRNS(png, info, trns.data(), static_cast<int>(trns.size()), nullptr);
+  png_write_info(png, info);
+  png_write_image(png, rows);
+  png_write_end(png, nullptr);
+  return true;
+}
+
 bool write_png_raw(const std::string& p, int w, int h, int bit_depth, int color_type,
                    const std::vector<std::vector<std::uint8_t>>& rows, bool interlace,
                    const std::vector<png_color>& palette, const std::vector<png_byte>& trns) {
@@ -98,19 +117,8 @@ bool write_png_raw(const std::string& p, int w, int h, int bit_depth, int color_
   png_infop info = png_create_info_struct(png);
   std::vector<png_bytep> ptrs;
   for (const auto& r : rows) ptrs.push_back(const_cast<png_bytep>(r.data()));
-  bool ok = false;
-  if (!setjmp(png_jmpbuf(png))) {
-    png_init_io(png, f);
-    png_set_IHDR(png, info, w, h, bit_depth, color_type,
-                 interlace ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    if (!palette.empty()) png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
-    if (!trns.empty()) png_set_tRNS(png, info, trns.data(), static_cast<int>(trns.size()), nullptr);
-    png_write_info(png, info);
-    png_write_image(png, ptrs.data());
-    png_write_end(png, nullptr);
-    ok = true;
-  }
+  const bool ok = write_png_body(png, info, f, w, h, bit_depth, color_type, ptrs.data(), interlace,
+                                 palette, trns);
   png_destroy_write_struct(&png, &info);
   std::fclose(f);
   return ok;
@@ -357,7 +365,8 @@ TEST_F(IoTest, PngPaletteAlphaAndLowBitDepthsAreConverted) {
 // ------------------------------------------------------------------ Middlebury
 
 TEST_F(IoTest, ReadsEveryMiddleburyPng) {
-  const std::string root = std::string(TRISTEREO_DATA_DIR) + "/middlebury";
+  TRISTEREO_REQUIRE_MIDDLEBURY();
+  const std::string root = test::data_set_dir("middlebury");
   const std::vector<MiddleburyScene> scenes = read_datasets_tsv(root + "/datasets.tsv");
   ASSERT_EQ(scenes.size(), 4u);
   int files = 0;
@@ -393,7 +402,8 @@ TEST_F(IoTest, ReadsEveryMiddleburyPng) {
 }
 
 TEST_F(IoTest, MiddleburyPngSurvivesPnmAndPngRewrites) {
-  const ImageU8 left = read_image_u8(std::string(TRISTEREO_DATA_DIR) + "/middlebury/venus/left.png");
+  TRISTEREO_REQUIRE_MIDDLEBURY();
+  const ImageU8 left = read_image_u8(test::data_set_dir("middlebury") + "/venus/left.png");
   write_ppm(path("v.ppm"), cview(left));
   write_png_u8(path("v.png"), cview(left));
   // 434 x 383 x 3 bytes of pixels after a 15-byte header, as the README says.

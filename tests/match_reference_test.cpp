@@ -17,6 +17,7 @@
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/kernels.hpp"
+#include "support/data.hpp"
 
 namespace tristereo {
 namespace {
@@ -75,7 +76,7 @@ struct Scene {
 };
 
 std::vector<Scene> read_scenes() {
-  std::ifstream in(std::string(TRISTEREO_DATA_DIR) + "/middlebury/datasets.tsv");
+  std::ifstream in(test::data_set_dir("middlebury") + "/datasets.tsv");
   std::vector<Scene> scenes;
   std::string line;
   std::getline(in, line);  // header
@@ -89,11 +90,12 @@ std::vector<Scene> read_scenes() {
 }
 
 TEST_P(MatchReference, MiddleburyRowsAreBitExact) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
   const std::vector<Scene> scenes = read_scenes();
-  ASSERT_EQ(scenes.size(), 4u) << "Middlebury data not found under " << TRISTEREO_DATA_DIR;
+  ASSERT_EQ(scenes.size(), 4u) << "datasets.tsv under " << test::data_set_dir("middlebury");
   std::mt19937 rng(2024);
   for (const Scene& scene : scenes) {
-    const std::string dir = std::string(TRISTEREO_DATA_DIR) + "/middlebury/" + scene.name;
+    const std::string dir = test::data_set_dir("middlebury") + "/" + scene.name;
     const ImageU8 left = to_gray(read_image_u8(dir + "/left.png"));
     const ImageU8 right = to_gray(read_image_u8(dir + "/right.png"));
     const int w = left.width, h = left.height;

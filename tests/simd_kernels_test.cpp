@@ -20,6 +20,7 @@
 
 #include "src/kernels/dispatch.hpp"
 #include "src/kernels/kernel_set.hpp"
+#include "support/data.hpp"
 #include "support/kernel_param.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
@@ -483,8 +484,6 @@ TEST_P(SimdKernels, DpPointerU16EveryK) {
 
 // ---------------------------------------------------------------- Middlebury rows
 
-std::string data_dir() { return TRISTEREO_DATA_DIR; }
-
 // Gray by the model's BT.601 Q8 rule (docs/model.md section 0).
 std::vector<std::uint8_t> gray_of(const ImageU8& img) {
   std::vector<std::uint8_t> g(static_cast<std::size_t>(img.width) * img.height);
@@ -501,19 +500,13 @@ std::vector<std::uint8_t> gray_of(const ImageU8& img) {
 }
 
 TEST_P(SimdKernels, MiddleburyRowsThroughAggregationAndDp) {
+  TRISTEREO_REQUIRE_MIDDLEBURY();
   const char* kSets[] = {"tsukuba", "venus", "teddy", "cones"};
   constexpr int kHalf = 2;  // 5x5 window
   for (const char* name : kSets) {
-    const std::string dir = data_dir() + "/middlebury/" + name;
-    ImageU8 left_img, right_img;
-    try {
-      left_img = read_image_u8(dir + "/left.png");
-      right_img = read_image_u8(dir + "/right.png");
-    } catch (const Error& e) {
-      const char* allow = std::getenv("TRISTEREO_ALLOW_MISSING_DATA");
-      if (allow && std::string(allow) == "1") GTEST_SKIP() << "no Middlebury data: " << e.what();
-      FAIL() << "cannot read " << dir << ": " << e.what();
-    }
+    const std::string dir = test::data_set_dir("middlebury") + "/" + name;
+    const ImageU8 left_img = read_image_u8(dir + "/left.png");
+    const ImageU8 right_img = read_image_u8(dir + "/right.png");
     const int w = left_img.width, h = left_img.height;
     const std::vector<std::uint8_t> L = gray_of(left_img), R = gray_of(right_img);
     auto at = [w, h](const std::vector<std::uint8_t>& img, int x, int y) {

@@ -449,15 +449,14 @@ TEST(Tritree, BuildTimesCoverRoundsIdleAndOutput) {
 TEST(Tritree, IdenticalForAnyThreadCount) {
   // The criterion runs in parallel chunks; the mesh must not depend on the
   // worker count (1, 2, 3, 8 workers, unpinned) nor differ from a pool-less build.
+  TRISTEREO_REQUIRE_MIDDLEBURY();
   std::vector<ImageU8> images;
   SynthParams sp;
   sp.width = 320;
   sp.height = 240;
   images.push_back(make_synthetic_scene(sp).left);
-  if (test::middlebury_available()) {
-    for (const std::string& name : test::middlebury_names()) {
-      images.push_back(to_gray(test::load_middlebury(name).left));
-    }
+  for (const std::string& name : test::middlebury_names()) {
+    images.push_back(to_gray(test::load_middlebury(name).left));
   }
   Rng rng(31);
   for (int i = 0; i < 4; ++i) images.push_back(mixed_image(rng, rng.uniform(40, 200), rng.uniform(40, 200)));

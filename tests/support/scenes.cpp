@@ -2,18 +2,15 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <filesystem>
 
 #include "tristereo/eval.hpp"
 #include "tristereo/io.hpp"
 
 namespace tristereo::test {
 
-std::string middlebury_dir() { return std::string(TRISTEREO_DATA_DIR) + "/middlebury"; }
+std::string middlebury_dir() { return data_set_dir("middlebury"); }
 
-bool middlebury_available() {
-  return std::filesystem::exists(middlebury_dir() + "/datasets.tsv");
-}
+bool middlebury_available() { return data_set_available("middlebury"); }
 
 std::vector<std::string> middlebury_names() { return {"tsukuba", "venus", "teddy", "cones"}; }
 

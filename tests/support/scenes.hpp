@@ -7,6 +7,7 @@
 
 #include "tristereo/image.hpp"
 #include "tristereo/params.hpp"
+#include "support/data.hpp"
 
 namespace tristereo::test {
 
@@ -19,8 +20,8 @@ struct MiddleburyPair {
   ImageU8 nonocc, all;      // 255 = evaluated
 };
 
-// Root of ../shared/data/middlebury. When it is missing the tests that need it
-// fail, unless TRISTEREO_ALLOW_MISSING_DATA=1 makes them skip (a fresh clone).
+// Root of ../shared/data/middlebury. Tests that need it start with
+// TRISTEREO_REQUIRE_MIDDLEBURY() (support/data.hpp: the rule for missing data).
 std::string middlebury_dir();
 bool middlebury_available();
 std::vector<std::string> middlebury_names();  // tsukuba venus teddy cones
@@ -52,14 +53,3 @@ ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise);
 StereoParams random_params(Rng& rng, int max_ndisp);
 
 }  // namespace tristereo::test
-
-// Skips (with TRISTEREO_ALLOW_MISSING_DATA=1) or fails when the shared data is absent.
-#define TRISTEREO_REQUIRE_MIDDLEBURY()                                                   \
-  do {                                                                                   \
-    if (!::tristereo::test::middlebury_available()) {                                    \
-      const char* allow = std::getenv("TRISTEREO_ALLOW_MISSING_DATA");                   \
-      if (allow && std::string(allow) == "1") GTEST_SKIP() << "no ../shared/data";       \
-      FAIL() << "Middlebury data not found at " << ::tristereo::test::middlebury_dir()   \
-             << " (set TRISTEREO_ALLOW_MISSING_DATA=1 to skip)";                         \
-    }                                                                                    \
-  } while (0)
