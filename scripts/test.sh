@@ -3,7 +3,7 @@
 # installs what it needs, builds and runs every test. Stages, in order:
 #   install      scripts/install-deps.sh test (+ cross: the ARM compilers,
 #                qemu-user and the target libraries)
-#   lint         shellcheck on every script in scripts/ and .ci/
+#   lint         shellcheck on every script in scripts/, .ci/ and tests/
 #   build        native Release build with warnings as errors (library,
 #                program, tests, benchmarks)
 #   ctest        the whole GoogleTest suite (kernel sets chosen at run time)
@@ -109,7 +109,7 @@ fi
 
 # ---------------------------------------------------------------- shellcheck
 t0=$(date +%s)
-scripts_checked=$(find scripts .ci -type f \( -name '*.sh' -o -path '.ci/run' \) | sort)
+scripts_checked=$(find scripts .ci tests -type f \( -name '*.sh' -o -path '.ci/run' \) | sort)
 n=$(echo "$scripts_checked" | wc -l)
 echo "==== test: lint: shellcheck on $n scripts"
 # shellcheck disable=SC2086

@@ -5,7 +5,13 @@
 
 namespace tristereo::test {
 
-std::string data_root() { return TRISTEREO_DATA_DIR; }
+std::string data_root() {
+  // The environment may point elsewhere (data kept outside the checkout's
+  // parent, or a test of this very rule); else the folder the build was
+  // configured with.
+  const char* env = std::getenv("TRISTEREO_DATA_DIR");
+  return env != nullptr && *env != '\0' ? env : TRISTEREO_DATA_DIR;
+}
 
 std::string data_set_dir(const std::string& set) { return data_root() + "/" + set; }
 

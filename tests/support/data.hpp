@@ -14,7 +14,7 @@
 
 namespace tristereo::test {
 
-std::string data_root();                          // the ../shared/data the build was configured with
+std::string data_root();  // $TRISTEREO_DATA_DIR, else the ../shared/data the build was configured with
 std::string data_set_dir(const std::string& set);  // data_root() + "/" + set
 bool data_set_available(const std::string& set);   // its datasets.tsv is readable
 bool missing_data_allowed();                      // TRISTEREO_ALLOW_MISSING_DATA=1
