@@ -1,6 +1,7 @@
 #include "src/io/file_util.hpp"
 
 #include <cctype>
+#include <charconv>
 #include <cerrno>
 #include <cstring>
 #include <memory>
@@ -74,6 +75,18 @@ std::string lower_extension(const std::string& path) {
   std::string ext = path.substr(dot);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
+}
+
+void append_float_le(std::string& out, float f) {
+  std::uint32_t u;
+  std::memcpy(&u, &f, 4);
+  for (int i = 0; i < 4; ++i) out += static_cast<char>((u >> (8 * i)) & 0xff);
+}
+
+void append_float_text(std::string& out, float f) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), f);
+  out.append(buf, r.ptr);
 }
 
 OutputFile::OutputFile(const std::string& path) : path_(path) {

@@ -20,6 +20,11 @@ std::vector<std::uint8_t> read_file_bytes(const std::string& path);
 // kCorruptFile when a side is < 1. `what` prefixes the message.
 void check_read_size(std::int64_t width, std::int64_t height, const std::string& what);
 
+// PLY payload helpers: a float as 4 little-endian bytes; the shortest text
+// that reads back to the same float, independent of the locale.
+void append_float_le(std::string& out, float f);
+void append_float_text(std::string& out, float f);
+
 // Lower-case extension including the dot ("" when none).
 std::string lower_extension(const std::string& path);
 

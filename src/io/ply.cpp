@@ -69,22 +69,9 @@ void check_inputs(const Mesh& mesh, const std::vector<std::int16_t>& disp,
   }
 }
 
-void append_float_le(std::string& out, float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  for (int i = 0; i < 4; ++i) out += static_cast<char>((u >> (8 * i)) & 0xff);
-}
-
 void append_int_le(std::string& out, std::int32_t v) {
   const auto u = static_cast<std::uint32_t>(v);
   for (int i = 0; i < 4; ++i) out += static_cast<char>((u >> (8 * i)) & 0xff);
-}
-
-// Shortest text that reads back to the same float, independent of the locale.
-void append_float_text(std::string& out, float f) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), f);
-  out.append(buf, r.ptr);
 }
 
 }  // namespace

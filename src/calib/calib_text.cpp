@@ -1,0 +1,85 @@
+#include "src/calib/calib_text.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+namespace tristereo::calib_detail {
+
+std::vector<Line> read_lines(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot open it");
+  f.seekg(0, std::ios::end);
+  const long long size = static_cast<long long>(f.tellg());
+  if (size < 0) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot read it");
+  if (size > kMaxCalibBytes)
+    throw Error(ErrorCode::kUnsupportedFormat,
+                "calibration file '" + path + "': " + std::to_string(size) +
+                    " bytes is not a calibration file (at most " + std::to_string(kMaxCalibBytes) +
+                    " bytes are read)");
+  f.seekg(0);
+  std::vector<Line> lines;
+  std::string text;
+  int n = 0;
+  while (std::getline(f, text)) {
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    lines.push_back({++n, text});
+  }
+  if (f.bad()) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': read error");
+  return lines;
+}
+
+std::string trim(const std::string& s) {
+  const std::size_t b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  const std::size_t e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+void fail(ErrorCode code, const std::string& path, int line, const std::string& key,
+          const std::string& what) {
+  std::string where = "calibration file '" + path + "'";
+  if (line > 0) where += ", line " + std::to_string(line);
+  if (!key.empty()) where += ", key '" + key + "'";
+  throw Error(code, where + ": " + what);
+}
+
+std::vector<double> parse_numbers(const std::string& text, const std::string& path, int line,
+                                  const std::string& key) {
+  std::vector<double> out;
+  std::string token;
+  auto flush = [&] {
+    if (token.empty()) return;
+    char* end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(v))
+      fail(ErrorCode::kCorruptFile, path, line, key, "'" + token + "' is not a finite number");
+    out.push_back(v);
+    token.clear();
+  };
+  for (char ch : text) {
+    if (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r' || ch == ';' || ch == ',' || ch == '[' || ch == ']') {
+      flush();
+    } else {
+      token += ch;
+    }
+  }
+  flush();
+  return out;
+}
+
+void validate(const StereoCalibration& c, int line_of_focal, int line_of_baseline) {
+  if (!(c.focal_px > 0) || !std::isfinite(c.focal_px))
+    fail(ErrorCode::kInvalidArgument, c.path, line_of_focal, "focal length",
+         "must be > 0 pixels, got " + std::to_string(c.focal_px));
+  if (!(c.baseline_m > 0) || !std::isfinite(c.baseline_m))
+    fail(ErrorCode::kInvalidArgument, c.path, line_of_baseline, "baseline",
+         "must be > 0, got " + std::to_string(c.baseline_m) + " m");
+  if (!std::isfinite(c.cx_px) || !std::isfinite(c.cy_px) || !std::isfinite(c.doffs_px))
+    fail(ErrorCode::kInvalidArgument, c.path, 0, "principal point",
+         "cx, cy and doffs must be finite");
+  if (c.width < 0 || c.height < 0)
+    fail(ErrorCode::kInvalidArgument, c.path, 0, "width/height", "image size must be >= 0");
+}
+
+}  // namespace tristereo::calib_detail

@@ -1,0 +1,299 @@
+// Calibration readers (Middlebury calib.txt, KITTI P0..P3, OpenCV YAML/XML)
+// and the metric depth they give (include/tristereo/calib.hpp, depth.hpp).
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/data.hpp"
+#include "tristereo/calib.hpp"
+#include "tristereo/depth.hpp"
+#include "tristereo/fixed_point.hpp"
+#include "tristereo/io.hpp"
+#include "tristereo/status.hpp"
+
+namespace tristereo {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Calib : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("tristereo_calib_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string p = (dir_ / name).string();
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+  fs::path dir_;
+};
+
+// The message of the Error f throws ("" and a test failure when it throws none).
+std::string message_of(const std::function<void()>& f, ErrorCode* code = nullptr) {
+  try {
+    f();
+  } catch (const Error& e) {
+    if (code) *code = e.code();
+    return e.what();
+  }
+  ADD_FAILURE() << "no tristereo::Error thrown";
+  return "";
+}
+
+void expect_rel(double got, double want, double tol, const std::string& what) {
+  EXPECT_LE(std::fabs(got - want), tol * std::fabs(want)) << what << ": " << got << " vs " << want;
+}
+
+// KITTI 2015 devkit calibration of frame 000000 (calib_cam_to_cam rectified P2/P3).
+const char* kKittiText =
+    "P0: 7.215377e+02 0.000000e+00 6.095593e+02 0.000000e+00 0.000000e+00 7.215377e+02 1.728540e+02 "
+    "0.000000e+00 0.000000e+00 0.000000e+00 1.000000e+00 0.000000e+00\n"
+    "P1: 7.215377e+02 0.000000e+00 6.095593e+02 -3.875744e+02 0.000000e+00 7.215377e+02 1.728540e+02 "
+    "0.000000e+00 0.000000e+00 0.000000e+00 1.000000e+00 0.000000e+00\n"
+    "P2: 7.215377e+02 0.000000e+00 6.095593e+02 4.485728e+01 0.000000e+00 7.215377e+02 1.728540e+02 "
+    "2.163791e-01 0.000000e+00 0.000000e+00 1.000000e+00 2.745884e-03\n"
+    "P3: 7.215377e+02 0.000000e+00 6.095593e+02 -3.395242e+02 0.000000e+00 7.215377e+02 1.728540e+02 "
+    "2.199936e+00 0.000000e+00 0.000000e+00 1.000000e+00 2.729905e-03\n"
+    "R0_rect: 9.999239e-01 9.837760e-03 -7.445048e-03 -9.869795e-03 9.999421e-01 -4.278459e-03 "
+    "7.402527e-03 4.351614e-03 9.999631e-01\n";
+
+// stereoRectify-style outputs for f = 700 px, cx1 = 320, cx2 = 331.5, cy = 240,
+// Tx = -120 (millimetres): P2(0,3) = Tx f, Q(3,2) = -1/Tx, Q(3,3) = (cx1 - cx2)/Tx.
+const char* kOpenCvYaml =
+    "%YAML:1.0\n---\n"
+    "image_width: 640\nimage_height: 480\n"
+    "P1: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n"
+    "   data: [ 700., 0., 320., 0., 0., 700., 240., 0., 0., 0., 1.,\n       0. ]\n"
+    "P2: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n"
+    "   data: [ 700., 0., 331.5, -84000., 0., 700., 240., 0., 0., 0.,\n       1., 0. ]\n";
+
+const char* kOpenCvQYaml =
+    "%YAML:1.0\n---\n"
+    "Q: !!opencv-matrix\n   rows: 4\n   cols: 4\n   dt: d\n"
+    "   data: [ 1., 0., 0., -320., 0., 1., 0., -240., 0., 0., 0., 700., 0., 0.,\n"
+    "       8.3333333333333332e-03, 9.5833333333333326e-02 ]\n";
+
+const char* kOpenCvXml =
+    "<?xml version=\"1.0\"?>\n<opencv_storage>\n"
+    "<imageSize>\n  640 480</imageSize>\n"
+    "<P1 type_id=\"opencv-matrix\">\n  <rows>3</rows>\n  <cols>4</cols>\n  <dt>d</dt>\n"
+    "  <data>\n    700. 0. 320. 0. 0. 700. 240. 0. 0. 0. 1. 0.</data></P1>\n"
+    "<P2 type_id=\"opencv-matrix\">\n  <rows>3</rows>\n  <cols>4</cols>\n  <dt>d</dt>\n"
+    "  <data>\n    700. 0. 331.5 -84000. 0. 700. 240. 0. 0. 0. 1. 0.</data></P2>\n"
+    "</opencv_storage>\n";
+
+TEST_F(Calib, MiddleburyAdirondackDepthFromGroundTruth) {
+  TRISTEREO_REQUIRE_DATA("middlebury2014");
+  const std::string dir = test::data_set_dir("middlebury2014") + "/adirondack";
+  const StereoCalibration c = read_calibration(dir + "/calib.txt");
+  EXPECT_EQ(c.format, CalibFormat::kMiddlebury);
+  // calib.txt: cam0=[ 1038.018 0 322.037 ; 0 1038.018 243.393 ; 0 0 1 ], doffs= 53.271,
+  // baseline= 176.252 (mm), width= 718, height= 496.
+  const double f = 1038.018, b_m = 0.176252, doffs = 53.271;
+  EXPECT_DOUBLE_EQ(c.focal_px, f);
+  EXPECT_DOUBLE_EQ(c.cx_px, 322.037);
+  EXPECT_DOUBLE_EQ(c.cy_px, 243.393);
+  EXPECT_DOUBLE_EQ(c.doffs_px, doffs);
+  EXPECT_DOUBLE_EQ(c.baseline_m, b_m);
+  EXPECT_EQ(c.width, 718);
+  EXPECT_EQ(c.height, 496);
+  check_calibration_size(c, 718, 496);
+
+  const Image<float> gt = read_pfm(dir + "/disp0GT.pfm");
+  const Image<float> depth = depth_m_from_disp_px(gt.view(), c.camera());
+  const std::string pfm = write("depth.pfm", ""), png = write("depth.png", "");
+  const DepthWriteReport rp = write_depth(pfm, depth.view());
+  const DepthWriteReport rm = write_depth(png, depth.view());
+  const Image<float> back = read_pfm(pfm);
+  const Image<std::uint16_t> mm = read_png_u16(png);
+  std::int64_t known = 0;
+  double worst = 0;
+  for (int y = 0; y < gt.height; ++y)
+    for (int x = 0; x < gt.width; ++x) {
+      const float d = gt.at(x, y);
+      if (!std::isfinite(d)) {
+        ASSERT_TRUE(std::isinf(back.at(x, y))) << x << "," << y;
+        ASSERT_EQ(mm.at(x, y), 0) << x << "," << y;
+        continue;
+      }
+      ++known;
+      const double z = f * b_m / (d + doffs);
+      worst = std::max(worst, std::fabs(back.at(x, y) - z) / z);
+      // Millimetres rounded to nearest (from the float depth: at most a
+      // rounding step beyond half a millimetre).
+      ASSERT_LE(std::fabs(mm.at(x, y) - z * 1000), 0.5 + 1e-3) << x << "," << y;
+    }
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(known, 300000);
+  EXPECT_EQ(rp.valid, known);
+  EXPECT_EQ(rm.valid, known);
+  EXPECT_EQ(rm.out_of_range, 0);
+}
+
+TEST_F(Calib, KittiDevkitP2P3) {
+  const StereoCalibration c = read_calibration(write("000000.txt", kKittiText));
+  EXPECT_EQ(c.format, CalibFormat::kKitti);
+  const double f = 7.215377e+02, b_m = (4.485728e+01 + 3.395242e+02) / 7.215377e+02;
+  EXPECT_DOUBLE_EQ(c.focal_px, f);
+  EXPECT_DOUBLE_EQ(c.cx_px, 6.095593e+02);
+  EXPECT_DOUBLE_EQ(c.cy_px, 1.728540e+02);
+  EXPECT_DOUBLE_EQ(c.doffs_px, 0.0);
+  expect_rel(c.baseline_m, b_m, 1e-12, "baseline");
+  expect_rel(c.baseline_m, 0.5327, 1e-3, "KITTI's 0.54 m stereo rig");
+  // Disparities 1 .. 255.9375 px in Q4, through the depth writer.
+  Image<std::int16_t> disp(64, 64, 1);
+  for (int i = 0; i < 64 * 64; ++i) disp.pixels[i] = static_cast<std::int16_t>(16 + i % 4080);
+  disp.pixels[5] = kInvalidDispQ4;
+  const std::string pfm = write("kitti_depth.pfm", "");
+  write_depth(pfm, depth_m_from_disp_q4(disp.view(), c.camera()).view());
+  const Image<float> back = read_pfm(pfm);
+  for (int i = 0; i < 64 * 64; ++i) {
+    if (i == 5) {
+      EXPECT_TRUE(std::isinf(back.pixels[i]));
+      continue;
+    }
+    expect_rel(back.pixels[i], f * b_m / (disp.pixels[i] / 16.0), 1e-6, "pixel " + std::to_string(i));
+  }
+  // Without P2/P3 the gray pair P0/P1 is used.
+  const std::string gray = std::string(kKittiText).substr(0, std::string(kKittiText).find("P2:"));
+  const StereoCalibration g = read_calibration(write("gray.txt", gray));
+  expect_rel(g.baseline_m, 3.875744e+02 / 7.215377e+02, 1e-12, "P0/P1 baseline");
+}
+
+TEST_F(Calib, OpenCvYamlXmlAndQAgree) {
+  const StereoCalibration y = read_calibration(write("stereo.yml", kOpenCvYaml), CalibFormat::kAuto, 0.001);
+  const StereoCalibration x = read_calibration(write("stereo.xml", kOpenCvXml), CalibFormat::kAuto, 0.001);
+  const StereoCalibration q = read_calibration(write("q.yml", kOpenCvQYaml), CalibFormat::kOpenCv, 0.001);
+  for (const StereoCalibration* c : {&y, &x, &q}) {
+    SCOPED_TRACE(c->path);
+    EXPECT_EQ(c->format, CalibFormat::kOpenCv);
+    EXPECT_DOUBLE_EQ(c->focal_px, 700.0);
+    EXPECT_DOUBLE_EQ(c->cx_px, 320.0);
+    EXPECT_DOUBLE_EQ(c->cy_px, 240.0);
+    expect_rel(c->doffs_px, 11.5, 1e-12, "doffs");
+    expect_rel(c->baseline_m, 0.12, 1e-12, "baseline");
+  }
+  EXPECT_EQ(y.width, 640);
+  EXPECT_EQ(y.height, 480);
+  EXPECT_EQ(x.width, 640);
+  EXPECT_EQ(x.height, 480);
+  EXPECT_EQ(q.width, 0);  // Q alone states no size: any input size is accepted
+  check_calibration_size(q, 1242, 375);
+  // Metres are the default unit: the same file then says 120 m.
+  expect_rel(read_calibration(write("m.yml", kOpenCvYaml)).baseline_m, 120.0, 1e-12, "unit m");
+  // Depth: Z = f B / (d + doffs), 16 px -> 700 * 0.12 / 27.5.
+  Image<std::int16_t> disp(1, 1, 1, 16 * 16);
+  expect_rel(depth_m_from_disp_q4(disp.view(), y.camera()).at(0, 0), 700 * 0.12 / 27.5, 1e-6, "Z");
+}
+
+TEST_F(Calib, BadFilesNameFileLineAndKey) {
+  ErrorCode code{};
+  // Missing key.
+  std::string m = message_of([&] { read_calibration(write("a.txt", "cam0=[1 0 2; 0 1 3; 0 0 1]\ndoffs=0\n")); }, &code);
+  EXPECT_EQ(code, ErrorCode::kCorruptFile);
+  EXPECT_NE(m.find("a.txt"), std::string::npos) << m;
+  EXPECT_NE(m.find("key 'baseline'"), std::string::npos) << m;
+  // Non-numeric value: names the line.
+  m = message_of([&] { read_calibration(write("b.txt", "cam0=[1 0 2; 0 1 3; 0 0 1]\ndoffs=0\nbaseline=abc\n")); }, &code);
+  EXPECT_EQ(code, ErrorCode::kCorruptFile);
+  EXPECT_NE(m.find("line 3"), std::string::npos) << m;
+  EXPECT_NE(m.find("'abc' is not a finite number"), std::string::npos) << m;
+  // Zero baseline, negative focal length.
+  m = message_of([&] { read_calibration(write("c.txt", "cam0=[500 0 2; 0 500 3; 0 0 1]\ndoffs=0\nbaseline=0\n")); }, &code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(m.find("line 3, key 'baseline'"), std::string::npos) << m;
+  m = message_of([&] { read_calibration(write("d.txt", "cam0=[-5 0 2; 0 -5 3; 0 0 1]\ndoffs=0\nbaseline=100\n")); }, &code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(m.find("line 1, key 'focal length'"), std::string::npos) << m;
+  // A 3x3 matrix with 8 numbers.
+  m = message_of([&] { read_calibration(write("e.txt", "cam0=[1 0 2; 0 1 3; 0 0]\ndoffs=0\nbaseline=1\n")); });
+  EXPECT_NE(m.find("key 'cam0'"), std::string::npos) << m;
+  // KITTI: P3 missing; P2 with 11 numbers.
+  m = message_of([&] { read_calibration(write("k.txt", "P2: 1 0 0 0 0 1 0 0 0 0 1 0\n"), CalibFormat::kKitti); });
+  EXPECT_NE(m.find("P2/P3"), std::string::npos) << m;
+  m = message_of([&] { read_calibration(write("k2.txt", "P2: 1 0 0 0 0 1 0 0 0 0 1\nP3: 1 0 0 -1 0 1 0 0 0 0 1 0\n")); });
+  EXPECT_NE(m.find("line 1, key 'P2'"), std::string::npos) << m;
+  // OpenCV: neither P1/P2 nor Q; a matrix of the wrong shape.
+  m = message_of([&] { read_calibration(write("o.yml", "%YAML:1.0\n---\nK1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [1,0,0,0,1,0,0,0,1]\n")); });
+  EXPECT_NE(m.find("P1/P2"), std::string::npos) << m;
+  m = message_of([&] {
+    read_calibration(write("o2.yml", "%YAML:1.0\nQ: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n   data: [1,0,0,0,1,0,0,0,1,0,0,0]\n"));
+  });
+  EXPECT_NE(m.find("line 2, key 'Q'"), std::string::npos) << m;
+  EXPECT_NE(m.find("expected 4x4"), std::string::npos) << m;
+  // Unknown format, missing file, a size mismatch.
+  m = message_of([&] { read_calibration(write("x.txt", "hello\n")); }, &code);
+  EXPECT_EQ(code, ErrorCode::kUnsupportedFormat);
+  message_of([&] { read_calibration((dir_ / "missing.txt").string()); }, &code);
+  EXPECT_EQ(code, ErrorCode::kIoError);
+  const StereoCalibration c = read_calibration(write("ok.yml", kOpenCvYaml));
+  m = message_of([&] { check_calibration_size(c, 641, 480); }, &code);
+  EXPECT_EQ(code, ErrorCode::kSizeMismatch);
+  EXPECT_NE(m.find("640x480"), std::string::npos) << m;
+  EXPECT_NE(m.find("641x480"), std::string::npos) << m;
+  // Bad unit, bad format names.
+  message_of([&] { read_calibration(write("ok2.yml", kOpenCvYaml), CalibFormat::kAuto, 0); }, &code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_EQ(parse_calib_format("kitti"), CalibFormat::kKitti);
+  message_of([&] { parse_calib_format("ros"); }, &code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+}
+
+TEST_F(Calib, PointCloudHasOnePointPerValidPixel) {
+  Image<std::int16_t> disp(5, 4, 1, 32);
+  disp.at(1, 1) = kInvalidDispQ4;
+  disp.at(2, 2) = -200;  // d + doffs <= 0: no depth
+  const ImageU8 left(5, 4, 3, 100);
+  CameraParams cam{};
+  cam.focal_px = 10;
+  cam.baseline = 0.5;
+  cam.cx = 2;
+  cam.cy = 1.5;
+  cam.doffs = 1;
+  const std::string p = write("pts.ply", "");
+  EXPECT_EQ(write_points_ply(p, disp.view(), left.view(), cam, false), 18);
+  std::ifstream f(p);
+  std::string line;
+  int points = 0;
+  bool in_body = false;
+  while (std::getline(f, line)) {
+    if (line == "element vertex 18") points = -1;
+    if (in_body) {
+      float x, y, z;
+      int r, g, b;
+      ASSERT_EQ(std::sscanf(line.c_str(), "%f %f %f %d %d %d", &x, &y, &z, &r, &g, &b), 6) << line;
+      EXPECT_FLOAT_EQ(z, 10 * 0.5 / 3.0);  // d = 2 px, doffs = 1
+      EXPECT_EQ(r, 100);
+      ++points;
+    }
+    if (line == "end_header") {
+      ASSERT_EQ(points, -1) << "header without 'element vertex 18'";
+      points = 0;
+      in_body = true;
+    }
+  }
+  EXPECT_EQ(points, 18);
+  ErrorCode code{};
+  const ImageU8 small(4, 4, 3);
+  message_of([&] { write_points_ply(p, disp.view(), small.view(), cam, true); }, &code);
+  EXPECT_EQ(code, ErrorCode::kSizeMismatch);
+  message_of([&] { write_depth(write("d.jpg", ""), Image<float>(2, 2, 1).view()); }, &code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace tristereo
