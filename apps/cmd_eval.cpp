@@ -15,10 +15,31 @@
 namespace tristereo::cli {
 
 namespace {
-Image<float> load_disparity_any(const std::string& path, int scale) {
-  const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
-  if (ext == ".pfm" || ext == ".PFM") return read_pfm(path);
-  return load_middlebury_gt(path, scale);
+// A disparity or ground-truth file as float pixels. format: "auto" (PFM by
+// its magic bytes, an 8-bit PNG as value / scale, a 16-bit PNG as Q4, what
+// `match --disp X.png` writes), "pfm", "png8", "q4" or "kitti" (value / 256).
+Image<float> load_disparity_any(const std::string& path, int scale, const std::string& format,
+                                const char* option) {
+  if (format != "auto" && format != "pfm" && format != "png8" && format != "q4" && format != "kitti")
+    throw UsageError(std::string(option) + " " + format + ": expected auto, pfm, png8, q4 or kitti");
+  std::string kind = format;
+  if (kind == "auto") {
+    std::ifstream f(path, std::ios::binary);
+    char magic[26] = {};
+    f.read(magic, sizeof magic);
+    if (f.gcount() >= 2 && magic[0] == 'P' && (magic[1] == 'f' || magic[1] == 'F')) {
+      kind = "pfm";
+    } else if (f.gcount() >= 25 && std::string(magic + 1, 3) == "PNG") {
+      kind = static_cast<unsigned char>(magic[24]) == 16 ? "q4" : "png8";  // IHDR bit depth
+    } else {
+      kind = "png8";  // let the reader name what is wrong with it
+    }
+  }
+  if (kind == "pfm") return read_pfm(path);
+  if (kind == "png8") return load_middlebury_gt(path, scale);
+  const Image<std::int16_t> q4 =
+      read_disparity(path, kind == "kitti" ? DispPngScale::kKitti : DispPngScale::kQ4);
+  return disp_q4_to_float(q4.view());
 }
 
 void print_stats(const char* label, const BadPixelStats& s) {
@@ -68,12 +89,17 @@ void read_samples(const std::string& path, std::vector<Vertex>& pts, std::vector
 }  // namespace
 
 int cmd_eval(int argc, char** argv) {
-  Args args(argc, argv, {"gt-scale", "disp-scale", "mask", "samples", "json"}, {"help"});
+  Args args(argc, argv, {"gt-scale", "disp-scale", "disp-format", "gt-format", "mask", "samples", "json"},
+            {"help"});
   if (args.flag("help")) {
-    std::cout << "usage: tristereo eval DISP GT [--gt-scale S] [--mask M.png] [--samples S.csv]\n\n"
+    std::cout << "usage: tristereo eval DISP GT [--gt-scale S] [--disp-scale S] [--disp-format F]\n"
+                 "                     [--gt-format F] [--mask M.png] [--samples S.csv] [--json OUT.json]\n\n"
                  "Bad-pixel percentages (|d - gt| > 0.5, 1, 2 px; invalid counts as bad) and RMS,\n"
-                 "Middlebury v2 style. DISP: PFM (+inf = invalid) or 8-bit PNG (value / --disp-scale).\n"
-                 "GT: PFM or 8-bit PNG (value / --gt-scale, 0 = unknown, skipped).\n"
+                 "Middlebury v2 style. DISP: PFM (+inf = invalid), 8-bit PNG (value / --disp-scale)\n"
+                 "or 16-bit PNG (0 = invalid). GT: the same, 0 or +inf = unknown, skipped.\n"
+                 "--disp-format/--gt-format auto|pfm|png8|q4|kitti: auto (default) reads PFM and 8-bit\n"
+                 "PNG by their contents and a 16-bit PNG as q4 (value / 16: match --disp X.png);\n"
+                 "kitti reads a 16-bit PNG as value / 256 (KITTI, match --disp-format kitti).\n"
                  "--mask: only pixels where the mask is 255 (e.g. Middlebury nonocc.png).\n"
                  "--samples: also score only the sample positions written by match --samples\n"
                  "(the paper's Table 2 metric).\n"
@@ -84,8 +110,10 @@ int cmd_eval(int argc, char** argv) {
   const int gt_scale = args.get_int("gt-scale", 1);
   const int disp_scale = args.get_int("disp-scale", 1);
   if (gt_scale < 1 || disp_scale < 1) throw UsageError("--gt-scale and --disp-scale must be >= 1");
-  const Image<float> disp = load_disparity_any(args.positional()[0], disp_scale);
-  const Image<float> gt = load_disparity_any(args.positional()[1], gt_scale);
+  const Image<float> disp =
+      load_disparity_any(args.positional()[0], disp_scale, args.get("disp-format", "auto"), "--disp-format");
+  const Image<float> gt =
+      load_disparity_any(args.positional()[1], gt_scale, args.get("gt-format", "auto"), "--gt-format");
   if (disp.width != gt.width || disp.height != gt.height)
     throw Error(ErrorCode::kSizeMismatch, "disparity and ground truth differ in size");
   ImageU8 mask;

@@ -1,9 +1,13 @@
 #include "apps/match_outputs.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
+#include "tristereo/calib.hpp"
+#include "tristereo/depth.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/io.hpp"
@@ -38,7 +42,81 @@ CameraParams parse_camera(const std::string& text) {
   c.doffs = v[4];
   return c;
 }
+std::string lower_ext(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string e = path.substr(dot);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+// Bounding box of the valid pixels (ROS DisparityImage.valid_window).
+struct Window {
+  int x = 0, y = 0, w = 0, h = 0;
+};
+Window valid_window(const ImageS16& disp_q4) {
+  int x0 = disp_q4.width, y0 = disp_q4.height, x1 = -1, y1 = -1;
+  for (int y = 0; y < disp_q4.height; ++y)
+    for (int x = 0; x < disp_q4.width; ++x)
+      if (disp_q4.at(x, y) != kInvalidDispQ4) {
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+      }
+  if (x1 < 0) return {};
+  return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+}
 }  // namespace
+
+std::optional<CameraParams> camera_from_args(const Args& args, int width, int height,
+                                             std::string* source) {
+  const bool calib = args.has("calib"), camera = args.has("camera");
+  if (calib && camera) throw UsageError("--calib and --camera both set the camera: give one of them");
+  if (!calib && (args.has("calib-format") || args.has("calib-unit")))
+    throw UsageError("--calib-format and --calib-unit apply to --calib FILE, which is missing");
+  for (const char* opt : {"depth", "points"})
+    if (args.has(opt) && !calib && !camera)
+      throw UsageError(std::string("--") + opt + " needs a camera: --calib FILE (or --camera F,B,CX,CY[,DOFFS])");
+  if (args.has("depth")) {
+    const std::string e = lower_ext(args.get("depth", ""));
+    if (e != ".pfm" && e != ".png")
+      throw UsageError("--depth " + args.get("depth", "") + ": the file must end in .pfm (metres) or .png (uint16 millimetres)");
+  }
+  const std::string disp_format = args.get("disp-format", "q4");
+  if (disp_format != "q4" && disp_format != "kitti")
+    throw UsageError("--disp-format " + disp_format + ": expected q4 or kitti");
+  if (args.has("disp-format") && lower_ext(args.get("disp", "")) != ".png")
+    throw UsageError("--disp-format applies to a --disp .png file");
+  if (args.has("points") && lower_ext(args.get("points", "")) != ".ply")
+    throw UsageError("--points " + args.get("points", "") + ": the file must end in .ply");
+  if (camera) {
+    *source = "--camera";
+    return parse_camera(args.get("camera", ""));
+  }
+  if (!calib) return std::nullopt;
+  CalibFormat format = CalibFormat::kAuto;
+  try {
+    format = parse_calib_format(args.get("calib-format", "auto"));
+  } catch (const Error&) {
+    throw UsageError("--calib-format " + args.get("calib-format", "") + ": expected auto, middlebury, kitti or opencv");
+  }
+  double unit_m = 1.0;
+  const std::string unit = args.get("calib-unit", "m");
+  if (unit == "m") unit_m = 1.0;
+  else if (unit == "cm") unit_m = 0.01;
+  else if (unit == "mm") unit_m = 0.001;
+  else throw UsageError("--calib-unit " + unit + ": expected m, cm or mm");
+  const StereoCalibration c = read_calibration(args.get("calib", ""), format, unit_m);
+  check_calibration_size(c, width, height);
+  if (c.format == CalibFormat::kOpenCv && !args.has("calib-unit") && c.baseline_m > 5)
+    std::cerr << "warning: --calib " << c.path << ": the baseline comes out as " << c.baseline_m
+              << " m; OpenCV files carry no unit: if the calibration target was measured in "
+                 "millimetres, add --calib-unit mm\n";
+  *source = c.path;
+  return c.camera();
+}
 
 void write_samples_csv(const std::string& path, const StereoOutput& out) {
   std::ofstream f = open_out(path);
@@ -84,23 +162,47 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 p.dp.subpixel ? "true" : "false", ms(run.timings.tritree_ns),
                 ms(run.timings.cost_aggregation_ns), ms(run.timings.dp_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns));
-  f << buf;
+  std::string text = buf;
+  if (run.camera) {
+    // The fields of a ROS stereo_msgs/DisparityImage for this frame.
+    const Window w = valid_window(o.disp_q4);
+    const CameraParams& c = *run.camera;
+    std::snprintf(buf, sizeof buf,
+                  ",\n  \"camera\": {\"source\": \"%s\", \"focal_px\": %.9g, \"baseline\": %.9g, "
+                  "\"cx_px\": %.9g, \"cy_px\": %.9g, \"doffs_px\": %.9g},\n"
+                  "  \"disparity_image\": {\"f\": %.9g, \"T\": %.9g, \"min_disparity\": %d, "
+                  "\"max_disparity\": %d, \"delta_d\": 0.0625, \"valid_window\": {\"x_offset\": %d, "
+                  "\"y_offset\": %d, \"width\": %d, \"height\": %d}}\n}\n",
+                  run.camera_source.c_str(), c.focal_px, c.baseline, c.cx, c.cy, c.doffs, c.focal_px,
+                  c.baseline, p.d_min, p.d_min + p.num_disp - 1, w.x, w.y, w.w, w.h);
+    text.resize(text.size() - 3);  // drop "\n}\n": the object goes on
+    text += buf;
+  }
+  f << text;
   if (!f) throw Error(ErrorCode::kIoError, "error writing '" + path + "'");
 }
 
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run) {
   const StereoOutput& o = run.output;
-  if (args.has("disp")) write_disparity(args.get("disp", ""), o.disp_q4.view());
+  if (args.has("disp"))
+    write_disparity(args.get("disp", ""), o.disp_q4.view(),
+                    args.get("disp-format", "q4") == "kitti" ? DispPngScale::kKitti : DispPngScale::kQ4);
   if (args.has("disp-color"))
     write_disparity_color(args.get("disp-color", ""), o.disp_q4.view(), run.config.params.d_min,
                           run.config.params.num_disp);
-  if (args.has("mesh")) {
-    CameraParams cam{};
-    const bool have_cam = args.has("camera");
-    if (have_cam) cam = parse_camera(args.get("camera", ""));
-    write_mesh_ply(args.get("mesh", ""), o.mesh, o.vertex_disp_q4, left.view(),
-                   have_cam ? &cam : nullptr, !args.flag("mesh-ascii"));
+  const CameraParams* cam = run.camera ? &*run.camera : nullptr;
+  if (args.has("mesh"))
+    write_mesh_ply(args.get("mesh", ""), o.mesh, o.vertex_disp_q4, left.view(), cam, !args.flag("mesh-ascii"));
+  if (args.has("depth") && cam) {
+    const DepthWriteReport r =
+        write_depth(args.get("depth", ""), depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
+    if (r.out_of_range > 0)
+      std::cerr << "warning: --depth " << args.get("depth", "") << ": " << r.out_of_range
+                << " pixels are 65.535 m or farther and were written as 0 (invalid); use a .pfm file "
+                   "to keep them\n";
   }
+  if (args.has("points") && cam)
+    write_points_ply(args.get("points", ""), o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
   if (args.has("samples")) write_samples_csv(args.get("samples", ""), o);
   if (args.has("stats")) write_stats_json(args.get("stats", ""), run);
 }

@@ -1,11 +1,13 @@
 // Writing what `match` (and `demo`) produce: disparity files, mesh, samples, stats.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 
 #include "apps/cli_args.hpp"
 #include "tristereo/image.hpp"
+#include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
 
 namespace tristereo::cli {
@@ -16,9 +18,20 @@ struct MatchRun {
   FrameTimings timings;
   std::string implementation;  // "reference" or "integer/<kernels>"
   int threads = 1;
+  std::optional<CameraParams> camera;  // from --calib or --camera: metric outputs
+  std::string camera_source;           // the calibration file, or "--camera"
 };
 
-// Honors --disp, --disp-color, --mesh (+ --mesh-ascii, --camera), --samples, --stats.
+// The camera of --calib FILE [--calib-format F] [--calib-unit U] or --camera
+// F,B,CX,CY[,DOFFS], checked against the input size, and the output options
+// that need one (--depth, --points): everything a user can get wrong about it
+// fails here, before any computing (and --disp-format). Warns on stderr about a baseline that is
+// probably in the wrong unit.
+std::optional<CameraParams> camera_from_args(const Args& args, int width, int height,
+                                             std::string* source);
+
+// Honors --disp, --disp-color, --mesh (+ --mesh-ascii; metric with a camera),
+// --depth, --points, --samples, --stats.
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run);
 void write_stats_json(const std::string& path, const MatchRun& run);
 void write_samples_csv(const std::string& path, const StereoOutput& out);

@@ -57,17 +57,26 @@ Image<float> read_pfm(const std::string& path);
 // Middlebury "unknown" value in PFM files). 1 channel only.
 Image<float> disp_q4_to_float(ImageView<const std::int16_t> disp_q4);
 
+// How a 16-bit disparity PNG encodes d (both: 0 = invalid):
+//  kQ4     value = 16 d, the Q4 value itself (OpenCV's CV_16S convention);
+//  kKitti  value = 256 d (the KITTI benchmark's disparity PNGs).
+enum class DispPngScale { kQ4 = 16, kKitti = 256 };
+
 // Chooses the format by extension (case-insensitive):
 //  .pfm  float disparity in pixels, invalid = +infinity;
-//  .png  16-bit gray holding the Q4 value itself (value / 16 = disparity),
-//        0 = invalid. A valid disparity of exactly 0 is therefore read back as
-//        invalid; negative disparities cannot be stored (kInvalidArgument).
+//  .png  16-bit gray, value = d * png_scale (see DispPngScale), 0 = invalid.
+//        A valid disparity of exactly 0 is therefore read back as invalid;
+//        negative disparities, and with kKitti disparities of 256 px or more,
+//        cannot be stored (kInvalidArgument naming the pixel).
 // Other extensions -> kInvalidArgument.
-void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4);
-// Reads what write_disparity wrote (.png: 0 -> kInvalidDispQ4; .pfm:
-// non-finite -> kInvalidDispQ4, else round(16 d) half away from zero, which
-// must fit in int16 or kCorruptFile). Format from the magic bytes.
-Image<std::int16_t> read_disparity(const std::string& path);
+void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4,
+                     DispPngScale png_scale = DispPngScale::kQ4);
+// Reads what write_disparity wrote (.png: 0 -> kInvalidDispQ4, else
+// value * 16 / png_scale rounded half away from zero, which must fit in int16
+// or kCorruptFile; .pfm: non-finite -> kInvalidDispQ4, else round(16 d) half
+// away from zero, likewise). Format from the magic bytes; png_scale says how
+// to read a PNG, which cannot tell by itself.
+Image<std::int16_t> read_disparity(const std::string& path, DispPngScale png_scale = DispPngScale::kQ4);
 
 // 8-bit RGB PNG visualisation: disparities d_min .. d_min + num_disp - 1 map
 // (clamped) onto disparity_color(); invalid pixels are black.

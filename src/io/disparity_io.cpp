@@ -29,7 +29,8 @@ Image<float> disp_q4_to_float(ImageView<const std::int16_t> disp_q4) {
   return out;
 }
 
-void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4) {
+void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4,
+                     DispPngScale png_scale) {
   check_write_view(disp_q4, 1, 1, "write_disparity");
   const std::string ext = lower_extension(path);
   if (ext == ".pfm") {
@@ -53,6 +54,16 @@ void write_disparity(const std::string& path, ImageView<const std::int16_t> disp
                     "write_disparity: negative disparity " + std::to_string(in[x]) +
                         " (Q4) at (" + std::to_string(x) + ", " + std::to_string(y) +
                         ") cannot be stored in a 16-bit PNG (minimum 0); use .pfm");
+      } else if (png_scale == DispPngScale::kKitti) {
+        // value = 256 d = 16 * Q4: exact, and at most 65535 below 256 px.
+        const std::int32_t v = std::int32_t{in[x]} * 16;
+        if (v > 65535) {
+          throw Error(ErrorCode::kInvalidArgument,
+                      "write_disparity: disparity " + std::to_string(in[x] / 16.0) + " px at (" +
+                          std::to_string(x) + ", " + std::to_string(y) +
+                          ") does not fit a KITTI PNG (value = 256 d, at most 65535); use .pfm");
+        }
+        u.at(x, y) = static_cast<std::uint16_t>(v);
       } else {
         u.at(x, y) = static_cast<std::uint16_t>(in[x]);
       }
@@ -61,19 +72,25 @@ void write_disparity(const std::string& path, ImageView<const std::int16_t> disp
   write_png_u16(path, std::as_const(u).view());
 }
 
-Image<std::int16_t> read_disparity(const std::string& path) {
+Image<std::int16_t> read_disparity(const std::string& path, DispPngScale png_scale) {
   const std::vector<std::uint8_t> head = read_file_bytes(path);
   Image<std::int16_t> out;
   if (is_png(head)) {
     const Image<std::uint16_t> u = read_png_u16(path);
     out = Image<std::int16_t>(u.width, u.height, 1);
     for (std::size_t i = 0; i < u.pixels.size(); ++i) {
-      if (u.pixels[i] > 32767) {
+      const std::uint16_t v = u.pixels[i];
+      if (v == 0) {
+        out.pixels[i] = kInvalidDispQ4;
+      } else if (png_scale == DispPngScale::kKitti) {
+        out.pixels[i] = static_cast<std::int16_t>((v + 8) / 16);  // 256 d -> 16 d, half up
+      } else if (v > 32767) {
         throw Error(ErrorCode::kCorruptFile,
-                    "disparity PNG '" + path + "' holds " + std::to_string(u.pixels[i]) +
-                        ", above the Q4 maximum 32767");
+                    "disparity PNG '" + path + "' holds " + std::to_string(v) +
+                        ", above the Q4 maximum 32767 (a KITTI PNG? read it as value / 256)");
+      } else {
+        out.pixels[i] = static_cast<std::int16_t>(v);
       }
-      out.pixels[i] = u.pixels[i] == 0 ? kInvalidDispQ4 : static_cast<std::int16_t>(u.pixels[i]);
     }
     return out;
   }
