@@ -9,10 +9,15 @@
 #   ctest        the whole GoogleTest suite (kernel sets chosen at run time)
 #   kernels-SET  the whole suite again with TRISTEREO_KERNELS=SET forced, for
 #                every set this build compiled and this CPU runs
+#   consumer-native  examples/consumer built against the INSTALLED package
+#                (find_package and pkg-config; static, then shared) and run
+#                (scripts/consumer-test.sh native)
 #   tsan         the thread-pool, tritree and pipeline thread tests under
 #                ThreadSanitizer (scripts/tsan-test.sh)
 #   aarch64, armhf  the whole suite cross-built (warnings as errors) and run
 #                under qemu-user (scripts/cross-test.sh)
+#   consumer-aarch64  the consumer against the installed aarch64 build, run
+#                under qemu (scripts/consumer-test.sh aarch64)
 # Every stage prints what it ran and its counts; the command ends with one
 # summary line per stage and exits non-zero if any stage failed.
 #
@@ -87,6 +92,21 @@ run_ctest() {
   record "$name" "$status" $(($(date +%s) - t0)) "$counts"
 }
 
+# run_stage NAME COMMAND...: a script stage, counted from its "NAME: passed"
+# summary lines.
+run_stage() {
+  name=$1
+  shift
+  echo "==== test: $name: $*"
+  t0=$(date +%s)
+  run_logged "$log_dir/$name.log" "$@"
+  ok=$(grep -c ': passed$' "$log_dir/$name.log")
+  bad=$(grep -c ': FAILED' "$log_dir/$name.log")
+  status=passed
+  [ "$rc" -eq 0 ] || status=FAILED
+  record "$name" "$status" $(($(date +%s) - t0)) "$ok passed, $bad failed"
+}
+
 finish() {
   echo
   echo "==== test: summary (subset: $subset)$summary"
@@ -147,6 +167,7 @@ if scripts/configure.sh build -S . -DCMAKE_BUILD_TYPE=Release -DTRISTEREO_WERROR
     done
     unset TRISTEREO_KERNELS
   fi
+  run_stage consumer-native scripts/consumer-test.sh native build
 else
   record build FAILED $(($(date +%s) - t0)) "configure or build of build/ failed (see above)"
 fi
@@ -175,6 +196,9 @@ if [ "$cross" -eq 1 ]; then
     [ "$rc" -eq 0 ] || status=FAILED
     detail=$(sed -n "s/^  $t: //p" "$log_dir/$t.log" | tail -n 1)
     record "$t" "$status" $(($(date +%s) - t0)) "${detail:-no cross-test summary}"
+    if [ "$t" = aarch64 ] && [ "$status" = passed ]; then
+      run_stage consumer-aarch64 scripts/consumer-test.sh aarch64 build-cross-aarch64
+    fi
   done
 else
   echo "==== test: ARM stages left out (TRISTEREO_SKIP_CROSS=1)"

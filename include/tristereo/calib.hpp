@@ -20,7 +20,7 @@ namespace tristereo {
 
 enum class CalibFormat { kAuto, kMiddlebury, kKitti, kOpenCv };
 
-struct StereoCalibration {
+struct TRISTEREO_API StereoCalibration {
   double focal_px = 0;    // focal length of the rectified left view, pixels
   double baseline_m = 0;  // distance between the optical centres, metres
   double cx_px = 0;       // principal point of the left view, pixels

@@ -1,6 +1,8 @@
 // Middlebury (v2) style evaluation of disparity maps.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,19 +24,19 @@ struct BadPixelStats {
 // counts when mask == 255. A pixel is bad at t when it has no disparity or
 // |d - gt| > t. With nothing evaluated every field is 0.
 // Throws kSizeMismatch / kInvalidArgument / kUnsupportedFormat (channels != 1).
-BadPixelStats evaluate_disparity(ImageView<const float> disp, ImageView<const float> gt,
+TRISTEREO_API BadPixelStats evaluate_disparity(ImageView<const float> disp, ImageView<const float> gt,
                                  ImageView<const std::uint8_t> mask);
 
 // The same statistics at sample positions only (e.g. the mesh vertices and
 // their sparse disparities, Q4 with kInvalidDispQ4 = none). Points outside gt
 // throw kInvalidArgument.
-BadPixelStats evaluate_at_points(ImageView<const float> gt, const std::vector<Vertex>& pts,
+TRISTEREO_API BadPixelStats evaluate_at_points(ImageView<const float> gt, const std::vector<Vertex>& pts,
                                  const std::vector<std::int16_t>& disp_q4,
                                  ImageView<const std::uint8_t> mask);
 
 // A Middlebury 8-bit ground-truth PNG: disparity = value / gt_scale, 0 stays 0
 // (unknown). gt_scale in 1..255; the PNG must be single-channel.
-Image<float> load_middlebury_gt(const std::string& png_path, int gt_scale);
+TRISTEREO_API Image<float> load_middlebury_gt(const std::string& png_path, int gt_scale);
 
 struct MiddleburyScene {
   std::string name;
@@ -44,6 +46,6 @@ struct MiddleburyScene {
 // Reads datasets.tsv (tab-separated, header row naming at least the columns
 // name, width, height, ndisp, gt_scale, in any order). kIoError if missing,
 // kCorruptFile for a malformed row or missing column.
-std::vector<MiddleburyScene> read_datasets_tsv(const std::string& path);
+TRISTEREO_API std::vector<MiddleburyScene> read_datasets_tsv(const std::string& path);
 
 }  // namespace tristereo

@@ -8,6 +8,8 @@
 // arithmetic, hence identical on every platform.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <cstdint>
 
 #include "tristereo/image.hpp"
@@ -16,17 +18,17 @@ namespace tristereo {
 
 // One row: `width` RGB triplets in, `width` gray samples out. No checks (a
 // kernel): the caller guarantees both pointers cover `width` pixels.
-void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray);
+TRISTEREO_API void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray);
 
 // Converts a 3-channel view into a 1-channel view of the same size (any
 // strides). Throws Error: kUnsupportedFormat for wrong channel counts,
 // kSizeMismatch for different sizes, kInvalidArgument for null data or a
 // stride shorter than a row. `gray` is untouched when it throws.
-void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray);
+TRISTEREO_API void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray);
 
 // 1 channel: a copy; 3 channels: BT.601 as above; anything else throws
 // Error(kUnsupportedFormat).
-ImageU8 to_gray(const ImageU8& img);
-ImageU8 to_gray(ImageView<const std::uint8_t> img);
+TRISTEREO_API ImageU8 to_gray(const ImageU8& img);
+TRISTEREO_API ImageU8 to_gray(ImageView<const std::uint8_t> img);
 
 }  // namespace tristereo

@@ -11,6 +11,8 @@
 // if writing fails (kIoError).
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,19 +31,19 @@ constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;  // width * heigh
 // Result: 1 channel (gray) or 3 channels (RGB). PNG conversions: palette ->
 // RGB, 1/2/4-bit gray -> 8-bit (scaled to 0..255), alpha and tRNS dropped
 // (no compositing). 16-bit PNG -> kUnsupportedFormat (use read_png_u16).
-ImageU8 read_image_u8(const std::string& path);
+TRISTEREO_API ImageU8 read_image_u8(const std::string& path);
 
 // 16-bit single-channel PNG (e.g. a disparity PNG from write_disparity);
 // anything else -> kUnsupportedFormat.
-Image<std::uint16_t> read_png_u16(const std::string& path);
+TRISTEREO_API Image<std::uint16_t> read_png_u16(const std::string& path);
 
 // 8-bit PNG, 1 (gray) or 3 (RGB) channels.
-void write_png_u8(const std::string& path, ImageView<const std::uint8_t> img);
+TRISTEREO_API void write_png_u8(const std::string& path, ImageView<const std::uint8_t> img);
 // 16-bit gray PNG (1 channel).
-void write_png_u16(const std::string& path, ImageView<const std::uint16_t> img);
+TRISTEREO_API void write_png_u16(const std::string& path, ImageView<const std::uint16_t> img);
 // Binary PGM (P5, 1 channel) / PPM (P6, 3 channels), maxval 255.
-void write_pgm(const std::string& path, ImageView<const std::uint8_t> img);
-void write_ppm(const std::string& path, ImageView<const std::uint8_t> img);
+TRISTEREO_API void write_pgm(const std::string& path, ImageView<const std::uint8_t> img);
+TRISTEREO_API void write_ppm(const std::string& path, ImageView<const std::uint8_t> img);
 
 // ---------------------------------------------------------------- PFM (float)
 // Middlebury convention: "Pf" (1 channel) or "PF" (3 channels), then
@@ -49,13 +51,13 @@ void write_ppm(const std::string& path, ImageView<const std::uint8_t> img);
 // bottom-to-top. write_pfm always writes scale -1 (little endian); read_pfm
 // reads either endianness, returns rows top-to-bottom, and rejects data
 // shorter than width * height * channels floats (kCorruptFile).
-void write_pfm(const std::string& path, ImageView<const float> img);
-Image<float> read_pfm(const std::string& path);
+TRISTEREO_API void write_pfm(const std::string& path, ImageView<const float> img);
+TRISTEREO_API Image<float> read_pfm(const std::string& path);
 
 // ---------------------------------------------------------------- disparity maps
 // Q4 (value / 16 = pixels) -> float pixels; kInvalidDispQ4 -> +infinity (the
 // Middlebury "unknown" value in PFM files). 1 channel only.
-Image<float> disp_q4_to_float(ImageView<const std::int16_t> disp_q4);
+TRISTEREO_API Image<float> disp_q4_to_float(ImageView<const std::int16_t> disp_q4);
 
 // How a 16-bit disparity PNG encodes d (both: 0 = invalid):
 //  kQ4     value = 16 d, the Q4 value itself (OpenCV's CV_16S convention);
@@ -69,24 +71,24 @@ enum class DispPngScale { kQ4 = 16, kKitti = 256 };
 //        negative disparities, and with kKitti disparities of 256 px or more,
 //        cannot be stored (kInvalidArgument naming the pixel).
 // Other extensions -> kInvalidArgument.
-void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4,
+TRISTEREO_API void write_disparity(const std::string& path, ImageView<const std::int16_t> disp_q4,
                      DispPngScale png_scale = DispPngScale::kQ4);
 // Reads what write_disparity wrote (.png: 0 -> kInvalidDispQ4, else
 // value * 16 / png_scale rounded half away from zero, which must fit in int16
 // or kCorruptFile; .pfm: non-finite -> kInvalidDispQ4, else round(16 d) half
 // away from zero, likewise). Format from the magic bytes; png_scale says how
 // to read a PNG, which cannot tell by itself.
-Image<std::int16_t> read_disparity(const std::string& path, DispPngScale png_scale = DispPngScale::kQ4);
+TRISTEREO_API Image<std::int16_t> read_disparity(const std::string& path, DispPngScale png_scale = DispPngScale::kQ4);
 
 // 8-bit RGB PNG visualisation: disparities d_min .. d_min + num_disp - 1 map
 // (clamped) onto disparity_color(); invalid pixels are black.
-void write_disparity_color(const std::string& path, ImageView<const std::int16_t> disp_q4,
+TRISTEREO_API void write_disparity_color(const std::string& path, ImageView<const std::int16_t> disp_q4,
                            int d_min, int num_disp);
 // The colour map: t_q10 in 0..1024 (clamped) -> RGB. Piecewise linear through
 // five hand-picked stops, dark blue -> violet -> red -> orange -> pale yellow,
 // with BT.601 luma 23, 66, 109, 168, 239 at the stops (linear between them up
 // to per-channel rounding), so near = bright even in gray print.
-void disparity_color(int t_q10, std::uint8_t rgb[3]);
+TRISTEREO_API void disparity_color(int t_q10, std::uint8_t rgb[3]);
 
 // ---------------------------------------------------------------- PLY mesh
 // Pinhole camera of the left view (Middlebury calib.txt conventions).
@@ -109,7 +111,7 @@ struct CameraParams {
 // d + doffs <= 0) is still written, so indices stay those of the mesh, at
 // (x, y, 0) in pixel mode or (0, 0, 0) in metric mode; every face touching
 // it is dropped. Throws kSizeMismatch / kInvalidArgument on inconsistent input.
-void write_mesh_ply(const std::string& path, const Mesh& mesh,
+TRISTEREO_API void write_mesh_ply(const std::string& path, const Mesh& mesh,
                     const std::vector<std::int16_t>& vertex_disp_q4,
                     ImageView<const std::uint8_t> left_gray_or_rgb,
                     const CameraParams* camera, bool binary);

@@ -7,6 +7,8 @@
 // compiled in or not supported by this CPU throws Error(kInvalidArgument).
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <string>
 #include <vector>
 
@@ -14,14 +16,14 @@ namespace tristereo {
 
 enum class KernelChoice { kAuto, kScalar, kSse2, kAvx2, kNeon };
 
-const char* to_string(KernelChoice k);
-KernelChoice parse_kernel_choice(const std::string& s);  // "auto", "scalar", ...
+TRISTEREO_API const char* to_string(KernelChoice k);
+TRISTEREO_API KernelChoice parse_kernel_choice(const std::string& s);  // "auto", "scalar", ...
 
 // Sets compiled into this binary, best last (always starts with "scalar").
-std::vector<KernelChoice> compiled_kernel_sets();
+TRISTEREO_API std::vector<KernelChoice> compiled_kernel_sets();
 // Compiled sets this CPU can run.
-std::vector<KernelChoice> available_kernel_sets();
+TRISTEREO_API std::vector<KernelChoice> available_kernel_sets();
 // What kAuto resolves to here (after TRISTEREO_KERNELS).
-KernelChoice resolve_kernel_choice(KernelChoice requested);
+TRISTEREO_API KernelChoice resolve_kernel_choice(KernelChoice requested);
 
 }  // namespace tristereo

@@ -6,6 +6,8 @@
 // configuration whose integer sums could overflow (see docs/model.md, "Bounds").
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <cstdint>
 #include <string>
 
@@ -56,11 +58,11 @@ struct StereoParams {
 };
 
 // Throws tristereo::Error(kInvalidArgument) naming the first bad field.
-void validate_params(const StereoParams& params);
+TRISTEREO_API void validate_params(const StereoParams& params);
 
-const char* to_string(Weights w);
-const char* to_string(GapPolicy g);
-Weights parse_weights(const std::string& s);    // "box" | "adaptive"
-GapPolicy parse_gap_policy(const std::string& s);  // "inv_sq" | "inv" | "const"
+TRISTEREO_API const char* to_string(Weights w);
+TRISTEREO_API const char* to_string(GapPolicy g);
+TRISTEREO_API Weights parse_weights(const std::string& s);    // "box" | "adaptive"
+TRISTEREO_API GapPolicy parse_gap_policy(const std::string& s);  // "inv_sq" | "inv" | "const"
 
 }  // namespace tristereo

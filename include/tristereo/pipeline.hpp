@@ -9,6 +9,8 @@
 // reference stays valid until the next process()/configure() call.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -44,14 +46,14 @@ struct FrameTimings {
 // and DP interleave row by row, so they form one interval, kMatching.
 enum class PipelineStage { kTritree = 0, kMatching = 1, kInterpolation = 2 };
 
-class StageListener {
+class TRISTEREO_API StageListener {
  public:
   virtual ~StageListener() = default;
   // Must be cheap and must not throw or allocate: it runs inside the frame.
   virtual void on_stage(PipelineStage stage, bool begin) noexcept = 0;
 };
 
-class Pipeline {
+class TRISTEREO_API Pipeline {
  public:
   Pipeline();
   ~Pipeline();

@@ -4,6 +4,8 @@
 // bit for bit. Slow by design; allocates freely.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include "tristereo/image.hpp"
 #include "tristereo/mesh.hpp"
 #include "tristereo/params.hpp"
@@ -12,6 +14,6 @@ namespace tristereo {
 
 // left/right: 8-bit, 1 or 3 channels (converted to gray by the BT.601 rule).
 // Throws Error on bad input, like Pipeline::process.
-StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const StereoParams& params);
+TRISTEREO_API StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const StereoParams& params);
 
 }  // namespace tristereo

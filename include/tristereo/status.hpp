@@ -6,6 +6,8 @@
 // Nothing the caller owns is modified when an Error is thrown.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <stdexcept>
 #include <string>
 
@@ -21,9 +23,9 @@ enum class ErrorCode {
   kPlatform,          // affinity, scheduling or GPIO request refused by the OS
 };
 
-const char* error_code_name(ErrorCode code) noexcept;
+TRISTEREO_API const char* error_code_name(ErrorCode code) noexcept;
 
-class Error : public std::runtime_error {
+class TRISTEREO_API Error : public std::runtime_error {
  public:
   Error(ErrorCode code, const std::string& message)
       : std::runtime_error(message), code_(code) {}

@@ -14,6 +14,8 @@
 // is identical for a given seed on every compiler and platform.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <cstdint>
 
 #include "tristereo/image.hpp"
@@ -37,11 +39,11 @@ struct SynthParams {
 // integer disparities occluding each other and the background, and one slanted
 // rectangle. Disparities are >= 1, so evaluators that treat 0 as "unknown" see
 // every pixel. Throws Error(kInvalidArgument) for parameters out of range.
-SyntheticScene make_synthetic_scene(const SynthParams& params);
+TRISTEREO_API SyntheticScene make_synthetic_scene(const SynthParams& params);
 
 // One fronto-parallel textured plane at integer disparity `disp` (0 .. w - 1)
 // everywhere: right(x - disp, y) == left(x, y). Left columns x < disp have no
 // match and are 0 in nonocc_mask. w, h in 2..4096.
-SyntheticScene make_planar_scene(int w, int h, int disp, std::uint32_t seed);
+TRISTEREO_API SyntheticScene make_planar_scene(int w, int h, int disp, std::uint32_t seed);
 
 }  // namespace tristereo

@@ -2,6 +2,8 @@
 // reference against every kernel set this CPU can run, at several thread counts.
 #pragma once
 
+#include "tristereo/export.hpp"
+
 #include <string>
 #include <vector>
 
@@ -25,15 +27,15 @@ struct VerifyReport {
 };
 
 // thread_counts empty = {1, number of allowed CPUs}.
-VerifyReport verify_bit_exact(const ImageU8& left, const ImageU8& right, const StereoParams& params,
+TRISTEREO_API VerifyReport verify_bit_exact(const ImageU8& left, const ImageU8& right, const StereoParams& params,
                               std::vector<int> thread_counts = {});
 
 // First difference between two frame outputs ("" when identical), e.g.
 // "dense map differs at (12, 40): 176 vs 192".
 struct StereoOutput;
-std::string first_difference(const StereoOutput& expected, const StereoOutput& actual);
+TRISTEREO_API std::string first_difference(const StereoOutput& expected, const StereoOutput& actual);
 
 // 64-bit FNV-1a digests of the outputs, in hex (stable across platforms).
-std::string digest_hex(const StereoOutput& out);
+TRISTEREO_API std::string digest_hex(const StereoOutput& out);
 
 }  // namespace tristereo
