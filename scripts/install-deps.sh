@@ -8,7 +8,8 @@
 #   main   building the library and the tristereo program (scripts/demo.sh):
 #          g++, make, CMake, pkg-config, Eigen, xsimd, libpng, zlib, libgpiod
 #   test   main + what scripts/test.sh builds and runs: GoogleTest, Google
-#          Benchmark (the benchmarks are built so they cannot rot), shellcheck
+#          Benchmark (the benchmarks are built so they cannot rot), shellcheck,
+#          pybind11, NumPy and pytest (the Python bindings and their tests)
 #   cross  test + the ARM cross compilers, qemu-user and the arm64/armhf target
 #          libraries (scripts/install-cross-deps.sh all)
 #   plot   python3 with matplotlib and NumPy (scripts/plot_latency.py and the
@@ -41,6 +42,8 @@ fi
 if [ "$test" -eq 1 ]; then
   # googletest: the sources the suite builds for every target (/usr/src/googletest).
   pkgs="$pkgs googletest libgtest-dev libgmock-dev libbenchmark-dev shellcheck"
+  # The Python bindings and their tests (Debian's Python only).
+  pkgs="$pkgs python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest"
   profiles="$profiles test"
 fi
 if [ "$plot" -eq 1 ]; then
@@ -68,6 +71,10 @@ if [ "$test" -eq 1 ]; then
   deps_need_file /usr/src/googletest/CMakeLists.txt "GoogleTest sources"
   deps_need_file /usr/include/benchmark/benchmark.h "Google Benchmark headers"
   deps_need_cmd shellcheck "script linter"
+  deps_need_file /usr/lib/cmake/pybind11/pybind11Config.cmake "pybind11's CMake package"
+  if ! /usr/bin/python3 -c 'import numpy, pytest, pybind11' 2>/dev/null; then
+    deps_problem "python3 modules numpy, pytest and pybind11 for /usr/bin/python3"
+  fi
 fi
 if [ "$plot" -eq 1 ]; then
   deps_need_cmd python3 "Python"

@@ -9,6 +9,7 @@
 #   ctest        the whole GoogleTest suite (kernel sets chosen at run time)
 #   kernels-SET  the whole suite again with TRISTEREO_KERNELS=SET forced, for
 #                every set this build compiled and this CPU runs
+#   python       the Python bindings' pytest suite (scripts/python-test.sh)
 #   consumer-native  examples/consumer built against the INSTALLED package
 #                (find_package and pkg-config; static, then shared) and run
 #                (scripts/consumer-test.sh native)
@@ -42,6 +43,7 @@ cross=1
 # The exactness tests: integer path == float reference, SIMD == scalar, golden
 # digests (which the ARM builds must reproduce), identical for any thread count.
 exact_targets="simd_kernels_test match_reference_test pipeline_reference_test golden_digest_test tritree_reference_test interp_test pipeline_threads_test"
+native_extra_targets="tristereo_cli _tristereo"  # the Python stage needs them
 exact_regex='^(SimdKernels|KernelSets|MatchReference|RandomBitExact|SyntheticBitExact|All/MiddleburyBitExact|GoldenDigest|TritreeReference|Interpolate|PipelineThreads)'
 
 summary=""
@@ -144,11 +146,12 @@ t0=$(date +%s)
 echo "==== test: build: native Release, -DTRISTEREO_WERROR=ON"
 build_targets=""
 if [ "$subset" = "exactness" ]; then
-  build_targets="--target $exact_targets"
+  build_targets="--target $exact_targets $native_extra_targets"
 fi
 # shellcheck disable=SC2086
 if scripts/configure.sh build -S . -DCMAKE_BUILD_TYPE=Release -DTRISTEREO_WERROR=ON \
-     -DTRISTEREO_BUILD_TESTS=ON -DTRISTEREO_BUILD_BENCH=ON -DTRISTEREO_BUILD_APPS=ON &&
+     -DTRISTEREO_BUILD_TESTS=ON -DTRISTEREO_BUILD_BENCH=ON -DTRISTEREO_BUILD_APPS=ON \
+     -DTRISTEREO_BUILD_PYTHON=ON &&
    cmake --build build -j"$jobs" $build_targets; then
   record build passed $(($(date +%s) - t0)) "build/ ($subset)"
   if [ "$subset" = "exactness" ]; then
@@ -167,6 +170,13 @@ if scripts/configure.sh build -S . -DCMAKE_BUILD_TYPE=Release -DTRISTEREO_WERROR
     done
     unset TRISTEREO_KERNELS
   fi
+  # ---------------------------------------------------------- Python
+  echo "==== test: python: scripts/python-test.sh build"
+  t0=$(date +%s)
+  run_logged "$log_dir/python.log" scripts/python-test.sh build
+  status=passed
+  [ "$rc" -eq 0 ] || status=FAILED
+  record python "$status" $(($(date +%s) - t0)) "pytest: $(grep -E '[0-9]+ (passed|failed)' "$log_dir/python.log" | tail -n 1)"
   run_stage consumer-native scripts/consumer-test.sh native build
 else
   record build FAILED $(($(date +%s) - t0)) "configure or build of build/ failed (see above)"
