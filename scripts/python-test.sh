@@ -15,4 +15,23 @@ PYTHONPATH="$build/python" TRISTEREO_CLI="$build/tristereo" PYTHONDONTWRITEBYTEC
   /usr/bin/python3 -m pytest -q -p no:cacheprovider python/tests
 rc=$?
 [ "$rc" -eq 5 ] && echo "python-test: pytest collected no tests" >&2
-exit "$rc"
+[ "$rc" -eq 0 ] || exit "$rc"
+
+# Installed into a chosen folder, the package imports and runs from there.
+prefix=$(mktemp -d)
+trap 'rm -rf "$prefix"' EXIT
+cmake --install "$build" --component python --prefix "$prefix" >/dev/null || exit 1
+site="$prefix/lib/python3/dist-packages"
+if (cd "$prefix" && PYTHONPATH="$site" /usr/bin/python3 -c '
+import numpy as np, sys, tristereo
+assert tristereo.__file__.startswith(sys.argv[1]), tristereo.__file__
+img = (np.arange(48 * 32) % 251).astype(np.uint8).reshape(32, 48)
+out = tristereo.Pipeline(48, 32, ndisp=8).process(img, img)
+assert out.disparity.shape == (32, 48)
+print("python-test: the installed package imports and runs from", sys.argv[1])
+' "$site"); then
+  echo "installed package: passed"
+else
+  echo "installed package: FAILED"
+  exit 1
+fi
