@@ -126,8 +126,12 @@ int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
     return (q >= samples.row_begin(y) && q < samples.row_end(y)) ? q : -1;
   }
   if (samples.dense()) {
-    const int qx = x - u.dx, qy = y - u.dy;
-    if (qx < 0 || qx >= samples.width || qy < 0 || qy >= samples.height) return -1;
+    // The 8-neighbourhood under the same rule as the mesh: p - u when it is
+    // inside; at the left/right border a diagonal falls back to the pixel
+    // straight above/below (the only other neighbour with (p - q).u > 0).
+    const int qy = y - u.dy;
+    if (qy < 0 || qy >= samples.height) return -1;
+    const int qx = (x - u.dx >= 0 && x - u.dx < samples.width) ? x - u.dx : x;
     return qy * samples.width + qx;
   }
   return preds_[static_cast<std::size_t>(r - 2) * static_cast<std::size_t>(samples.count()) + static_cast<std::size_t>(i)];
