@@ -41,7 +41,7 @@ SETS = [
 # the four v2 scenes, bad > 1 px, invalid = bad). Per-scene peers of the other
 # sets come from the data README's table (read_readme_peers).
 V2_PEER_MEANS = {
-    "source": "issue #14 (Depth that holds ...)",
+    "source": "issue #14, \"Depth that holds ...\"",
     "bad 1 px nonocc": {"SGBM": 11.4, "libelas": 6.8},
     "bad 1 px all": {"SGBM": 17.4, "libelas": 12.1},
 }
