@@ -470,6 +470,13 @@ TEST(Eval, EveryDataSetSceneLoadsAndScoresItsGroundTruthPerfectly) {
         ASSERT_EQ(s.nonocc.pixels[i] == 0, !std::isfinite(s.gt.pixels[i])) << "pixel " << i;
       EXPECT_LT(evaluate_disparity(s.gt.view(), s.gt.view(), s.nonocc.view()).evaluated, self.evaluated);
     }
+    if (s.set == "middlebury") {
+      EXPECT_TRUE(std::isnan(s.peer_sgbm));  // v2 has set means only (issue #14)
+    } else {
+      EXPECT_GT(s.peer_sgbm, 0.0);
+      EXPECT_GT(s.peer_bm, 0.0);
+      EXPECT_GT(s.peer_libelas, 0.0);
+    }
     if (s.set == "kitti2015") {
       EXPECT_EQ(s.nonocc.width, 0);
       EXPECT_EQ(s.metric, test::DataMetric::kD1);
@@ -484,6 +491,13 @@ TEST(Eval, EveryDataSetSceneLoadsAndScoresItsGroundTruthPerfectly) {
   // Known pixel counts, from the files themselves (eval GT GT --json).
   EXPECT_EQ(evaluate_disparity(scenes[10].gt.view(), scenes[10].gt.view(), {}).evaluated, 88975);
   EXPECT_EQ(scenes[10].name, "000000");
+  // The README's peer table, e.g. jadeplant: SGBM 51.9, StereoBM 65.2, libelas 40.1.
+  EXPECT_EQ(scenes[5].name, "jadeplant");
+  EXPECT_EQ(scenes[5].peer_sgbm, 51.9);
+  EXPECT_EQ(scenes[5].peer_bm, 65.2);
+  EXPECT_EQ(scenes[5].peer_libelas, 40.1);
+  EXPECT_EQ(scenes[12].name, "playground");
+  EXPECT_EQ(scenes[12].peer_sgbm, 7.4);
 }
 
 }  // namespace
