@@ -339,6 +339,7 @@ TEST(Eval, DisparityFilesOfTheWrongKindAreRefused) {
   write_png_u16(t / "g16.png", cview(g16));
   std::ofstream(t / "junk.bin") << "not an image at all";
   std::ofstream(t / "short.png") << "\x89PNG";
+  std::ofstream(t / "empty.pfm").close();
   const auto read = [&](const std::string& name, DispFileFormat fmt) {
     return code_of([&] { read_disparity_px(t / name, fmt, 1); });
   };
@@ -361,8 +362,16 @@ TEST(Eval, DisparityFilesOfTheWrongKindAreRefused) {
             ErrorCode::kUnsupportedFormat);
   EXPECT_EQ(code_of([&] { detect_disp_file_format(t / "short.png", DispFileFormat::kQ4); }),
             ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(read("empty.pfm", DispFileFormat::kPfm), ErrorCode::kUnsupportedFormat);
+  try {
+    detect_disp_file_format(t / "empty.pfm", DispFileFormat::kQ4);
+    ADD_FAILURE() << "an empty file was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is empty"), std::string::npos) << e.what();
+  }
   try {  // the message says what the file is and what was asked
     read_disparity_px(t / "a.pfm", DispFileFormat::kKitti, 1);
+    ADD_FAILURE() << "a PFM was read as a KITTI PNG";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("is a PFM file, not a kitti disparity file"), std::string::npos)
         << e.what();
