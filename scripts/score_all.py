@@ -149,9 +149,16 @@ def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.
         labels = [m[0] for m in set_scenes[0].metrics]
         w("## %s" % entry["label"])
         per_scene_peers = set_name != "middlebury"
+        # Invalid pixels (counted as bad above), shown once the matcher leaves any (--fill none).
+        region0 = set_scenes[0].metrics[0][2]
+        inv = {s.id: 100.0 * results[s.id]["eval"][region0]["invalid"] /
+               max(1, results[s.id]["eval"][region0]["evaluated"]) for s in set_scenes}
+        show_inv = any(v > 0 for v in inv.values())
         head = "%-12s" % "scene"
         for l in labels:
             head += "%18s" % l + ("%8s" % "change" if baseline is not None else "")
+        if show_inv:
+            head += "%9s" % "invalid"
         if per_scene_peers:
             head += "%8s%10s%9s" % ("SGBM", "StereoBM", "libelas")
         w(head + "%9s" % "ms")
@@ -163,6 +170,8 @@ def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.
                 if baseline is not None:
                     line += "%8s" % delta(r["metrics"][l], base_scenes.get(s.id, {}).get("metrics", {}).get(l))
             note = ""
+            if show_inv:
+                line += "%9s" % fmt(inv[s.id])
             if per_scene_peers:
                 p = peers.get(s.id, {})
                 line += "%8s%10s%9s" % (fmt(p.get("SGBM")), fmt(p.get("StereoBM")), fmt(p.get("libelas")))
@@ -177,6 +186,8 @@ def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.
                 old = [base_scenes[i]["metrics"].get(l) for i in ids if i in base_scenes]
                 line += "%8s" % (delta(entry["metrics"][l]["ours"], statistics.mean(old))
                                  if len(old) == len(ids) else "-")
+        if show_inv:
+            line += "%9s" % fmt(statistics.mean(inv.values()))
         if per_scene_peers:
             m = entry["metrics"][labels[0]]
             line += "%8s%10s%9s" % (fmt(m.get("SGBM")), fmt(m.get("StereoBM")), fmt(m.get("libelas")))
