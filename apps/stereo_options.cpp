@@ -79,7 +79,7 @@ const char* stereo_options_help() {
   --dmin N             smallest disparity (default 0)
   --psnr DB            tritree split threshold, 10..70 dB in 0.1 steps (default 40)
   --max-area PX        tritree maximum triangle area, 1..1024 px^2 (default 100)
-  --window WxH         support window, odd sides 1..31 (default 5x5)
+  --window WxH         support window, odd sides 1..31 (default 3x3; paper 5x5)
   --weights box|adaptive   support weights (default box)
   --gamma-color G      adaptive weights: colour scale (default 10)
   --gamma-proximity G  adaptive weights: distance^2 scale (default 50)

@@ -43,7 +43,9 @@ TEST_P(MiddleburyBitExact, SparseAndDenseBoxAndAdaptive) {
   const test::MiddleburyPair m = test::load_middlebury(GetParam());
   for (bool dense : {false, true}) {
     for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
-      StereoParams p;
+      // Box: the defaults (census, paths, left-right check, fill) sparse, the
+      // paper's model dense; adaptive weights: the paper's model.
+      StereoParams p = (dense || w == Weights::kAdaptive) ? paper_params() : StereoParams{};
       p.num_disp = m.ndisp;
       p.dense = dense;
       p.cost.weights = w;

@@ -52,8 +52,8 @@ struct CostParams {
   int census_w = 7;                 // census transform window, odd, 3..9, census_w * census_h - 1 <= 64
   int census_h = 7;
   int ad_weight_q4 = 8;             // ad_census: cost = census + ad_weight_q4 * ad / 16 (0..64)
-  int window_w = 5;                 // support window (aggregation), odd, 1..kMaxWindowSide
-  int window_h = 5;                 // odd, 1..kMaxWindowSide
+  int window_w = 3;                 // support window (aggregation), odd, 1..kMaxWindowSide
+  int window_h = 3;                 // odd, 1..kMaxWindowSide (the paper's model: 5x5)
   Weights weights = Weights::kBox;
   int truncation = 30;              // T_c: |L-R| is clamped to this (1..255; 255 = none)
   int asw_gamma_color = 10;         // adaptive weights: exp(-|dI| / gamma_color)
