@@ -90,9 +90,10 @@ const char* stereo_options_help() {
   --census WxH         census transform window, odd sides 3..9, W*H <= 65 (default 7x7)
   --ad-weight W        ad_census: AD share in Q4 (16 = equal), 0..64 (default 8)
   --optimizer paths|dp path aggregation on the mesh (default) or the paper's row DP
-  --paths 4|8          path directions (default 8)
-  --p1 P --p2 P        path penalties in Q4 cost units (defaults 120, 480)
+  --paths 4|8          path directions (default 4)
+  --p1 P --p2 P        path penalties in Q4 cost units (defaults 160, 640)
   --p2-edge T          P2 shrinks across intensity edges by T/(T+|dI|); 0 = off
+                       (default 30)
   --path-gap inv_sq|inv|const  penalties scaled by tau(edge length) (default const)
   --lr-max-diff Q4     left-right check tolerance in 1/16 px; -1 = no check (default 16)
   --uniqueness PCT     uniqueness margin in percent; 0 = off (default 0)

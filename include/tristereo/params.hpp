@@ -71,12 +71,12 @@ struct DpParams {
 // units. Each sample's predecessor along a direction is its mesh neighbour
 // that best follows the direction (the same-row sample for horizontal ones).
 struct PathParams {
-  int directions = 8;               // 4 (horizontal, vertical) or 8 (+ diagonals)
-  int p1_q4 = 120;
-  int p2_q4 = 480;                  // >= p1_q4
+  int directions = 4;               // 4 (horizontal, vertical) or 8 (+ diagonals)
+  int p1_q4 = 160;
+  int p2_q4 = 640;                  // >= p1_q4
   // P2 shrinks across intensity edges: P2' = P1 + (P2 - P1) * T / (T + |I(p) - I(q)|);
   // 0 = off (P2 everywhere).
-  int p2_edge_scale = 0;
+  int p2_edge_scale = 30;
   GapPolicy gap = GapPolicy::kConstant;  // P1, P2 scaled by tau(edge length)
 };
 
