@@ -203,7 +203,7 @@ def pipeline_section(a):
     keys = sorted(med)
     scenes = sorted({k[0] for k in keys}, key=lambda s: (not s.startswith("synthetic"), s))
     kernel_order = ["scalar", "sse2", "avx2", "neon"]
-    lines.append("## Per stage, one thread\n")
+    lines.append("### Per stage, one thread\n")
     lines.append("| scene | D | mode | kernels | tritree | cost aggregation | DP | interpolation | total | "
                  "cost speed-up vs scalar | total speed-up vs scalar | Mdisp/s |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -219,7 +219,7 @@ def pipeline_section(a):
                         s, d, mode, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
                         "%.2fx" % (base["cost_ms"] / b["cost_ms"]) if base else "-",
                         "%.2fx" % (base["total_ms"] / b["total_ms"]) if base else "-", b["Mdisp_per_s"]))
-    lines.append("\n## Sparse vs dense, one thread (best kernel set)\n")
+    lines.append("\n### Sparse vs dense, one thread (best kernel set)\n")
     lines.append("| scene | D | kernels | samples sparse | DP ms sparse / dense | DP ratio | "
                  "cost ms sparse / dense | frame ms sparse / dense | frame ratio |")
     lines.append("|---|---|---|---|---|---|---|---|---|")
@@ -232,7 +232,7 @@ def pipeline_section(a):
                         s, d, kern, sp["samples"], sp["dp_ms"], de["dp_ms"], sp["dp_ms"] / de["dp_ms"],
                         sp["cost_ms"], de["cost_ms"], sp["total_ms"], de["total_ms"], sp["total_ms"] / de["total_ms"]))
                     break
-    lines.append("\n## Threads (best kernel set, synthetic 640x480)\n")
+    lines.append("\n### Threads (best kernel set, synthetic 640x480)\n")
     lines.append("| D | mode | threads | tritree | cost aggregation | DP | interpolation | total | speed-up vs 1 thread |")
     lines.append("|---|---|---|---|---|---|---|---|---|")
     for (s, d, mode, kern, t) in keys:
@@ -245,7 +245,7 @@ def pipeline_section(a):
             d, mode, t, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
             one["total_ms"] / b["total_ms"]))
     if pairs:
-        lines.append("\n## Threads, paired frames (synthetic 640x480, best kernel set)\n")
+        lines.append("\n### Threads, paired frames (synthetic 640x480, best kernel set)\n")
         lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
                      "meeting the same moment of the machine. Each run takes the median over its pairs; the "
                      "runs are spread over the whole benchmark run by the random interleaving. Shown: the "
@@ -267,7 +267,7 @@ def pipeline_section(a):
                 m("ceiling"), m("of_ceiling"),
                 m("speedup_tritree"), m("speedup_matching"),
                 "%.2fx" % m("speedup_interp") if mode == "sparse" else "-"))
-    lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
+    lines.append("\n### Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
     lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
                  "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
     lines.append("| loop | before | after |")
