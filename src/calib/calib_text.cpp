@@ -1,14 +1,19 @@
 #include "src/calib/calib_text.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 
 namespace tristereo::calib_detail {
 
 std::vector<Line> read_lines(const std::string& path) {
+  errno = 0;
   std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot open it");
+  if (!f)
+    throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot open it" +
+                                         (errno ? std::string(": ") + std::strerror(errno) : std::string()));
   f.seekg(0, std::ios::end);
   const long long size = static_cast<long long>(f.tellg());
   if (size < 0) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot read it");
