@@ -2,6 +2,10 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <utility>
+
+#include "tristereo/io.hpp"
+#include "tristereo/status.hpp"
 
 namespace tristereo::test {
 
@@ -22,6 +26,77 @@ bool data_set_available(const std::string& set) {
 bool missing_data_allowed() {
   const char* allow = std::getenv("TRISTEREO_ALLOW_MISSING_DATA");
   return allow != nullptr && std::string(allow) == "1";
+}
+
+}  // namespace tristereo::test
+
+namespace tristereo::test {
+
+std::vector<std::string> data_set_names() {
+  return {"middlebury", "middlebury2014", "kitti2015", "eth3d"};
+}
+
+const char* to_string(DataMetric m) {
+  switch (m) {
+    case DataMetric::kBad1: return "bad 1 px";
+    case DataMetric::kBad2: return "bad 2 px";
+    case DataMetric::kD1: return "D1";
+  }
+  return "?";
+}
+
+std::vector<DataScene> load_data_set(const std::string& set) {
+  const std::string root = data_set_dir(set);
+  std::vector<DataScene> out;
+  for (const MiddleburyScene& row : read_datasets_tsv(root + "/datasets.tsv")) {
+    DataScene s;
+    s.set = set;
+    s.name = row.name;
+    s.dir = root + "/" + row.name;
+    s.ndisp = row.ndisp;
+    s.left = read_image_u8(s.dir + "/left.png");
+    s.right = read_image_u8(s.dir + "/right.png");
+    if (set == "middlebury") {  // v2: no gt_file column; fixed names (its README)
+      s.gt = load_middlebury_gt(s.dir + "/disp_left.png", row.gt_scale);
+      s.nonocc = read_image_u8(s.dir + "/nonocc.png");
+      s.all = read_image_u8(s.dir + "/all.png");
+      s.metric = DataMetric::kBad1;
+      s.metric_on_nonocc = true;
+    } else {
+      DispFileFormat fmt = DispFileFormat::kPfm;
+      if (row.gt_format == "kitti16") {
+        fmt = DispFileFormat::kKitti;
+      } else if (row.gt_format != "pfm") {
+        throw Error(ErrorCode::kCorruptFile, root + "/datasets.tsv: scene " + row.name +
+                                                 ": unknown gt_format '" + row.gt_format + "'");
+      }
+      s.gt = read_disparity_px(s.dir + "/" + row.gt_file, fmt, 1);
+      if (!row.noc_mask.empty() && row.noc_mask != "none")
+        s.nonocc = read_image_u8(s.dir + "/" + row.noc_mask);
+      s.metric = set == "kitti2015" ? DataMetric::kD1 : DataMetric::kBad2;
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::vector<DataScene> load_all_data_scenes() {
+  std::vector<DataScene> all;
+  for (const std::string& set : data_set_names())
+    for (DataScene& s : load_data_set(set)) all.push_back(std::move(s));
+  return all;
+}
+
+double readme_score(const DataScene& scene, ImageView<const float> disp_px) {
+  ImageView<const std::uint8_t> mask{};
+  if (scene.metric_on_nonocc) mask = scene.nonocc.view();
+  const BadPixelStats s = evaluate_disparity(disp_px, scene.gt.view(), mask);
+  switch (scene.metric) {
+    case DataMetric::kBad1: return s.bad_1;
+    case DataMetric::kBad2: return s.bad_2;
+    case DataMetric::kD1: return s.d1;
+  }
+  return 0;
 }
 
 }  // namespace tristereo::test
