@@ -97,6 +97,16 @@ TEST_F(IoBoundsTest, AWriteReplacesTheFileWholeAndLeavesNoTemporary) {
   EXPECT_EQ(st.st_mode & 0777, 0666 & ~mask);
 }
 
+TEST_F(IoBoundsTest, ALinkKeepsPointingAtTheFileItNames) {
+  fs::create_directories(path("real"));
+  write_text_file(path("real/a.csv"), "old\n");
+  fs::create_symlink("real/a.csv", path("link.csv"));
+  write_text_file(path("link.csv"), "new\n");
+  EXPECT_TRUE(fs::is_symlink(path("link.csv")));
+  EXPECT_EQ(slurp(path("real/a.csv")), "new\n");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"link.csv", "real"}));
+}
+
 TEST_F(IoBoundsTest, AFailedWriteKeepsWhatWasAtThePath) {
   write_text_file(path("old.pgm"), "previous results\n");
   ImageU8 img(200, 200, 1);  // 40 kB, and noise so that the PNG stays larger than 4 kB

@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cerrno>
 #include <cstring>
+#include <atomic>
+#include <climits>
 #include <memory>
 
 #include <fcntl.h>
@@ -148,27 +150,33 @@ OutputFile::OutputFile(const std::string& path) : path_(path) {
     if (!file_) throw Error(ErrorCode::kIoError, os_error("cannot open", path, errno));
     return;
   }
+  // A symbolic link to a file: the file it names is replaced, the link kept.
+  struct stat lst {};
+  if (exists && ::lstat(path.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode)) {
+    char target[PATH_MAX];
+    if (::realpath(path.c_str(), target)) target_ = target;
+  }
+  if (target_.empty()) target_ = path;
   // A regular file, or none yet: a hidden temporary in the same folder (the
   // rename must not cross file systems), renamed over the path by commit().
-  const std::string dir = parent_dir(path);
-  std::string temp = dir + "/." + base_name(path) + ".tmp-XXXXXX";
-  const int fd = ::mkstemp(&temp[0]);
+  // Created with mode 0666 like fopen, so the umask applies as usual; a file
+  // it replaces keeps its mode.
+  const std::string dir = parent_dir(target_);
+  static std::atomic<unsigned> counter{0};
+  int fd = -1;
+  std::string temp;
+  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+    temp = dir + "/." + base_name(target_) + ".tmp-" + std::to_string(::getpid()) + "-" +
+           std::to_string(counter.fetch_add(1));
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) break;
+  }
   if (fd < 0) {
     const int err = errno;
     throw Error(ErrorCode::kIoError,
                 "cannot create '" + path + "': " + std::strerror(err) + " (in folder '" + dir + "')");
   }
-  // mkstemp creates mode 0600; give the file the mode it would have had from
-  // fopen (or keep the mode of the file it replaces).
-  mode_t mode = 0;
-  if (exists) {
-    mode = st.st_mode & 07777;
-  } else {
-    const mode_t mask = ::umask(0);
-    ::umask(mask);
-    mode = 0666 & ~mask;
-  }
-  ::fchmod(fd, mode);  // best effort: a failure leaves a private file, not a wrong one
+  if (exists) ::fchmod(fd, st.st_mode & 07777);  // best effort: the default mode otherwise
   file_ = ::fdopen(fd, "wb");
   if (!file_) {
     const int err = errno;
@@ -202,7 +210,7 @@ void OutputFile::commit() {
   // final name, or a crash could leave an empty file there.
   if (err == 0 && !temp_path_.empty() && ::fsync(::fileno(f)) != 0) err = errno;
   if (std::fclose(f) != 0 && err == 0) err = errno ? errno : EIO;
-  if (err == 0 && !temp_path_.empty() && std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+  if (err == 0 && !temp_path_.empty() && std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
     err = errno;
   }
   if (err != 0) throw Error(ErrorCode::kIoError, os_error("cannot write", path_, err));

@@ -44,7 +44,8 @@ std::string lower_extension(const std::string& path);
 // anything fails, or commit() is never reached, the temporary is removed and
 // whatever was at the path before is left as it was. An existing device or
 // FIFO (/dev/null, /dev/full, a pipe) is written in place instead, and never
-// removed. A directory at the path is kIoError.
+// removed. A symbolic link at the path keeps pointing at the file it names,
+// which is the one replaced. A directory at the path is kIoError.
 class OutputFile {
  public:
   explicit OutputFile(const std::string& path);  // kIoError if it cannot be created
@@ -59,6 +60,7 @@ class OutputFile {
 
  private:
   std::string path_;
+  std::string target_;     // path_, or the file a symbolic link at path_ names
   std::string temp_path_;  // empty when writing in place
   std::FILE* file_ = nullptr;
 };

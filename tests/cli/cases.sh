@@ -88,14 +88,14 @@ run error 1 "cannot read 'folder.png': it is a directory" "a folder as LEFT" "$T
 run error 1 "'empty.png' is empty" "empty file" "$T match empty.png $R --ndisp 16"
 run error 1 "'text.png' is not a PNG or PGM/PPM file \(starts with \"left\"\)" "text file named .png" "$T match text.png $R --ndisp 16"
 run error 1 "'/dev/zero' is not a PNG or PGM/PPM file" "endless stream of zeros (memory limit 100 MB)" \
-  "ulimit -v 100000; $T match /dev/zero $R --ndisp 16"
+  "vmem_limit_100mb; $T match /dev/zero $R --ndisp 16"
 run error 1 "huge_claim.png': the header claims 16384 x 16384 pixels .* more than a 66-byte file can hold" \
-  "66-byte PNG claiming 16384x16384 (memory limit 100 MB)" "ulimit -v 100000; $T match huge_claim.png $R --ndisp 16"
+  "66-byte PNG claiming 16384x16384 (memory limit 100 MB)" "vmem_limit_100mb; $T match huge_claim.png $R --ndisp 16"
 run error 1 "palette_oob.png': pixel \(4, 0\) has palette index 5 but the palette has 2 entries" \
   "palette index beyond the palette" "$T match palette_oob.png $R --ndisp 16"
 run error 1 "corrupt PNG 'truncated.png'" "PNG cut after 300 bytes" "$T match truncated.png $R --ndisp 16"
 run error 1 "corrupt PNM 'claims_256M.pgm': truncated: header promises 256000000 bytes of pixels, file has 10" \
-  "PGM claiming 16000x16000 (memory limit 100 MB)" "ulimit -v 100000; $T match claims_256M.pgm $R --ndisp 16"
+  "PGM claiming 16000x16000 (memory limit 100 MB)" "vmem_limit_100mb; $T match claims_256M.pgm $R --ndisp 16"
 run error 1 "PNM 'claims_3600M.pgm': image size 60000 x 60000 exceeds the reader limit of 268435456 pixels" \
   "PGM claiming 60000x60000" "$T match claims_3600M.pgm $R --ndisp 16"
 run error 1 "exceeds the reader limit of 65535 pixels per side" "PGM 70000 pixels wide" "$T match too_wide.pgm $R --ndisp 16"
