@@ -106,6 +106,9 @@ run error 1 "has bit depth 16; only 1, 2, 4 and 8-bit images are read here \(a 1
 run error 1 "LEFT p/left.png is 96x64 but RIGHT small/right.png is 40x30" "images of different sizes" \
   "$T match $L small/right.png --ndisp 16"
 run error 1 "calibration file 'missing.txt': cannot open it: No such file or directory" "missing calibration file" "$M --ndisp 16 --calib missing.txt"
+run error 1 "calibration file '/dev/zero': more than 1048576 bytes, not a calibration file" \
+  "endless stream as calibration (memory limit 100 MB)" "vmem_limit_100mb; $M --ndisp 16 --calib /dev/zero --depth z.pfm"
+run error 1 "calibration file 'p': cannot read it" "a folder as calibration" "$M --ndisp 16 --calib p --depth z.pfm"
 run error 1 "--stats nodir/s.json: folder 'nodir': No such file or directory \(create it first\)" \
   "stats into a missing folder" "$M --ndisp 16 --disp d.pfm --stats nodir/s.json" "test ! -e d.pfm" "no d.pfm written"
 run error 1 "--stats folder.json is a folder" "stats onto a folder" "$M --ndisp 16 --stats folder.json"
