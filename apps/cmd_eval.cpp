@@ -283,6 +283,9 @@ int cmd_eval(int argc, char** argv) {
     mask = load_mask(args.get("mask", ""), gt);
     mask_view = mask.view();
   }
+  std::vector<Vertex> sample_pts;  // read before anything is printed: a bad file prints no score
+  std::vector<std::int16_t> sample_disp;
+  if (args.has("samples")) read_samples(args.get("samples", ""), sample_pts, sample_disp);
   const BadPixelStats dense = evaluate_disparity(disp.view(), gt.view(), mask_view);
   print_stats("dense", dense);
 
@@ -346,12 +349,9 @@ int cmd_eval(int argc, char** argv) {
   for (std::size_t i = 0; i < warnings.size(); ++i) json += (i ? ", " : "") + json_string(warnings[i]);
   json += "],\n  \"dense\": " + stats_json(dense);
   if (args.has("samples")) {
-    std::vector<Vertex> pts;
-    std::vector<std::int16_t> d;
-    read_samples(args.get("samples", ""), pts, d);
     BadPixelStats at;
     try {
-      at = evaluate_at_points(gt.view(), pts, d, mask_view);
+      at = evaluate_at_points(gt.view(), sample_pts, sample_disp, mask_view);
     } catch (const Error& e) {
       throw Error(e.code(), "--samples '" + args.get("samples", "") +
                                 "' does not fit the ground truth (a sample outside the image, or "

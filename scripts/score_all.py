@@ -2,7 +2,8 @@
 """Scores tristereo on every scene of ../shared/data beside OpenCV's and libelas's numbers.
 
 Usage: scripts/score_all.py [--tristereo BIN] [--data DIR] [--jobs 2] [--sets a,b]
-                            [--json OUT.json] [--keep DIR] [-- extra match options]
+                            [--scenes x,y] [--json OUT.json] [--baseline OLD.json]
+                            [--keep DIR] [-- extra match options]
 
 For each scene (scripts/datasets.py): `tristereo match LEFT RIGHT --ndisp N
 <extra> --disp D.pfm --stats S.json` (with --threads 1 unless the extra options
@@ -10,7 +11,8 @@ say otherwise, so --jobs pairs run side by side), then `tristereo eval` by the
 set's metric (data README: invalid = bad, every known-GT pixel; v2 on its
 masks). Prints one table per set (per-scene metric, ms per frame, the peers)
 and a summary: one line per set, our mean against SGBM's and libelas's, and how
-many scenes are worse than SGBM. Exit 1 when a match or an eval fails (the
+many scenes are worse than SGBM. --baseline OLD.json (an earlier --json) adds
+the change per scene and the earlier set means. Exit 1 when a match or an eval fails (the
 command and its message are printed), 2 for usage errors.
 
 ms per frame is the pipeline's own `--stats` total of that one run: with
@@ -69,9 +71,15 @@ def score_scene(exe, scene, extra, workdir):
     return res
 
 
-def score(exe, data, extra, jobs=2, sets=None, workdir=None):
-    """Scores every scene; returns (scenes, results by scene id)."""
+def score(exe, data, extra, jobs=2, sets=None, workdir=None, names=None):
+    """Scores every scene (of `sets`; named `names`, as name or set/name);
+    returns (scenes, results by scene id)."""
     scenes = datasets.scenes(data, sets)
+    if names:
+        unknown = [n for n in names if not any(n in (s.name, s.id) for s in scenes)]
+        if unknown:
+            raise ValueError("--scenes: no scene %s (scripts/datasets.py lists them)" % ", ".join(unknown))
+        scenes = [s for s in scenes if s.name in names or s.id in names]
     own_tmp = workdir is None
     workdir = workdir or tempfile.mkdtemp(prefix="tristereo-score-")
     os.makedirs(workdir, exist_ok=True)
@@ -123,35 +131,63 @@ def fmt(v):
     return "%.1f" % v if isinstance(v, (int, float)) else "-"
 
 
-def print_tables(scenes, results, peers, summary, extra, out=sys.stdout):
+def delta(ours, base):
+    return "%+.1f" % (ours - base) if isinstance(base, (int, float)) else "-"
+
+
+def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.stdout):
+    """baseline: a previous --json output; adds a change column per metric."""
     w = lambda s="": print(s, file=out)
+    base_scenes = (baseline or {}).get("scenes", {})
     w("tristereo match %s (all known-GT pixels unless a mask is named; invalid = bad; %%)" %
       (" ".join(extra) if extra else "(defaults)"))
+    if baseline is not None:
+        w("change column: against %s" % (" ".join(baseline.get("match_args", [])) or "(defaults)"))
     for set_name, entry in summary.items():
         w()
         set_scenes = [s for s in scenes if s.set == set_name]
         labels = [m[0] for m in set_scenes[0].metrics]
         w("## %s" % entry["label"])
         per_scene_peers = set_name != "middlebury"
-        head = "%-12s" % "scene" + "".join("%18s" % l for l in labels)
+        # Invalid pixels (counted as bad above), shown once the matcher leaves any (--fill none).
+        region0 = set_scenes[0].metrics[0][2]
+        inv = {s.id: 100.0 * results[s.id]["eval"][region0]["invalid"] /
+               max(1, results[s.id]["eval"][region0]["evaluated"]) for s in set_scenes}
+        show_inv = any(v > 0 for v in inv.values())
+        head = "%-12s" % "scene"
+        for l in labels:
+            head += "%18s" % l + ("%8s" % "change" if baseline is not None else "")
+        if show_inv:
+            head += "%9s" % "invalid"
         if per_scene_peers:
             head += "%8s%10s%9s" % ("SGBM", "StereoBM", "libelas")
-        head += "%9s" % "ms"
-        w(head)
+        w(head + "%9s" % "ms")
         for s in set_scenes:
             r = results[s.id]
-            line = "%-12s" % s.name + "".join("%18s" % fmt(r["metrics"][l]) for l in labels)
+            line = "%-12s" % s.name
+            for l in labels:
+                line += "%18s" % fmt(r["metrics"][l])
+                if baseline is not None:
+                    line += "%8s" % delta(r["metrics"][l], base_scenes.get(s.id, {}).get("metrics", {}).get(l))
+            note = ""
+            if show_inv:
+                line += "%9s" % fmt(inv[s.id])
             if per_scene_peers:
                 p = peers.get(s.id, {})
                 line += "%8s%10s%9s" % (fmt(p.get("SGBM")), fmt(p.get("StereoBM")), fmt(p.get("libelas")))
                 if p and r["metrics"][labels[0]] > p["SGBM"]:
-                    line += "%9s  worse than SGBM" % fmt(r["ms"])
-                else:
-                    line += "%9s" % fmt(r["ms"])
-            else:
-                line += "%9s" % fmt(r["ms"])
-            w(line)
-        line = "%-12s" % "mean" + "".join("%18s" % fmt(entry["metrics"][l]["ours"]) for l in labels)
+                    note = "  worse than SGBM"
+            w(line + "%9s" % fmt(r["ms"]) + note)
+        line = "%-12s" % "mean"
+        for l in labels:
+            line += "%18s" % fmt(entry["metrics"][l]["ours"])
+            if baseline is not None:
+                ids = [s.id for s in set_scenes]
+                old = [base_scenes[i]["metrics"].get(l) for i in ids if i in base_scenes]
+                line += "%8s" % (delta(entry["metrics"][l]["ours"], statistics.mean(old))
+                                 if len(old) == len(ids) else "-")
+        if show_inv:
+            line += "%9s" % fmt(statistics.mean(inv.values()))
         if per_scene_peers:
             m = entry["metrics"][labels[0]]
             line += "%8s%10s%9s" % (fmt(m.get("SGBM")), fmt(m.get("StereoBM")), fmt(m.get("libelas")))
@@ -168,15 +204,20 @@ def print_tables(scenes, results, peers, summary, extra, out=sys.stdout):
                 w("%s: %s" % (i, x))
     w()
     w("summary (ours vs SGBM vs libelas, set means):")
+    base_sets = (baseline or {}).get("sets", {})
     for set_name, entry in summary.items():
-        label = [m[0] for m in datasets.SETS if m[0] == set_name][0]
         for m_label, m in entry["metrics"].items():
             worse = m.get("worse_than_SGBM")
-            w("  %-15s %-16s ours %5.1f  SGBM %5.1f  libelas %5.1f  %s" % (
-                label, m_label, m["ours"], m["SGBM"], m["libelas"],
-                "worse than SGBM: %d of %d%s" % (len(worse), entry["scenes"],
-                                                  (" (" + ", ".join(x.split("/")[1] for x in worse) + ")") if worse else "")
-                if worse is not None else ("mean %s SGBM's" % ("worse than" if m["ours"] > m["SGBM"] else "better than"))))
+            if worse is not None:
+                verdict = "worse than SGBM: %d of %d%s" % (
+                    len(worse), entry["scenes"],
+                    (" (" + ", ".join(x.split("/")[1] for x in worse) + ")") if worse else "")
+            else:
+                verdict = "mean %s SGBM's" % ("worse than" if m["ours"] > m["SGBM"] else "better than")
+            old = base_sets.get(set_name, {}).get("metrics", {}).get(m_label, {}).get("ours")
+            was = " (was %.1f)" % old if old is not None and base_sets[set_name]["scenes"] == entry["scenes"] else ""
+            w("  %-15s %-16s ours %5.1f%s  SGBM %5.1f  libelas %5.1f  %s" % (
+                set_name, m_label, m["ours"], was, m["SGBM"], m["libelas"], verdict))
 
 
 def main(argv):
@@ -193,6 +234,8 @@ def main(argv):
     ap.add_argument("--sets", default="", help="comma-separated subset of " +
                     ",".join(s[0] for s in datasets.SETS))
     ap.add_argument("--json", help="also write every number here")
+    ap.add_argument("--scenes", default="", help="comma-separated scene names (e.g. motorcyclee,pianol)")
+    ap.add_argument("--baseline", help="a previous --json output: adds a change column and 'was' values")
     ap.add_argument("--keep", help="keep the disparity maps and JSON files in this folder")
     a = ap.parse_args(argv)
     if a.jobs < 1:
@@ -205,7 +248,12 @@ def main(argv):
         ap.error("--tristereo %s: no such program (build it: cmake --build build --target tristereo_cli)" % a.tristereo)
     try:
         peers = datasets.read_readme_peers(a.data)
-        scenes, results = score(a.tristereo, a.data, extra, a.jobs, sets or None, a.keep)
+        baseline = None
+        if a.baseline:
+            with open(a.baseline) as f:
+                baseline = json.load(f)
+        names = [n for n in a.scenes.split(",") if n]
+        scenes, results = score(a.tristereo, a.data, extra, a.jobs, sets or None, a.keep, names or None)
     except (OSError, ValueError) as e:
         print("score_all: %s" % e, file=sys.stderr)
         return 1
@@ -213,7 +261,7 @@ def main(argv):
         print("score_all: a run failed:\n%s" % e, file=sys.stderr)
         return 1
     summary = summarise(scenes, results, peers)
-    print_tables(scenes, results, peers, summary, extra)
+    print_tables(scenes, results, peers, summary, extra, baseline)
     if a.json:
         for r in results.values():
             if not a.keep:

@@ -339,6 +339,7 @@ TEST(Eval, DisparityFilesOfTheWrongKindAreRefused) {
   write_png_u16(t / "g16.png", cview(g16));
   std::ofstream(t / "junk.bin") << "not an image at all";
   std::ofstream(t / "short.png") << "\x89PNG";
+  std::ofstream(t / "empty.pfm").close();
   const auto read = [&](const std::string& name, DispFileFormat fmt) {
     return code_of([&] { read_disparity_px(t / name, fmt, 1); });
   };
@@ -361,8 +362,16 @@ TEST(Eval, DisparityFilesOfTheWrongKindAreRefused) {
             ErrorCode::kUnsupportedFormat);
   EXPECT_EQ(code_of([&] { detect_disp_file_format(t / "short.png", DispFileFormat::kQ4); }),
             ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(read("empty.pfm", DispFileFormat::kPfm), ErrorCode::kUnsupportedFormat);
+  try {
+    detect_disp_file_format(t / "empty.pfm", DispFileFormat::kQ4);
+    ADD_FAILURE() << "an empty file was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is empty"), std::string::npos) << e.what();
+  }
   try {  // the message says what the file is and what was asked
     read_disparity_px(t / "a.pfm", DispFileFormat::kKitti, 1);
+    ADD_FAILURE() << "a PFM was read as a KITTI PNG";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("is a PFM file, not a kitti disparity file"), std::string::npos)
         << e.what();
@@ -470,6 +479,13 @@ TEST(Eval, EveryDataSetSceneLoadsAndScoresItsGroundTruthPerfectly) {
         ASSERT_EQ(s.nonocc.pixels[i] == 0, !std::isfinite(s.gt.pixels[i])) << "pixel " << i;
       EXPECT_LT(evaluate_disparity(s.gt.view(), s.gt.view(), s.nonocc.view()).evaluated, self.evaluated);
     }
+    if (s.set == "middlebury") {
+      EXPECT_TRUE(std::isnan(s.peer_sgbm));  // v2 has set means only (issue #14)
+    } else {
+      EXPECT_GT(s.peer_sgbm, 0.0);
+      EXPECT_GT(s.peer_bm, 0.0);
+      EXPECT_GT(s.peer_libelas, 0.0);
+    }
     if (s.set == "kitti2015") {
       EXPECT_EQ(s.nonocc.width, 0);
       EXPECT_EQ(s.metric, test::DataMetric::kD1);
@@ -484,6 +500,13 @@ TEST(Eval, EveryDataSetSceneLoadsAndScoresItsGroundTruthPerfectly) {
   // Known pixel counts, from the files themselves (eval GT GT --json).
   EXPECT_EQ(evaluate_disparity(scenes[10].gt.view(), scenes[10].gt.view(), {}).evaluated, 88975);
   EXPECT_EQ(scenes[10].name, "000000");
+  // The README's peer table, e.g. jadeplant: SGBM 51.9, StereoBM 65.2, libelas 40.1.
+  EXPECT_EQ(scenes[5].name, "jadeplant");
+  EXPECT_EQ(scenes[5].peer_sgbm, 51.9);
+  EXPECT_EQ(scenes[5].peer_bm, 65.2);
+  EXPECT_EQ(scenes[5].peer_libelas, 40.1);
+  EXPECT_EQ(scenes[12].name, "playground");
+  EXPECT_EQ(scenes[12].peer_sgbm, 7.4);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ namespace {
 
 // What the first bytes say: PFM, or a PNG with its IHDR bit depth and colour type.
 struct FileHead {
-  bool pfm = false, png = false;
+  bool empty = false, pfm = false, png = false;
   int png_bit_depth = 0, png_color_type = 0;
 };
 
@@ -31,6 +31,7 @@ FileHead read_head(const std::string& path) {
   f.read(reinterpret_cast<char*>(b), sizeof b);
   const std::streamsize n = f.gcount();
   FileHead h;
+  h.empty = n <= 0;
   if (n >= 2 && b[0] == 'P' && (b[1] == 'f' || b[1] == 'F')) h.pfm = true;
   static const unsigned char kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (n >= 8 && std::memcmp(b, kPngMagic, 8) == 0) {
@@ -44,6 +45,7 @@ FileHead read_head(const std::string& path) {
 }
 
 std::string what_it_holds(const FileHead& h) {
+  if (h.empty) return "empty";
   if (h.pfm) return "a PFM file";
   if (h.png) {
     return std::to_string(h.png_bit_depth) + "-bit " +

@@ -2,6 +2,9 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
 #include <utility>
 
 #include "tristereo/io.hpp"
@@ -45,8 +48,40 @@ const char* to_string(DataMetric m) {
   return "?";
 }
 
+namespace {
+
+// "| set/scene | metric | SGBM | BM | libelas |" rows of the data README.
+struct PeerRow {
+  double sgbm, bm, libelas;
+};
+std::map<std::string, PeerRow> read_readme_peers() {
+  std::map<std::string, PeerRow> rows;
+  std::ifstream in(data_root() + "/README.md");
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, '|')) {
+      const std::size_t a = cell.find_first_not_of(' '), b = cell.find_last_not_of(' ');
+      cells.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+    }
+    // cells[0] is the text before the first '|'.
+    if (cells.size() != 6 || cells[1].find('/') == std::string::npos) continue;
+    char* end[3];
+    const double v[3] = {std::strtod(cells[3].c_str(), &end[0]), std::strtod(cells[4].c_str(), &end[1]),
+                         std::strtod(cells[5].c_str(), &end[2])};
+    if (*end[0] || *end[1] || *end[2] || cells[3].empty()) continue;
+    rows[cells[1]] = {v[0], v[1], v[2]};
+  }
+  return rows;
+}
+
+}  // namespace
+
 std::vector<DataScene> load_data_set(const std::string& set) {
   const std::string root = data_set_dir(set);
+  const std::map<std::string, PeerRow> peers = read_readme_peers();
   std::vector<DataScene> out;
   for (const MiddleburyScene& row : read_datasets_tsv(root + "/datasets.tsv")) {
     DataScene s;
@@ -75,6 +110,11 @@ std::vector<DataScene> load_data_set(const std::string& set) {
         s.nonocc = read_image_u8(s.dir + "/" + row.noc_mask);
       s.metric = set == "kitti2015" ? DataMetric::kD1 : DataMetric::kBad2;
     }
+    const auto p = peers.find(set + "/" + row.name);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    s.peer_sgbm = p != peers.end() ? p->second.sgbm : nan;
+    s.peer_bm = p != peers.end() ? p->second.bm : nan;
+    s.peer_libelas = p != peers.end() ? p->second.libelas : nan;
     out.push_back(std::move(s));
   }
   return out;

@@ -40,6 +40,9 @@ struct DataScene {
   ImageU8 all;          // v2's all.png; 0x0 for the other sets (there "all" = every known pixel)
   DataMetric metric = DataMetric::kBad2;
   bool metric_on_nonocc = false;  // v2: the primary number is the nonocc one
+  // The peers' numbers for this scene by `metric`, from the table of
+  // ../shared/data/README.md (percent); NaN where the table has none (v2).
+  double peer_sgbm = 0, peer_bm = 0, peer_libelas = 0;
 };
 
 // Every scene of `set`, images and ground truth loaded. The caller checks the
