@@ -21,9 +21,11 @@ int cmd_info(int argc, char** argv) {
                  "GPIO support, and the working memory of a pipeline configured for frames up to\n"
                  "WxH (default 640x480) with D disparities (default 64) on N workers (default 0:\n"
                  "one per allowed CPU): the bytes it allocates once, in total and per configured\n"
-                 "pixel (docs/performance.md, \"Working memory\").\n";
+                 "pixel (docs/performance.md, \"Working memory\").\n"
+              << "\n" << exit_codes_help();
     return 0;
   }
+  if (!args.positional().empty()) throw UsageError("info takes no paths; got '" + args.positional()[0] + "'");
   PipelineConfig config;
   if (args.has("max-size")) {
     const auto [w, h] = parse_size("--max-size", args.get("max-size", ""));
