@@ -29,6 +29,8 @@ Args::Args(int argc, char** argv, const std::set<std::string>& value_options,
         values_[name] = value;
       } else if (flag_options.count(name) && !inline_value) {
         flags_.insert(name);
+      } else if (flag_options.count(name)) {
+        throw UsageError("option --" + name + " takes no value (found '" + value + "')");
       } else {
         throw UsageError("unknown option --" + name + " (see --help)");
       }
@@ -46,6 +48,14 @@ std::string Args::get(const std::string& name, const std::string& fallback) cons
 int Args::get_int(const std::string& name, int fallback) const {
   auto it = values_.find(name);
   return it == values_.end() ? fallback : parse_int("--" + name, it->second);
+}
+
+int Args::get_int_in(const std::string& name, int fallback, int lo, int hi) const {
+  const int v = get_int(name, fallback);
+  if (v < lo || v > hi)
+    throw UsageError("--" + name + " " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+  return v;
 }
 
 double Args::get_double(const std::string& name, double fallback) const {
@@ -90,6 +100,8 @@ double parse_double(const std::string& option, const std::string& text) {
 
 std::pair<int, int> parse_size(const std::string& option, const std::string& text) {
   const auto x = text.find('x');
+  if (x != std::string::npos && (x == 0 || x + 1 == text.size() || text.find('x', x + 1) != std::string::npos))
+    throw UsageError(option + ": '" + text + "' is not a size (W or WxH, e.g. 5x5)");
   if (x == std::string::npos) {
     const int s = parse_int(option, text);
     return {s, s};
