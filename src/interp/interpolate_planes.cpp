@@ -34,6 +34,22 @@ void fill_span(std::int16_t* out, int x_begin, int x_end, std::int64_t num, std:
   }
 }
 
+// Triangles up to this area2 take the shift path in int32: inside a triangle
+// N / area2 lies between its vertex disparities (|d| < 2^15), so
+// |2 N + area2| < 2^29 and one more step (|2 n_x| < 2^25) still fits.
+constexpr std::int64_t kMaxShiftArea2 = 4096;
+
+// [x_begin, x_end) of one row with num(x) >> shift, num(x_begin) = num,
+// num(x + 1) = num(x) + step: floor(num / 2^shift), exact. No carry, so
+// the compiler vectorises it across x.
+void fill_span_shift(std::int16_t* out, int x_begin, int x_end, std::int32_t num, std::int32_t step,
+                     int shift) {
+  for (int x = x_begin; x < x_end; ++x) {
+    out[x] = static_cast<std::int16_t>(num >> shift);
+    num += step;
+  }
+}
+
 }  // namespace
 
 void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
@@ -78,6 +94,17 @@ void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
     }
     const std::int64_t nx = uy * vd - ud * vy;
     const std::int64_t ny = ud * vx - ux * vd;
+    if (area2 <= kMaxShiftArea2 && (area2 & (area2 - 1)) == 0) {
+      // The tritree's triangles (all but the stretched ones on the image's
+      // last row and column) have area2 = 2^k: the rounded quotient is a shift.
+      const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
+      const std::int32_t step = static_cast<std::int32_t>(-2 * nx);
+      for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
+        const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
+        fill_span_shift(disp_q4.row(y), x0, x1, static_cast<std::int32_t>(2 * n0 + area2), step, shift);
+      });
+      continue;
+    }
     // Rounded value = floor(num / den) with num = 2 N + area2, den = 2 area2;
     // N falls by n_x per pixel to the right.
     const std::int64_t den = 2 * area2;

@@ -1,6 +1,7 @@
 // Tritree configuration: parameter validation and the one-time allocation of
 // every buffer a build can need.
 #include <algorithm>
+#include <memory>
 #include <string>
 
 #include "src/model/psnr_threshold.hpp"
@@ -19,11 +20,19 @@ void check_range(const char* what, long long value, long long lo, long long hi) 
   }
 }
 
-// Every leaf but the two roots of a 2x2 image has area2 >= 2, and the leaves
-// tile the (W-1) x (H-1) rectangle, so there are at most (W-1)(H-1) of them.
+// Every leaf has area >= 1 px^2 (its area is at least its virtual area) and
+// the leaves tile the (W-1) x (H-1) rectangle; an image with a side of 2
+// pixels has its two triangles.
 std::size_t max_leaves(int w, int h) {
   const std::size_t cells = static_cast<std::size_t>(w - 1) * static_cast<std::size_t>(h - 1);
   return cells < 2 ? 2 : cells;
+}
+
+// Uninitialised storage: new T[n] of a trivial type touches no page, so a
+// frame smaller than the configured maximum never faults the rest in.
+template <class T>
+std::unique_ptr<T[]> reserve_array(std::size_t n) {
+  return std::unique_ptr<T[]>(new T[n]);
 }
 
 }  // namespace
@@ -37,27 +46,35 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
 
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
-  // An eighth more node slots than leaves: the spare that partition() shares
-  // out among the regions.
-  const std::size_t slots = leaves + leaves / 8 + kMaxRegions;
-  nodes_.assign(slots, Node{});
-  spare_limit_ = slots;
-  regions_.assign(kMaxRegions, Region{});
-  // Per round, each bisection adds one slot of its region and creates two
-  // entries there; the region lists are carved from these (see partition()).
-  pending_.assign(2 * slots, Pending{});
-  created_.assign(2 * slots, Pending{});
-  vertex_id_.assign(pixels, -1);
-  bucket_.assign(pixels + 1, 0);
-  tri_banded_.assign(leaves, Triangle{});
-  new_vertices_.assign(slots, Vertex{});
-  band_of_row_.assign(static_cast<std::size_t>(max_height), 0);
-  band_fill_.assign(static_cast<std::size_t>(kMaxRegions) * kMaxRegions, 0);
+  tile_ = tile_side_for(params.max_area_px2);
+  need_ = reserve_array<std::uint8_t>(pixels);  // the virtual grid is at most W x H points
+  // Level l holds the halves of the squares of side 2^(l+1) of one tile.
+  half_moments_.clear();
+  for (int s = 2; s <= tile_; s *= 2) {
+    half_moments_.emplace_back(static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2);
+  }
+  side_moments_.assign(static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4, PixelMoments{});
+  leaves_ = reserve_array<Leaf>(leaves);
+  leaf_capacity_ = leaves;
+  band_start_.assign(static_cast<std::size_t>(max_height / 2 + 2), 0);
+  vertex_id_ = reserve_array<std::int32_t>(pixels);
+  bucket_ = reserve_array<std::int32_t>(pixels + 1);
+  tri_scratch_ = reserve_array<Triangle>(leaves);
 
   params_ = params;
   mse_q8_ = mse_threshold_q8(params.psnr_deci_db);
   max_height_ = max_height;
   max_width_ = max_width;
+}
+
+double Tritree::bytes_per_pixel() const {
+  if (!configured()) return 0.0;
+  const double pixels = static_cast<double>(max_width_) * max_height_;
+  const double leaves = static_cast<double>(leaf_capacity_);
+  double scratch = static_cast<double>(side_moments_.size()) * sizeof(PixelMoments);
+  for (const auto& level : half_moments_) scratch += static_cast<double>(level.size()) * sizeof(PixelMoments);
+  // need, vertex_id, bucket per pixel; leaves and sort scratch per leaf.
+  return (pixels * (1 + 4 + 4) + leaves * (sizeof(Leaf) + sizeof(Triangle)) + scratch) / pixels;
 }
 
 void Tritree::reserve(Mesh& mesh) const {
