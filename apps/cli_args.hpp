@@ -34,6 +34,9 @@ class Args {
   std::set<std::string> flags_;
 };
 
+// The exit status paragraph of every --help.
+const char* exit_codes_help();
+
 int parse_int(const std::string& option, const std::string& text);
 double parse_double(const std::string& option, const std::string& text);
 // "7x5" or "7" (square) -> {w, h}.

@@ -30,9 +30,11 @@ int cmd_demo(int argc, char** argv) {
                  "Generates a synthetic stereo scene with exact ground truth, runs sparse DP and the\n"
                  "dense-DP baseline, checks the integer pipeline against the float reference, scores\n"
                  "both against the ground truth and writes the inputs, disparity maps (PFM + colour\n"
-                 "PNG), the 2.5D mesh (PLY) and stats (JSON) to OUTDIR.\n";
+                 "PNG), the 2.5D mesh (PLY) and stats (JSON) to OUTDIR.\n" << "\n" << exit_codes_help();
     return 0;
   }
+  if (args.positional().size() > 1)
+    throw UsageError("demo takes at most one path, OUTDIR; got " + std::to_string(args.positional().size()));
   const std::filesystem::path dir = args.positional().empty() ? "demo-out" : args.positional()[0];
   SynthParams sp;
   sp.width = args.get_int("width", 640);

@@ -16,7 +16,7 @@ int cmd_synth(int argc, char** argv) {
     std::cout << "usage: tristereo synth OUTDIR [--width 640] [--height 480] [--ndisp 64] [--seed 1] "
                  "[--frame 0]\n\n"
                  "Writes OUTDIR/left.png, right.png (8-bit gray), disp_left.pfm (exact ground truth,\n"
-                 "Middlebury PFM) and nonocc.png (255 = visible in both views).\n";
+                 "Middlebury PFM) and nonocc.png (255 = visible in both views).\n" << "\n" << exit_codes_help();
     return 0;
   }
   if (args.positional().size() != 1) throw UsageError("synth needs OUTDIR (see --help)");
