@@ -29,6 +29,8 @@ Args::Args(int argc, char** argv, const std::set<std::string>& value_options,
         values_[name] = value;
       } else if (flag_options.count(name) && !inline_value) {
         flags_.insert(name);
+      } else if (flag_options.count(name)) {
+        throw UsageError("option --" + name + " takes no value (found '" + value + "')");
       } else {
         throw UsageError("unknown option --" + name + " (see --help)");
       }
@@ -48,6 +50,14 @@ int Args::get_int(const std::string& name, int fallback) const {
   return it == values_.end() ? fallback : parse_int("--" + name, it->second);
 }
 
+int Args::get_int_in(const std::string& name, int fallback, int lo, int hi) const {
+  const int v = get_int(name, fallback);
+  if (v < lo || v > hi)
+    throw UsageError("--" + name + " " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+  return v;
+}
+
 double Args::get_double(const std::string& name, double fallback) const {
   auto it = values_.find(name);
   return it == values_.end() ? fallback : parse_double("--" + name, it->second);
@@ -59,9 +69,9 @@ const char* exit_codes_help() {
   1  bad input or failed check: unreadable, corrupt or unsupported file, images that do
      not fit together, an output that cannot be written (full disk, missing folder),
      verify finding a difference
-  2  usage error: unknown option, missing or out-of-range value (--ndisp 0), wrong number
-     of paths, an output path that names an input or another output, or whose extension
-     is not one the option writes
+  2  usage error: unknown option, an option given twice, missing or out-of-range value
+     (--ndisp 0), wrong number of paths, an output path that names an input or another
+     output, or whose extension is not one the option writes
 )";
 }
 
@@ -90,6 +100,8 @@ double parse_double(const std::string& option, const std::string& text) {
 
 std::pair<int, int> parse_size(const std::string& option, const std::string& text) {
   const auto x = text.find('x');
+  if (x != std::string::npos && (x == 0 || x + 1 == text.size() || text.find('x', x + 1) != std::string::npos))
+    throw UsageError(option + ": '" + text + "' is not a size (W or WxH, e.g. 5x5)");
   if (x == std::string::npos) {
     const int s = parse_int(option, text);
     return {s, s};

@@ -26,6 +26,8 @@ class Args {
   std::string get(const std::string& name, const std::string& fallback) const;
   int get_int(const std::string& name, int fallback) const;
   double get_double(const std::string& name, double fallback) const;
+  // get_int, and UsageError "--name V is out of range [lo, hi]" outside.
+  int get_int_in(const std::string& name, int fallback, int lo, int hi) const;
   bool flag(const std::string& name) const { return flags_.count(name) != 0; }
 
  private:

@@ -4,6 +4,7 @@
 
 #include "apps/cli_args.hpp"
 #include "tristereo/gray.hpp"
+#include "tristereo/params.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo::cli {
@@ -25,6 +26,10 @@ void check_stereo_pair(const std::string& left_path, ImageU8& left, const std::s
                 "LEFT " + left_path + " is " + std::to_string(left.width) + "x" + std::to_string(left.height) +
                     " but RIGHT " + right_path + " is " + std::to_string(right.width) + "x" +
                     std::to_string(right.height) + ": a rectified pair has one size");
+  if (left.width < 2 || left.height < 2 || left.width > kMaxImageSide || left.height > kMaxImageSide)
+    throw Error(ErrorCode::kInvalidArgument,
+                "the pair is " + std::to_string(left.width) + "x" + std::to_string(left.height) +
+                    "; matching takes 2 to " + std::to_string(kMaxImageSide) + " pixels per side");
   if (left.channels == right.channels) return;
   const bool left_gray = left.channels == 1;
   std::cerr << "warning: " << (left_gray ? "LEFT " + left_path : "RIGHT " + right_path) << " is gray but "

@@ -18,6 +18,8 @@ echo "left image" > "$W/text.png"
 mkdir -p "$W/folder.png" "$W/folder.json"
 printf 'P5\n16000 16000\n255\n0123456789' > "$W/claims_256M.pgm"
 printf 'P5\n60000 60000\n255\n0123456789' > "$W/claims_3600M.pgm"
+printf 'P5\n5000 2\n255\n' > "$W/wide.pgm"; head -c 10000 /dev/zero >> "$W/wide.pgm"
+printf 'P5\n1 1\n255\nA' > "$W/dot.pgm"
 printf 'P5\n70000 1\n255\n' > "$W/too_wide.pgm"
 printf 'P2\n2 2\n255\n0 1 2 300\n' > "$W/ascii_over_maxval.pgm"
 printf 'P5\n2 2\n65535\n01234567' > "$W/maxval16.pgm"
@@ -58,6 +60,18 @@ run error 2 'match takes two image paths, LEFT and RIGHT; got 3' "three position
 run error 2 'match takes two image paths, LEFT and RIGHT; got 1' "one positional path" "$T match $L --ndisp 16"
 run error 2 "unknown command 'mtach'" "misspelt command" "$T mtach $L $R"
 run error 2 '--ndisp 0 is out of range' "verify with D = 0" "$T verify $L $R --ndisp 0"
+run error 2 'verify takes two image paths, LEFT and RIGHT; got 3' "verify with three paths" "$T verify $L $R $R --ndisp 16"
+run error 2 "--thread-counts: each count must be 1..256" "verify with 0 threads" "$T verify $L $R --ndisp 16 --thread-counts 1,0"
+run error 2 "option --no-pin takes no value \(found '1'\)" "a flag given a value" "$M --ndisp 16 --no-pin=1"
+run error 2 "--window: '3x' is not a size \(W or WxH" "window size cut short" "$M --ndisp 16 --window 3x"
+run error 2 '--width 5 is out of range \[16, 4096\]' "synthetic scene too small" "$T synth s --width 5" "test ! -e s" "no folder s"
+run error 2 '--ndisp 4 is out of range \[8, 256\]' "synthetic scene with D = 4" "$T synth s --ndisp 4"
+run error 2 '--frame -1 is out of range \[0, 100000\]' "negative frame number" "$T synth s --frame -1"
+run error 2 'synth needs OUTDIR' "synth without a folder" "$T synth"
+run error 1 "cannot create 'p/left.png': Not a directory" "synth into a file" "$T synth p/left.png"
+run error 2 '--threads -1 is out of range \[0, 256\]' "demo with -1 threads" "$T demo d --threads -1" "test ! -e d" "nothing written"
+run error 2 'demo takes at most one path, OUTDIR; got 2' "demo with two folders" "$T demo d e"
+run error 2 "info takes no paths; got 'x'" "info with a path" "$T info x"
 run error 2 "--mesh m.obj: extension '.obj' is not written; the file must end in .ply" \
   "mesh in a format not written" "$M --ndisp 16 --mesh m.obj" "test ! -e m.obj" "no m.obj"
 run error 2 "--disp-color c.jpg: extension '.jpg' is not written; the file must end in .png" \
@@ -105,6 +119,9 @@ run error 1 "has bit depth 16; only 1, 2, 4 and 8-bit images are read here \(a 1
   "a disparity PNG as LEFT" "$T match disp16.png $R --ndisp 16"
 run error 1 "LEFT p/left.png is 96x64 but RIGHT small/right.png is 40x30" "images of different sizes" \
   "$T match $L small/right.png --ndisp 16"
+run error 1 "the pair is 5000x2; matching takes 2 to 4096 pixels per side" "images wider than the pipeline takes" \
+  "$T match wide.pgm wide.pgm --ndisp 16"
+run error 1 "the pair is 1x1; matching takes 2 to 4096" "1x1 images" "$T match dot.pgm dot.pgm --ndisp 16"
 run error 1 "calibration file 'missing.txt': cannot open it: No such file or directory" "missing calibration file" "$M --ndisp 16 --calib missing.txt"
 run error 1 "calibration file '/dev/zero': more than 1048576 bytes, not a calibration file" \
   "endless stream as calibration (memory limit 100 MB)" "vmem_limit_100mb; $M --ndisp 16 --calib /dev/zero --depth z.pfm"
