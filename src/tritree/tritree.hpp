@@ -64,8 +64,6 @@ class Tritree {
   };
   const BuildTimes& build_times() const { return times_; }
   int tile_side() const { return tile_; }
-  // Bytes reserved per configured pixel (all of configure()'s buffers).
-  double bytes_per_pixel() const;
 
  private:
   // A triangle of the hierarchy: a half of the square of side s at (x0, y0)
@@ -128,6 +126,7 @@ class Tritree {
   std::unique_ptr<Leaf[]> leaves_;
   std::size_t leaf_count_ = 0;
   std::size_t leaf_capacity_ = 0;
+  std::size_t pixel_capacity_ = 0;
   std::unique_ptr<std::int32_t[]> vertex_id_;   // W x H, valid at vertices
   std::vector<std::size_t> band_start_;         // first leaf of each row of tiles
   std::unique_ptr<std::int32_t[]> bucket_;      // counting sort by first id

@@ -56,6 +56,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   side_moments_.assign(static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4, PixelMoments{});
   leaves_ = reserve_array<Leaf>(leaves);
   leaf_capacity_ = leaves;
+  pixel_capacity_ = pixels;
   band_start_.assign(static_cast<std::size_t>(max_height / 2 + 2), 0);
   vertex_id_ = reserve_array<std::int32_t>(pixels);
   bucket_ = reserve_array<std::int32_t>(pixels + 1);
@@ -65,16 +66,6 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   mse_q8_ = mse_threshold_q8(params.psnr_deci_db);
   max_height_ = max_height;
   max_width_ = max_width;
-}
-
-double Tritree::bytes_per_pixel() const {
-  if (!configured()) return 0.0;
-  const double pixels = static_cast<double>(max_width_) * max_height_;
-  const double leaves = static_cast<double>(leaf_capacity_);
-  double scratch = static_cast<double>(side_moments_.size()) * sizeof(PixelMoments);
-  for (const auto& level : half_moments_) scratch += static_cast<double>(level.size()) * sizeof(PixelMoments);
-  // need, vertex_id, bucket per pixel; leaves and sort scratch per leaf.
-  return (pixels * (1 + 4 + 4) + leaves * (sizeof(Leaf) + sizeof(Triangle)) + scratch) / pixels;
 }
 
 void Tritree::reserve(Mesh& mesh) const {

@@ -7,10 +7,13 @@
 namespace tristereo {
 
 std::size_t Tritree::working_memory_bytes() const {
-  return capacity_bytes(nodes_) + capacity_bytes(new_vertices_) + capacity_bytes(regions_) +
-         capacity_bytes(pending_) + capacity_bytes(created_) + capacity_bytes(vertex_id_) +
-         capacity_bytes(bucket_) + capacity_bytes(tri_banded_) + capacity_bytes(band_of_row_) +
-         capacity_bytes(band_fill_);
+  if (!configured()) return 0;
+  std::size_t moments = capacity_bytes(side_moments_);
+  for (const auto& level : half_moments_) moments += capacity_bytes(level);
+  // need (1 byte), vertex ids and sort buckets (4 + 4 bytes) per pixel; one
+  // leaf and one rotated triangle per possible leaf; one tile's moments; band starts.
+  return pixel_capacity_ * (sizeof(std::uint8_t) + 2 * sizeof(std::int32_t)) + sizeof(std::int32_t) +
+         leaf_capacity_ * (sizeof(Leaf) + sizeof(Triangle)) + moments + capacity_bytes(band_start_);
 }
 
 }  // namespace tristereo
