@@ -20,6 +20,7 @@
 // includes its children's, which is what keeps the mesh conforming.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -85,6 +86,7 @@ class Tritree {
   void emit_tile(int tx0, int ty0, bool plain);
   template <bool kPlain>
   void emit(int ax, int ay, int bx, int by, int cx, int cy);
+  void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
   void number_vertices(Mesh& mesh);
 
@@ -112,25 +114,22 @@ class Tritree {
   BuildTimes times_;
   std::int64_t criterion_splits_ = 0, forced_splits_ = 0;
 
+  // Everything below points into arena_, one block reserved by configure():
   // need_: one byte per virtual grid point: bit 0 need(m), bits 1 and 2
   // wants of the (up to) two triangles whose hypotenuse midpoint it is.
-  std::unique_ptr<std::uint8_t[]> need_;
+  std::unique_ptr<std::uint64_t[]> arena_;
+  std::size_t arena_bytes_ = 0;
+  std::uint8_t* need_ = nullptr;
   // Per-tile scratch of pass 1: moments of the square halves of each level
   // (level l: side 2^(l+1)), and of one level's side triangles.
-  std::vector<std::vector<PixelMoments>> half_moments_;
-  std::vector<PixelMoments> side_moments_;
-  // Pass 3: leaves (real corners), vertex marks and ids, triangle sort.
-  struct Leaf {
-    std::int16_t x[3], y[3];
-  };
-  std::unique_ptr<Leaf[]> leaves_;
+  std::array<PixelMoments*, 6> half_moments_{};  // S <= 64: sides 2 .. 64
+  PixelMoments* side_moments_ = nullptr;
+  // Pass 3: vertex ids, the leaves as rotated triangles, the sort by first id.
   std::size_t leaf_count_ = 0;
-  std::size_t leaf_capacity_ = 0;
-  std::size_t pixel_capacity_ = 0;
-  std::unique_ptr<std::int32_t[]> vertex_id_;   // W x H, valid at vertices
-  std::vector<std::size_t> band_start_;         // first leaf of each row of tiles
-  std::unique_ptr<std::int32_t[]> bucket_;      // counting sort by first id
-  std::unique_ptr<Triangle[]> tri_scratch_;
+  std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices
+  std::size_t* band_start_ = nullptr;     // first leaf of each row of tiles
+  std::int32_t* bucket_ = nullptr;        // counting sort by first id
+  Triangle* tri_scratch_ = nullptr;       // leaves in emission order
 };
 
 }  // namespace tristereo

@@ -148,7 +148,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
   // Level side 2: the halves of 2 x 2 squares.
   {
     const int n = S / 2;
-    PixelMoments* out = half_moments_[0].data();
+    PixelMoments* out = half_moments_[0];
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i, out += 2) {
         const int x0 = tx0 + 2 * i, y0 = ty0 + 2 * j;
@@ -192,7 +192,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
   for (int l = 1; (2 << l) <= S; ++l) {
     const int s = 2 << l, h = s / 2, n = S / s;
     const bool moments_needed = s * s / 2 <= two_amax;  // side triangles: area2 = s^2 / 2
-    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)].data();
+    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)];
     const int qn = 2 * n;  // quadrants per row
     // Side triangle k of square (i, j) = the halves of two of its quadrants:
     // {quadrant dx, dy, half} x 2, per side.
@@ -200,7 +200,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
                                            {{1, 0, 1}, {1, 1, 0}},   // right: TR.B + BR.A
                                            {{1, 1, 1}, {0, 1, 1}},   // bottom: BR.B + BL.B
                                            {{0, 1, 0}, {0, 0, 1}}};  // left: BL.A + TL.B
-    PixelMoments* sides = side_moments_.data();
+    PixelMoments* sides = side_moments_;
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
         const int x0 = tx0 + i * s, y0 = ty0 + j * s;
@@ -247,7 +247,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
       }
     }
     const bool half_moments_needed = s * s <= two_amax;
-    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)].data();
+    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)];
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
         const int x0 = tx0 + i * s, y0 = ty0 + j * s;
@@ -306,7 +306,7 @@ void Tritree::tile_plain(int tx0, int ty0) {
   const int S = tile_;
   const int two_amax = 2 * params_.max_area_px2;
   const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
-  std::uint8_t* need = need_.get();
+  std::uint8_t* need = need_;
   const std::uint8_t* img = gray_.data;
   const std::ptrdiff_t istride = gray_.stride_bytes;
   const auto pix = [&](int x, int y) -> std::int32_t { return img[y * istride + x]; };
@@ -323,7 +323,7 @@ void Tritree::tile_plain(int tx0, int ty0) {
     const bool test = 4 <= two_amax;
     const bool keep_moments = 8 <= two_amax;  // the side triangles of side 4 are tested
     const int n = S / 2;
-    PixelMoments* out = half_moments_[0].data();
+    PixelMoments* out = half_moments_[0];
     for (int j = 0; j < n; ++j) {
       const int y = ty0 + 2 * j;
       const std::uint8_t* r0 = img + y * istride;
@@ -380,8 +380,8 @@ void Tritree::tile_plain(int tx0, int ty0) {
     const std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
     const bool test_sides = side_area2 <= two_amax;
     const bool test_halves = half_area2 <= two_amax;
-    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)].data();
-    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)].data();
+    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)];
+    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)];
     const auto q = [&](int i, int j, int dx, int dy, int part) -> const PixelMoments& {
       return quads[((2 * j + dy) * qn + 2 * i + dx) * 2 + part];
     };
@@ -506,13 +506,22 @@ void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
       return;
     }
   }
-  Leaf& leaf = leaves_[leaf_count_++];
-  leaf.x[0] = static_cast<std::int16_t>(kPlain ? ax : layout_.real_x(ax));
-  leaf.y[0] = static_cast<std::int16_t>(kPlain ? ay : layout_.real_y(ay));
-  leaf.x[1] = static_cast<std::int16_t>(kPlain ? bx : layout_.real_x(bx));
-  leaf.y[1] = static_cast<std::int16_t>(kPlain ? by : layout_.real_y(by));
-  leaf.x[2] = static_cast<std::int16_t>(kPlain ? cx : layout_.real_x(cx));
-  leaf.y[2] = static_cast<std::int16_t>(kPlain ? cy : layout_.real_y(cy));
+  // A leaf: its corners' vertex ids (numbered before this pass), rotated to
+  // start at the smallest (orientation kept).
+  const int w = gray_.width;
+  const auto id = [&](int x, int y) {
+    return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
+                  : vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
+  };
+  const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
+  Triangle& t = tri_scratch_[leaf_count_++];
+  if (ia < ib && ia < ic) {
+    t = Triangle{ia, ib, ic};
+  } else if (ib < ic) {
+    t = Triangle{ib, ic, ia};
+  } else {
+    t = Triangle{ic, ia, ib};
+  }
 }
 
 void Tritree::emit_tile(int tx0, int ty0, bool plain) {
@@ -549,18 +558,9 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
   leaf_count_ = 0;
 
   if (layout_.strip()) {
-    const int w = gray.width - 1, h = gray.height - 1;
-    const int xs[2][3] = {{0, w, w}, {0, w, 0}}, ys[2][3] = {{0, 0, h}, {0, h, h}};
-    for (int t = 0; t < 2; ++t) {
-      Leaf& leaf = leaves_[leaf_count_++];
-      for (int c = 0; c < 3; ++c) {
-        leaf.x[c] = static_cast<std::int16_t>(xs[t][c]);
-        leaf.y[c] = static_cast<std::int16_t>(ys[t][c]);
-      }
-    }
     times_.criterion_ns = 0;
   } else {
-    std::memset(need_.get(), 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1));
+    std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1));
     const int S = tile_;
     for (int ty = 0; ty < layout_.tiles_y; ++ty) {
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
@@ -575,6 +575,8 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     carry_across_tile_borders();
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
+    begin_mesh(mesh);
+    number_vertices(mesh);
     for (int ty = 0; ty < layout_.tiles_y; ++ty) {
       band_start_[static_cast<std::size_t>(ty)] = leaf_count_;
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
@@ -584,9 +586,8 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     }
     band_start_[static_cast<std::size_t>(layout_.tiles_y)] = leaf_count_;
   }
-  const std::int64_t t2 = monotonic_ns();
   finish(mesh);
-  times_.output_ns = monotonic_ns() - t2 + (layout_.strip() ? 0 : t2 - t0 - times_.criterion_ns);
+  times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
 }
 
 }  // namespace tristereo

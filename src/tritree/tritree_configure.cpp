@@ -30,6 +30,7 @@ std::size_t max_leaves(int w, int h) {
 
 // Uninitialised storage: new T[n] of a trivial type touches no page, so a
 // frame smaller than the configured maximum never faults the rest in.
+// PixelMoments has default member initialisers, so the block is raw words.
 template <class T>
 std::unique_ptr<T[]> reserve_array(std::size_t n) {
   return std::unique_ptr<T[]>(new T[n]);
@@ -47,20 +48,35 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
   tile_ = tile_side_for(params.max_area_px2);
-  need_ = reserve_array<std::uint8_t>(pixels);  // the virtual grid is at most W x H points
-  // Level l holds the halves of the squares of side 2^(l+1) of one tile.
-  half_moments_.clear();
+  // One block, carved in order of alignment: the moments of one tile (level l
+  // holds the halves of the squares of side 2^(l+1), then one level's side
+  // triangles), the leaves, the row-of-tiles starts, the vertex ids and sort
+  // buckets, the need grid (the virtual grid has at most W x H points).
+  std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
+  for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+  const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
+  const std::size_t bytes = moments * sizeof(PixelMoments) + leaves * sizeof(Triangle) +
+                            bands * sizeof(std::size_t) + (2 * pixels + 1) * sizeof(std::int32_t) + pixels;
+  arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
+  arena_bytes_ = (bytes + 7) / 8 * 8;
+  char* next = reinterpret_cast<char*>(arena_.get());
+  const auto take = [&next](std::size_t n) {
+    char* p = next;
+    next += n;
+    return p;
+  };
+  PixelMoments* m = reinterpret_cast<PixelMoments*>(take(moments * sizeof(PixelMoments)));
+  std::size_t level = 0;
   for (int s = 2; s <= tile_; s *= 2) {
-    half_moments_.emplace_back(static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2);
+    half_moments_[level++] = m;
+    m += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
   }
-  side_moments_.assign(static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4, PixelMoments{});
-  leaves_ = reserve_array<Leaf>(leaves);
-  leaf_capacity_ = leaves;
-  pixel_capacity_ = pixels;
-  band_start_.assign(static_cast<std::size_t>(max_height / 2 + 2), 0);
-  vertex_id_ = reserve_array<std::int32_t>(pixels);
-  bucket_ = reserve_array<std::int32_t>(pixels + 1);
-  tri_scratch_ = reserve_array<Triangle>(leaves);
+  side_moments_ = m;
+  tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
+  band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
+  vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
+  bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + 1) * sizeof(std::int32_t)));
+  need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
 
   params_ = params;
   mse_q8_ = mse_threshold_q8(params.psnr_deci_db);

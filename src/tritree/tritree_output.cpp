@@ -32,7 +32,7 @@ void sort_fan(Triangle* begin, Triangle* end) {
 // ancestor split too). So the vertex ids come from one scan of the need grid,
 // mapped to real pixels (a monotone map: raster order is kept).
 void Tritree::number_vertices(Mesh& mesh) {
-  const int w = gray_.width, h = gray_.height;
+  const int w = gray_.width, h = gray_.height;  // mesh: begin_mesh() done
   const RtinLayout& L = layout_;
   const int S = tile_;
   std::int32_t id = 0;
@@ -40,8 +40,8 @@ void Tritree::number_vertices(Mesh& mesh) {
   for (int vy = 0; vy <= L.vh; ++vy) {
     const int y = L.real_y(vy);
     for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
-    const std::uint8_t* need = need_.get() + static_cast<std::size_t>(vy) * (L.vw + 1);
-    std::int32_t* ids = vertex_id_.get() + static_cast<std::size_t>(y) * w;
+    const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * (L.vw + 1);
+    std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
     const bool tile_row = vy % S == 0;
     int vx = 0;
     while (vx <= L.vw) {
@@ -65,34 +65,36 @@ void Tritree::number_vertices(Mesh& mesh) {
   for (; next_y <= h; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
 }
 
+void Tritree::begin_mesh(Mesh& mesh) const {
+  mesh.width = gray_.width;
+  mesh.height = gray_.height;
+  mesh.vertices.clear();
+  mesh.row_start.resize(static_cast<std::size_t>(gray_.height) + 1);  // within capacity
+}
+
 void Tritree::finish(Mesh& mesh) {
   const int w = gray_.width, h = gray_.height;
-  mesh.width = w;
-  mesh.height = h;
   mesh.criterion_splits = criterion_splits_;
   mesh.forced_splits = forced_splits_;
-  mesh.vertices.clear();
-  mesh.row_start.resize(static_cast<std::size_t>(h) + 1);
-  const std::size_t n = leaf_count_;
-  mesh.triangles.resize(n);  // within capacity
   if (layout_.strip()) {
     // The two triangles of the diagonal: corners (0,0), (W-1,0), (0,H-1), (W-1,H-1).
-    const std::int32_t a = 0, b = 1, c = 2, d = 3;  // raster order of the four corners
+    begin_mesh(mesh);
     mesh.vertices.push_back(Vertex{0, 0});
     mesh.vertices.push_back(Vertex{w - 1, 0});
     mesh.vertices.push_back(Vertex{0, h - 1});
     mesh.vertices.push_back(Vertex{w - 1, h - 1});
     for (int y = 0; y <= h; ++y) mesh.row_start[static_cast<std::size_t>(y)] = y == 0 ? 0 : (y < h ? 2 : 4);
-    mesh.triangles[0] = Triangle{a, b, d};
-    mesh.triangles[1] = Triangle{a, d, c};
+    mesh.triangles.resize(2);  // within capacity
+    mesh.triangles[0] = Triangle{0, 1, 3};
+    mesh.triangles[1] = Triangle{0, 3, 2};
     return;
   }
-  number_vertices(mesh);
-
-  // Canonical triangles. A triangle's first (smallest) id is its topmost
-  // vertex, which lies in its own row of tiles: each row of tiles is
-  // counting-sorted by first id on its own, in place in the output.
-  Triangle* rotated = tri_scratch_.get();
+  // Canonical order. A triangle's first (smallest) id is its topmost vertex,
+  // which lies in its own row of tiles: each row of tiles is counting-sorted
+  // by first id on its own, straight into the output.
+  const std::size_t n = leaf_count_;
+  mesh.triangles.resize(n);  // within capacity
+  const Triangle* rotated = tri_scratch_;
   Triangle* out = mesh.triangles.data();
   const int S = tile_;
   for (int band = 0; band < layout_.tiles_y; ++band) {
@@ -100,22 +102,10 @@ void Tritree::finish(Mesh& mesh) {
     const std::size_t l1 = band_start_[static_cast<std::size_t>(band) + 1];
     const int y_lo = band * S, y_hi = std::min(h, (band + 1) * S);
     const std::int32_t id_lo = mesh.row_start[static_cast<std::size_t>(y_lo)];
-    const std::int32_t id_hi = mesh.row_start[static_cast<std::size_t>(y_hi)];
-    std::int32_t* count = bucket_.get();
-    std::fill(count, count + (id_hi - id_lo) + 1, 0);
-    for (std::size_t i = l0; i < l1; ++i) {
-      const Leaf& leaf = leaves_[i];
-      Triangle t;
-      for (int c = 0; c < 3; ++c) t[c] = vertex_id_[static_cast<std::size_t>(leaf.y[c]) * w + leaf.x[c]];
-      if (t[1] < t[0] && t[1] < t[2]) {
-        t = Triangle{t[1], t[2], t[0]};
-      } else if (t[2] < t[0] && t[2] < t[1]) {
-        t = Triangle{t[2], t[0], t[1]};
-      }
-      rotated[i] = t;
-      ++count[t[0] - id_lo + 1];
-    }
-    const std::int32_t ids = id_hi - id_lo;
+    const std::int32_t ids = mesh.row_start[static_cast<std::size_t>(y_hi)] - id_lo;
+    std::int32_t* count = bucket_;
+    std::fill(count, count + ids + 1, 0);
+    for (std::size_t i = l0; i < l1; ++i) ++count[rotated[i][0] - id_lo + 1];
     count[0] = static_cast<std::int32_t>(l0);
     for (std::int32_t v = 0; v < ids; ++v) count[v + 1] += count[v];
     for (std::size_t i = l0; i < l1; ++i) out[count[rotated[i][0] - id_lo]++] = rotated[i];
