@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <iostream>
 
 #include "apps/cli_args.hpp"
@@ -77,8 +78,13 @@ int cmd_match(int argc, char** argv) {
   const std::string& right_path = pos[1];
   check_output_paths(args, match_output_options(),
                      {{"LEFT", left_path}, {"RIGHT", right_path}, {"--calib", args.get("calib", "")}});
+  // The two decodes run side by side: PNG decoding is a seventh of a one-shot
+  // run's CPU (docs/performance.md, "One-shot match"). A bad LEFT is still the
+  // error reported: its exception leaves before RIGHT's result is looked at.
+  std::future<ImageU8> right_decoded =
+      std::async(std::launch::async, [&right_path] { return read_image_u8(right_path); });
   ImageU8 left = read_image_u8(left_path);
-  ImageU8 right = read_image_u8(right_path);
+  ImageU8 right = right_decoded.get();
   check_stereo_pair(left_path, left, right_path, right);
   const PipelineConfig config = stereo_config_from_args(args, left.width, left.height);
   const StereoParams& p = config.params;
