@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "apps/option_errors.hpp"
+
 #include "platform/cpu_features.hpp"
 
 namespace tristereo::cli {
@@ -30,7 +32,9 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   p.d_min = a.get_int("dmin", 0);
   p.dense = a.flag("dense");
   const double psnr = a.get_double("psnr", 40.0);
-  if (!(psnr >= 0 && psnr <= 1000)) throw UsageError("--psnr must be in dB, e.g. 40");
+  if (!(psnr >= kMinPsnrDeciDb / 10.0 && psnr <= kMaxPsnrDeciDb / 10.0))
+    throw UsageError("--psnr " + a.get("psnr", "") + " is out of range [" + std::to_string(kMinPsnrDeciDb / 10) +
+                     ", " + std::to_string(kMaxPsnrDeciDb / 10) + "] dB");
   p.tritree.psnr_deci_db = static_cast<int>(std::lround(psnr * 10));
   p.tritree.max_area_px2 = a.get_int("max-area", p.tritree.max_area_px2);
   if (a.has("window")) {
@@ -38,34 +42,36 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
     p.cost.window_w = w;
     p.cost.window_h = h;
   }
-  if (a.has("weights")) p.cost.weights = parse_weights(a.get("weights", ""));
+  if (a.has("weights")) as_usage_error("--weights", [&] { p.cost.weights = parse_weights(a.get("weights", "")); });
   p.cost.truncation = a.get_int("truncation", p.cost.truncation);
   p.cost.asw_gamma_color = a.get_int("gamma-color", p.cost.asw_gamma_color);
   p.cost.asw_gamma_proximity = a.get_int("gamma-proximity", p.cost.asw_gamma_proximity);
   p.dp.lambda_q4 = a.get_int("lambda", p.dp.lambda_q4);
-  if (a.has("gap")) p.dp.gap = parse_gap_policy(a.get("gap", ""));
+  if (a.has("gap")) as_usage_error("--gap", [&] { p.dp.gap = parse_gap_policy(a.get("gap", "")); });
   p.dp.subpixel = !a.flag("no-subpixel");
-  if (a.has("cost")) p.cost.kind = parse_cost_kind(a.get("cost", ""));
+  if (a.has("cost")) as_usage_error("--cost", [&] { p.cost.kind = parse_cost_kind(a.get("cost", "")); });
   if (a.has("census")) {
     auto [w, h] = parse_size("--census", a.get("census", ""));
     p.cost.census_w = w;
     p.cost.census_h = h;
   }
   p.cost.ad_weight_q4 = a.get_int("ad-weight", p.cost.ad_weight_q4);
-  if (a.has("optimizer")) p.optimizer = parse_optimizer(a.get("optimizer", ""));
+  if (a.has("optimizer"))
+    as_usage_error("--optimizer", [&] { p.optimizer = parse_optimizer(a.get("optimizer", "")); });
   p.paths.directions = a.get_int("paths", p.paths.directions);
   p.paths.p1_q4 = a.get_int("p1", p.paths.p1_q4);
   p.paths.p2_q4 = a.get_int("p2", p.paths.p2_q4);
   p.paths.p2_edge_scale = a.get_int("p2-edge", p.paths.p2_edge_scale);
-  if (a.has("path-gap")) p.paths.gap = parse_gap_policy(a.get("path-gap", ""));
+  if (a.has("path-gap"))
+    as_usage_error("--path-gap", [&] { p.paths.gap = parse_gap_policy(a.get("path-gap", "")); });
   p.validity.lr_max_diff_q4 = a.get_int("lr-max-diff", p.validity.lr_max_diff_q4);
   p.validity.uniqueness_pct = a.get_int("uniqueness", p.validity.uniqueness_pct);
-  if (a.has("fill")) p.validity.fill = parse_fill_mode(a.get("fill", ""));
-  validate_params(p);
-  c.kernels = parse_kernel_choice(a.get("kernels", "auto"));
+  if (a.has("fill")) as_usage_error("--fill", [&] { p.validity.fill = parse_fill_mode(a.get("fill", "")); });
+  as_usage_error(nullptr, [&] { validate_params(p); });
+  as_usage_error("--kernels", [&] { c.kernels = parse_kernel_choice(a.get("kernels", "auto")); });
   c.threads = a.get_int("threads", 0);
   if (c.threads < 0 || c.threads > 256) throw UsageError("--threads must be 0 (one per CPU) .. 256");
-  if (a.has("cpus")) c.cpus = parse_cpu_list(a.get("cpus", ""));
+  if (a.has("cpus")) as_usage_error("--cpus", [&] { c.cpus = parse_cpu_list(a.get("cpus", "")); });
   c.pin_threads = !a.flag("no-pin");
   return c;
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "src/dp/penalty.hpp"
+#include "src/memory/capacity_bytes.hpp"
 #include "src/dp/subpixel.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
@@ -49,8 +50,10 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   const int max_gap = std::max(max_width, max_height);
   fill_penalty_table(params.paths.p1_q4, params.paths.gap, max_gap, p1_by_gap_);
   fill_penalty_table(params.paths.p2_q4, params.paths.gap, max_gap, p2_by_gap_);
-  costs_ = untouched<std::uint16_t>(n * cost_stride_);
-  preds_ = untouched<std::int32_t>(n * 6);
+  costs_len_ = n * cost_stride_;
+  preds_len_ = n * 6;
+  costs_ = untouched<std::uint16_t>(costs_len_);
+  preds_ = untouched<std::int32_t>(preds_len_);
   zero_path_.assign(path_stride_, 0);
   zero_path_[0] = kGuard;
   zero_path_[static_cast<std::size_t>(d) + 1] = kGuard;
@@ -64,6 +67,29 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
     w.total.assign(cost_stride_ + 64, 0);
     w.terms.assign(static_cast<std::size_t>(workers), nullptr);
   }
+}
+
+void PathMatcher::release() {
+  costs_.reset();
+  preds_.reset();
+  costs_len_ = preds_len_ = 0;
+  max_samples_ = 0;
+  std::vector<std::uint32_t>().swap(p1_by_gap_);
+  std::vector<std::uint32_t>().swap(p2_by_gap_);
+  std::vector<std::uint16_t>().swap(zero_path_);
+  std::vector<Worker>().swap(workers_);
+  kernels_ = nullptr;
+}
+
+std::size_t PathMatcher::working_memory_bytes() const {
+  const auto n = static_cast<std::size_t>(max_samples_);
+  std::size_t bytes = costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
+                      capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
+                      capacity_bytes(workers_);
+  for (const Worker& w : workers_)
+    bytes += (n * path_stride_ + n * cost_stride_ + n) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
+             capacity_bytes(w.total) + capacity_bytes(w.terms);
+  return bytes;
 }
 
 void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples,

@@ -45,6 +45,11 @@ class PathMatcher {
   // number of samples the uniqueness test rejected.
   int select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4);
 
+  // Gives every buffer back (working_memory_bytes() becomes 0).
+  void release();
+  // Heap bytes the configured matcher holds (docs/performance.md, working memory).
+  std::size_t working_memory_bytes() const;
+
   // Inspection (tests): C, and the summed path costs of the last select().
   const std::uint16_t* cost_row(int i) const { return costs_.get() + row(i, cost_stride_); }
   // S(i, k) summed over the workers (recomputed; not for the hot path).
@@ -66,6 +71,7 @@ class PathMatcher {
   std::size_t cost_stride_ = 0;   // C and S rows
   std::size_t path_stride_ = 0;   // L rows: guard, D values, guard
   std::vector<std::uint32_t> p1_by_gap_, p2_by_gap_;
+  std::size_t costs_len_ = 0, preds_len_ = 0;
   std::unique_ptr<std::uint16_t[]> costs_;
   std::unique_ptr<std::int32_t[]> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards

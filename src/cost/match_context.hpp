@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "src/kernels/kernel_set.hpp"
+#include "src/memory/untouched_vector.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/params.hpp"
 
@@ -47,6 +48,8 @@ class CostScratch {
   CostScratch() = default;
   explicit CostScratch(int num_disp) { resize(num_disp); }
   void resize(int num_disp);
+  // Bytes of the buffers above (allocated capacities).
+  std::size_t working_memory_bytes() const;
 
  private:
   friend class MatchContext;
@@ -65,6 +68,7 @@ class CostScratch {
 class CensusScratch {
  public:
   void resize(int max_width);
+  std::size_t working_memory_bytes() const;
 
  private:
   friend class MatchContext;
@@ -124,6 +128,9 @@ class MatchContext {
   bool configured() const { return kernels_ != nullptr; }
   // True when box sums fit the u16 lanes: window pixels * truncation <= 65535.
   bool uses_u16_box() const { return use_u16_box_; }
+  // Bytes of the context's buffers (allocated capacities): the reversed right
+  // rows and the weight tables.
+  std::size_t working_memory_bytes() const;
 
   // Start of reversed right row y (for tests and SIMD benchmarks).
   const std::uint8_t* right_rev_row(int y) const {
@@ -140,13 +147,16 @@ class MatchContext {
   bool use_u16_box_ = false;
   int rev_pad_ = 0;
   std::size_t rev_stride_ = 0;
-  std::vector<std::uint8_t> right_rev_;
+  // Rows a frame does not reach stay untouched (src/memory/untouched_vector.hpp):
+  // prepare_right_rows writes every byte the kernels read before they read it.
+  UntouchedVector<std::uint8_t> right_rev_;
   // Census (cost kinds census, ad_census): left descriptors by plane, row and x;
   // right descriptors as reversed padded rows like right_rev_, by plane and row.
+  // Untouched until a frame's prepare_right_rows writes them, like right_rev_.
   int census_planes_ = 0;
   std::size_t census_stride_ = 0;
-  std::vector<std::uint16_t> left_census_;
-  std::vector<std::uint16_t> right_census_rev_;
+  UntouchedVector<std::uint16_t> left_census_;
+  UntouchedVector<std::uint16_t> right_census_rev_;
   void census_rows(ImageView<const std::uint8_t> img, int y, CensusScratch& scratch) const;
   void aggregate_census(int x0, int x1, int y0, int y1, std::uint16_t* cost_q4,
                         CostScratch& scratch) const;

@@ -16,6 +16,7 @@ std::unique_ptr<T[]> untouched(std::size_t n) {
 
 void SampleFill::configure(int max_samples, int max_triangles) {
   max_samples_ = max_samples;
+  max_triangles_ = max_triangles;
   const auto n = static_cast<std::size_t>(max_samples);
   offsets_ = untouched<std::int32_t>(n + 1);
   neighbours_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles) * 6);

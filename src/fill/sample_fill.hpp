@@ -24,10 +24,16 @@ class SampleFill {
   // Fills disp_q4[0 .. samples.count()) in place (kInvalidDispQ4 = invalid).
   // Returns the number of samples filled.
   int fill(const SampleLayout& samples, std::int16_t* disp_q4);
+  // Heap bytes the configured fill holds.
+  std::size_t working_memory_bytes() const {
+    return (3 * static_cast<std::size_t>(max_samples_) + 1 + 6 * static_cast<std::size_t>(max_triangles_)) *
+           sizeof(std::int32_t);
+  }
 
  private:
   void build_adjacency(const SampleLayout& samples);
   int max_samples_ = 0;
+  int max_triangles_ = 0;
   std::unique_ptr<std::int32_t[]> offsets_;    // CSR over samples (sparse)
   std::unique_ptr<std::int32_t[]> neighbours_;
   std::unique_ptr<std::int32_t[]> pending_;    // invalid samples still to fill

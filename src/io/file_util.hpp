@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -11,10 +12,34 @@
 namespace tristereo {
 namespace io_detail {
 
-// Whole file in memory (kIoError if it cannot be opened or read). Readers
-// parse from memory so that "header claims more data than the file holds" is
-// a size comparison, not a short read halfway through a decoder.
-std::vector<std::uint8_t> read_file_bytes(const std::string& path);
+// Throws (kUnsupportedFormat naming what the file starts with) unless the
+// first bytes of a file are a format the caller reads.
+using HeadCheck = void (*)(const std::vector<std::uint8_t>& head, const std::string& path);
+
+// Whole file in memory, read in chunks so that memory follows what the file
+// really holds: kIoError if it cannot be opened or read (missing, a
+// directory), kCorruptFile if empty, kUnsupportedFormat if larger than
+// kMaxReadFileBytes (a regular file's size is checked before reading). After
+// the first chunk (64 KiB, or the whole file if shorter) `check_head` sees it,
+// so a device like /dev/zero or a huge file of another kind costs one chunk.
+// Readers parse from memory so that "header claims more data than the file
+// holds" is a size comparison, not a short read halfway through a decoder.
+std::vector<std::uint8_t> read_file_head(const std::string& path, std::size_t n);
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head);
+
+[[noreturn]] void throw_out_of_memory(const std::string& path);
+
+// Runs a public reader's body: std::bad_alloc (a valid file too large for the
+// memory this process may use) becomes kPlatform naming the file, so callers
+// see a tristereo::Error like for every other bad input.
+template <typename Fn>
+auto guard_memory(const std::string& path, Fn&& fn) -> decltype(fn()) {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    throw_out_of_memory(path);
+  }
+}
 
 // kUnsupportedFormat when width/height/pixels exceed the reader limits,
 // kCorruptFile when a side is < 1. `what` prefixes the message.
@@ -28,8 +53,14 @@ void append_float_text(std::string& out, float f);
 // Lower-case extension including the dot ("" when none).
 std::string lower_extension(const std::string& path);
 
-// A file being written: removed again unless commit() succeeds, so a failed
-// write leaves no truncated file behind.
+// A file being written atomically: the bytes go to a hidden temporary in the
+// same folder, and commit() flushes, syncs, closes and renames it over the
+// path, checking each step (kIoError naming the path and the OS reason). If
+// anything fails, or commit() is never reached, the temporary is removed and
+// whatever was at the path before is left as it was. An existing device or
+// FIFO (/dev/null, /dev/full, a pipe) is written in place instead, and never
+// removed. A symbolic link at the path keeps pointing at the file it names,
+// which is the one replaced. A directory at the path is kIoError.
 class OutputFile {
  public:
   explicit OutputFile(const std::string& path);  // kIoError if it cannot be created
@@ -44,6 +75,8 @@ class OutputFile {
 
  private:
   std::string path_;
+  std::string target_;     // path_, or the file a symbolic link at path_ names
+  std::string temp_path_;  // empty when writing in place
   std::FILE* file_ = nullptr;
 };
 

@@ -38,13 +38,14 @@ void validate_params(const StereoParams& p) {
   if (p.cost.kind != CostKind::kAd) {
     check_range("cost.census_w", p.cost.census_w, 3, 9);
     check_range("cost.census_h", p.cost.census_h, 3, 9);
-    if (p.cost.census_w % 2 == 0 || p.cost.census_h % 2 == 0)
-      bad("cost.census_w x cost.census_h = " + std::to_string(p.cost.census_w) + "x" +
-          std::to_string(p.cost.census_h) + " must be odd x odd (the window is centred)");
+    if (p.cost.census_w % 2 == 0)
+      bad("cost.census_w = " + std::to_string(p.cost.census_w) + " must be odd (the window is centred)");
+    if (p.cost.census_h % 2 == 0)
+      bad("cost.census_h = " + std::to_string(p.cost.census_h) + " must be odd (the window is centred)");
     if (p.cost.census_w * p.cost.census_h - 1 > kMaxCensusBits)
-      bad("cost.census_w x cost.census_h = " + std::to_string(p.cost.census_w) + "x" +
-          std::to_string(p.cost.census_h) + " has more than " + std::to_string(kMaxCensusBits) +
-          " neighbours (the descriptor holds 64 bits)");
+      bad("cost.census_h = " + std::to_string(p.cost.census_h) + " with a width of " +
+          std::to_string(p.cost.census_w) + " gives " + std::to_string(p.cost.census_w * p.cost.census_h - 1) +
+          " neighbours; the census descriptor holds at most " + std::to_string(kMaxCensusBits));
     if (p.cost.weights != Weights::kBox)
       bad("cost.weights = adaptive works with the ad cost only (census costs are box-aggregated)");
     check_range("cost.ad_weight_q4", p.cost.ad_weight_q4, 0, kMaxAdWeightQ4);
@@ -60,9 +61,10 @@ void validate_params(const StereoParams& p) {
     const long long worst = static_cast<long long>(p.paths.directions) *
                             (max_cost_q4(p.cost) + p.paths.p2_q4);
     if (worst > 65535)
-      bad("paths.directions * (largest cost " + std::to_string(max_cost_q4(p.cost)) +
-          " + paths.p2_q4 " + std::to_string(p.paths.p2_q4) + ") = " + std::to_string(worst) +
-          " exceeds 65535 (the summed path costs are 16-bit): lower P2 or the directions");
+      bad("paths.p2_q4 = " + std::to_string(p.paths.p2_q4) + " is too large: " +
+          std::to_string(p.paths.directions) + " directions x (largest cost " +
+          std::to_string(max_cost_q4(p.cost)) + " + P2) = " + std::to_string(worst) +
+          " exceeds 65535 (the summed path costs are 16-bit); lower P2 or the directions");
   }
   check_range("validity.lr_max_diff_q4", p.validity.lr_max_diff_q4, -1, 16 * kMaxNumDisp);
   check_range("validity.uniqueness_pct", p.validity.uniqueness_pct, 0, 100);

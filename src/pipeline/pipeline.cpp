@@ -22,6 +22,8 @@
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/kernels/dispatch.hpp"
+#include "src/memory/capacity_bytes.hpp"
+#include "src/memory/untouched_vector.hpp"
 #include "src/pipeline/input_check.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -44,7 +46,7 @@ struct Pipeline::Impl {
   struct Worker {
     RowMatcher matcher;
     CensusScratch census;
-    std::vector<std::int32_t> xs;  // sample x of the row being matched
+    UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
   };
@@ -52,9 +54,9 @@ struct Pipeline::Impl {
   WorkChunks rows;       // matching: rows handed out on demand
   WorkChunks triangles;  // interpolation: triangles handed out on demand
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
-  ImageU8 left_gray, right_gray;     // used when the input is RGB
+  ImageU8 left_gray, right_gray;     // used when the input is RGB (reserved, sized per frame)
   // Left-right check: the right view is matched as the left view of the
-  // mirrored pair (mirror(R), mirror(L)).
+  // mirrored pair (mirror(R), mirror(L)). Reserved, sized per frame.
   ImageU8 mirror_left, mirror_right;
   Mesh right_mesh;
   std::vector<std::int16_t> right_vdisp;
@@ -81,6 +83,25 @@ const FrameTimings& Pipeline::last_timings() const { return impl_->timings; }
 void Pipeline::set_stage_listener(StageListener* listener) { impl_->listener = listener; }
 KernelChoice Pipeline::active_kernels() const { return impl_->active; }
 int Pipeline::worker_count() const { return impl_->configured ? impl_->pool.size() : 0; }
+
+std::size_t Pipeline::working_memory_bytes() const {
+  const Impl& m = *impl_;
+  if (!m.configured) return 0;
+  std::size_t bytes = m.tritree.working_memory_bytes() + m.match.working_memory_bytes() +
+                      capacity_bytes(m.workers) + capacity_bytes(m.all_xs) +
+                      capacity_bytes(m.left_gray.pixels) + capacity_bytes(m.right_gray.pixels) +
+                      capacity_bytes(m.out.mesh.vertices) + capacity_bytes(m.out.mesh.triangles) +
+                      capacity_bytes(m.out.mesh.row_start) + capacity_bytes(m.out.vertex_disp_q4) +
+                      capacity_bytes(m.out.disp_q4.pixels);
+  for (const Impl::Worker& w : m.workers)
+    bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes();
+  bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
+           capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
+           capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
+           capacity_bytes(m.right_mesh.row_start) + capacity_bytes(m.right_vdisp) +
+           capacity_bytes(m.right_disp.pixels);
+  return bytes;
+}
 
 void Pipeline::configure(const PipelineConfig& config) {
   Impl& m = *impl_;
@@ -112,29 +133,42 @@ void Pipeline::configure(const PipelineConfig& config) {
   for (auto& w : m.workers) {
     if (rows_dp) w.matcher.configure(config.max_width, config.params);
     w.census.resize(config.max_width);
-    w.xs.assign(static_cast<std::size_t>(config.max_width), 0);
+    w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
   }
   const int max_px = config.max_width * config.max_height;
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads);
+  else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px);
   const bool lr = sp.validity.lr_max_diff_q4 >= 0;
-  m.mirror_left = ImageU8(lr ? config.max_width : 0, lr ? config.max_height : 0, 1);
-  m.mirror_right = ImageU8(lr ? config.max_width : 0, lr ? config.max_height : 0, 1);
+  const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
+  m.mirror_left = ImageU8{};
+  m.mirror_right = ImageU8{};
+  m.mirror_left.pixels.reserve(lr_px);
+  m.mirror_right.pixels.reserve(lr_px);
   m.right_mesh = Mesh{};
   if (lr) m.tritree.reserve(m.right_mesh);
   m.right_vdisp.clear();
-  m.right_vdisp.reserve(lr ? static_cast<std::size_t>(max_px) : 0);
-  m.right_disp = ImageS16(lr ? config.max_width : 0, lr ? config.max_height : 0, 1, kInvalidDispQ4);
+  m.right_vdisp.reserve(lr_px);
+  m.right_disp = ImageS16{};
+  m.right_disp.channels = 1;
+  m.right_disp.pixels.reserve(lr_px);
   m.all_xs.resize(static_cast<std::size_t>(config.max_width));
   for (int x = 0; x < config.max_width; ++x) m.all_xs[static_cast<std::size_t>(x)] = x;
-  m.left_gray = ImageU8(config.max_width, config.max_height, 1);
-  m.right_gray = ImageU8(config.max_width, config.max_height, 1);
-
+  // Reserved, not filled: a fresh block stays untouched address space until a
+  // frame writes it, so a frame smaller than the maximum (or gray input, which
+  // never needs the gray copies) does not fault in pages it does not use. Each
+  // frame sizes them within capacity and writes every pixel it keeps.
+  const std::size_t max_px_size = static_cast<std::size_t>(max_px);
+  m.left_gray = ImageU8{};
+  m.right_gray = ImageU8{};
+  m.left_gray.pixels.reserve(max_px_size);
+  m.right_gray.pixels.reserve(max_px_size);
   m.out = StereoOutput{};
   m.tritree.reserve(m.out.mesh);
-  m.out.vertex_disp_q4.reserve(static_cast<std::size_t>(max_px));
-  m.out.disp_q4 = ImageS16(config.max_width, config.max_height, 1, kInvalidDispQ4);
+  m.out.vertex_disp_q4.reserve(max_px_size);
+  m.out.disp_q4.channels = 1;
+  m.out.disp_q4.pixels.reserve(max_px_size);
 
   m.pool.start(threads, cpus, config.pin_threads);
   m.config = config;
