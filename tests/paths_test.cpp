@@ -33,7 +33,8 @@ ImageU8 random_image(std::mt19937& rng, int w, int h) {
 // Smallest energy of the chain c[0] -> ... -> c[m-1] = p over every labelling
 // that gives p the label k: sum of C plus P1 for a step of 1 and P2 for more.
 std::int64_t chain_energy(const std::vector<int>& chain, int k, int nd,
-                          const std::function<int(int, int)>& cost, int p1, int p2) {
+                          const std::function<int(int, int)>& cost, int p1,
+                          const std::function<int(int, int)>& p2_of_edge) {
   const int m = static_cast<int>(chain.size());
   std::vector<int> label(static_cast<std::size_t>(m), 0);
   std::int64_t best = INT64_MAX;
@@ -47,7 +48,7 @@ std::int64_t chain_energy(const std::vector<int>& chain, int k, int nd,
       std::int64_t add = cost(chain[static_cast<std::size_t>(j)], l);
       if (j > 0) {
         const int step = std::abs(l - label[static_cast<std::size_t>(j - 1)]);
-        add += step == 0 ? 0 : (step == 1 ? p1 : p2);
+        add += step == 0 ? 0 : (step == 1 ? p1 : p2_of_edge(chain[static_cast<std::size_t>(j - 1)], chain[static_cast<std::size_t>(j)]));
       }
       label[static_cast<std::size_t>(j)] = l;
       rec(j + 1, e + add);
@@ -76,6 +77,13 @@ void check_against_brute_force(const ImageU8& l, const ImageU8& r, const Mesh* m
   pm.compute_costs(ctx, s, pool);
   pm.aggregate(s, l.view(), pool);
   auto cost = [&](int i, int k) { return static_cast<int>(pm.cost_row(i)[k]); };
+  // P2 across an intensity edge (docs/model.md 3b): P1 + (P2 - P1) T / (T + |dI|).
+  const int t_edge = p.paths.p2_edge_scale;
+  auto p2_of_edge = [&](int q, int i) {
+    if (t_edge == 0) return p.paths.p2_q4;
+    const int di = std::abs(l.at(s.x_of(i), s.y_of(i)) - l.at(s.x_of(q), s.y_of(q)));
+    return p.paths.p1_q4 + (p.paths.p2_q4 - p.paths.p1_q4) * t_edge / (t_edge + di);
+  };
   const int nd = p.num_disp;
   std::vector<std::uint16_t> sum(static_cast<std::size_t>(nd));
   for (int i = 0; i < s.count(); ++i) {
@@ -85,9 +93,9 @@ void check_against_brute_force(const ImageU8& l, const ImageU8& r, const Mesh* m
       for (int q = pm.predecessor(s, dir, i); q >= 0; q = pm.predecessor(s, dir, q)) chain.push_back(q);
       ASSERT_LE(chain.size(), 7u) << "test graph too large for brute force";
       std::reverse(chain.begin(), chain.end());
-      const std::int64_t base = chain_energy(chain, 0, nd, cost, p.paths.p1_q4, p.paths.p2_q4);
+      const std::int64_t base = chain_energy(chain, 0, nd, cost, p.paths.p1_q4, p2_of_edge);
       for (int k = 0; k < nd; ++k)
-        expect[static_cast<std::size_t>(k)] += chain_energy(chain, k, nd, cost, p.paths.p1_q4, p.paths.p2_q4) - base;
+        expect[static_cast<std::size_t>(k)] += chain_energy(chain, k, nd, cost, p.paths.p1_q4, p2_of_edge) - base;
     }
     pm.summed_costs(i, sum.data());
     for (int k = 0; k < nd; ++k)
@@ -108,6 +116,7 @@ TEST(PathAggregation, DenseGridEqualsBruteForce) {
     p.paths.directions = trial < 3 ? 4 : 8;
     p.paths.p1_q4 = 30 + 40 * trial;
     p.paths.p2_q4 = p.paths.p1_q4 + 100 * trial;
+    p.paths.p2_edge_scale = trial % 2 ? 0 : 10 + 10 * trial;  // with and without the edge rule
     check_against_brute_force(l, r, nullptr, p);
   }
 }
@@ -123,6 +132,7 @@ TEST(PathAggregation, MeshGraphEqualsBruteForce) {
     p.paths.directions = 8;
     p.paths.p1_q4 = 50 + 30 * trial;
     p.paths.p2_q4 = 2 * p.paths.p1_q4 + 17;
+    p.paths.p2_edge_scale = trial % 2 ? 0 : 30;
     const Mesh mesh = reference::build_tritree(l, p.tritree);
     ASSERT_GT(mesh.vertices.size(), 8u);
     check_against_brute_force(l, r, &mesh, p);
@@ -134,6 +144,7 @@ TEST(PathAggregation, PredecessorsFollowTheirDirection) {
   const ImageU8 l = random_image(rng, 40, 30);
   StereoParams p;
   p.tritree.max_area_px2 = 30;
+  p.paths.directions = 8;
   const Mesh mesh = reference::build_tritree(l, p.tritree);
   const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
   MatchContext ctx(l.width, l.height, p, ks);
