@@ -10,9 +10,10 @@
 # committed seeds (tests/fuzz/corpus/HARNESS) and regression inputs
 # (tests/fuzz/regressions/HARNESS). What it finds that adds coverage goes to
 # the working corpus $TRISTEREO_FUZZ_CORPUS (default BUILD/corpus/HARNESS),
-# never into the repository; a crashing, leaking, slow (> 10 s) or
-# memory-hungry (> 2 GiB) input is saved under BUILD/artifacts/HARNESS/ and
-# fails the run. Ends with one line:
+# never into the repository; a crashing, leaking, slow (> 10 s wall time, or
+# $TRISTEREO_FUZZ_TIMEOUT s: a run under nice on a busy machine waits for
+# the CPU) or memory-hungry (> 2 GiB) input is saved under
+# BUILD/artifacts/HARNESS/ and fails the run. Ends with one line:
 #   fuzz HARNESS: passed|FAILED, N executions in S s, cov C, ft F, corpus K,
 #   slowest input T s, peak RSS M MB
 # (cov: code edges reached; ft: libFuzzer's finer coverage features; T is
@@ -71,7 +72,7 @@ artifacts="${build}/artifacts/${harness}"
 mkdir -p "${corpus}" "${artifacts}"
 inputs=("${corpus}" "${repo}/tests/fuzz/corpus/${harness}")
 [[ -d "${repo}/tests/fuzz/regressions/${harness}" ]] && inputs+=("${repo}/tests/fuzz/regressions/${harness}")
-options=(-max_total_time="${seconds}" -timeout=10 -rss_limit_mb=2048 -max_len="${max_len}"
+options=(-max_total_time="${seconds}" -timeout="${TRISTEREO_FUZZ_TIMEOUT:-10}" -rss_limit_mb=2048 -max_len="${max_len}"
          -print_final_stats=1 -artifact_prefix="${artifacts}/")
 [[ -f "${repo}/tests/fuzz/${harness}.dict" ]] && options+=(-dict="${repo}/tests/fuzz/${harness}.dict")
 

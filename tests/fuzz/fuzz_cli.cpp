@@ -1,10 +1,11 @@
 // libFuzzer harness: the tristereo command line. The input is the argument
 // list, one argument per line ("match\nleft.png\nright.png\n--ndisp\n8"), run
 // through the program's own main() (apps/tristereo_main.cpp compiled with its
-// main renamed, see CMakeLists.txt), inside a scratch folder that holds a
+// main renamed, see CMakeLists.txt), run in a scratch folder that holds a
 // small synthetic pair, its ground truth, a KITTI-scaled disparity PNG and a
 // calib.txt. Checked: no crash, no sanitizer report, no exception escaping
-// main, an exit code of 0, 1 or 2.
+// main, an exit code of 0, 1 or 2. TRISTEREO_FUZZ_VERBOSE=1 shows the
+// program's output and each input's exit code.
 //
 // Safety and time bounds (an input outside them is rejected with -1, so it
 // never enters the corpus):
@@ -13,9 +14,11 @@
 //    folder is put back (new files removed, changed fixtures rewritten);
 //  - no --realtime (SCHED_FIFO and mlockall) and no --gpio (hardware lines);
 //  - work is bounded: synthetic sizes (demo, synth, profile) must be given
-//    and at most 64x64, files are at most 64x64 (the fixtures are 32x24),
-//    W * H * D * window area <= kWorkBudget, at most 4 frames, 4 warm-up
-//    frames, 4 threads and 4 thread counts.
+//    and at most 64x64, the image files are the 32x24 fixtures (an input runs
+//    one command, and the folder is restored before the next),
+//    W * H * D * window area <= kWorkBudget (verify and --reference run the
+//    float reference, ~1.8 us per term under the sanitizers), at most 4
+//    frames, 5 warm-up frames (the default), 4 threads and 4 thread counts.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -46,9 +49,10 @@ namespace {
 
 constexpr int kMaxArgs = 48;
 constexpr long kMaxSide = 64;
+constexpr int kFixtureWidth = 32, kFixtureHeight = 24;
 constexpr long kMaxFrames = 4;
 constexpr long kMaxThreads = 4;
-constexpr std::int64_t kWorkBudget = 1000000;
+constexpr std::int64_t kWorkBudget = 250000;
 
 struct NullBuffer : std::streambuf {
   int overflow(int c) override { return c; }
@@ -86,8 +90,8 @@ void record(Fixture& f) {
 
 void make_fixtures() {
   SynthParams sp;
-  sp.width = 32;
-  sp.height = 24;
+  sp.width = kFixtureWidth;
+  sp.height = kFixtureHeight;
   sp.num_disp = 8;
   const SyntheticScene scene = make_synthetic_scene(sp);
   write_png_u8("left.png", scene.left.view());
@@ -102,7 +106,8 @@ void make_fixtures() {
   write_disparity("disp_q4.png", q4.view(), DispPngScale::kQ4);
   const std::string calib =
       "cam0=[40 0 16; 0 40 12; 0 0 1]\ncam1=[40 0 17; 0 40 12; 0 0 1]\ndoffs=1\n"
-      "baseline=100\nwidth=32\nheight=24\n";
+      "baseline=100\nwidth=" + std::to_string(kFixtureWidth) +
+      "\nheight=" + std::to_string(kFixtureHeight) + "\n";
   std::FILE* f = std::fopen("calib.txt", "wb");
   if (!f || std::fwrite(calib.data(), 1, calib.size(), f) != calib.size() || std::fclose(f) != 0)
     fail("cannot write calib.txt");
@@ -184,9 +189,9 @@ bool within_bounds(const std::vector<std::string>& args) {
                          (cmd == "profile" && values_of(args, "left").empty() &&
                           values_of(args, "folder").empty());
   // Synthetic frames default to 640x480: require small explicit sizes.
-  const long file_side = synthetic ? 640 : kMaxSide;
+  const long default_w = synthetic ? 640 : kFixtureWidth, default_h = synthetic ? 480 : kFixtureHeight;
   long w, h, d, frames, warmup, threads;  // warm-up: default 5, tiny frames
-  if (!bounded(args, "width", kMaxSide, file_side, w) || !bounded(args, "height", kMaxSide, file_side, h) ||
+  if (!bounded(args, "width", kMaxSide, default_w, w) || !bounded(args, "height", kMaxSide, default_h, h) ||
       w > kMaxSide || h > kMaxSide)
     return false;
   if (!bounded(args, "ndisp", 1 << 20, 64, d) || !bounded(args, "frames", kMaxFrames, 100, frames) ||
@@ -222,12 +227,34 @@ bool within_bounds(const std::vector<std::string>& args) {
 
 }  // namespace
 
+// The program runs inside the scratch folder, and only while it runs:
+// libFuzzer resolves its own relative paths (corpus folders, artifacts)
+// against the folder it was started in.
+class InScratch {
+ public:
+  InScratch() {
+    if (chdir(scratch_dir().c_str()) != 0) fail("chdir('" + scratch_dir() + "'): " + std::strerror(errno));
+  }
+  ~InScratch() {
+    if (fchdir(home_fd()) != 0) fail(std::string("fchdir back: ") + std::strerror(errno));
+  }
+  static int home_fd() {
+    static const int fd = open(".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    return fd;
+  }
+};
+
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   const std::string& dir = scratch_dir();
   setenv("TMPDIR", dir.c_str(), 1);  // profile --mesh-output's temp file lands here too
-  if (chdir(dir.c_str()) != 0) fail("chdir('" + dir + "'): " + std::strerror(errno));
-  make_fixtures();
+  if (InScratch::home_fd() < 0) fail(std::string("open('.'): ") + std::strerror(errno));
+  {
+    InScratch in_scratch;
+    make_fixtures();
+  }
   // The program's messages are not findings; sanitizer reports go to fd 2.
+  // TRISTEREO_FUZZ_VERBOSE=1 keeps them and prints each exit code.
+  if (std::getenv("TRISTEREO_FUZZ_VERBOSE")) return 0;
   static NullBuffer null;
   std::cout.rdbuf(&null);
   std::cerr.rdbuf(&null);
@@ -258,6 +285,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<char*> argv;
   for (std::string& s : storage) argv.push_back(s.data());
   argv.push_back(nullptr);
+  InScratch in_scratch;
   int rc = -1;
   try {
     rc = tristereo_cli_main(static_cast<int>(storage.size()), argv.data());
@@ -265,6 +293,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fail(std::string("an exception escaped main: ") + e.what());
   } catch (...) {
     fail("an unknown exception escaped main");
+  }
+  static const bool verbose = std::getenv("TRISTEREO_FUZZ_VERBOSE") != nullptr;
+  if (verbose) {
+    std::string line;
+    for (const std::string& a : args) line += " '" + a + "'";
+    std::fprintf(stderr, "cli:%s -> exit %d\n", line.c_str(), rc);
   }
   TRISTEREO_FUZZ_CHECK(rc == 0 || rc == 1 || rc == 2, "exit code " + std::to_string(rc));
   restore_scratch();
