@@ -3,10 +3,11 @@
 
 Usage: scripts/results.sh   (builds, then runs this with Debian's python3 + matplotlib)
        /usr/bin/python3 scripts/results.py [--tristereo build/tristereo] [--data ../shared/data]
-Every number in the output comes from `tristereo match` / `tristereo eval` runs made here.
+Every number in the output comes from `tristereo match` / `tristereo eval` runs made here
+(scripts/score_all.py for the table per data set), except the peers' numbers, which
+scripts/datasets.py reads from ../shared/data/README.md and issue #14.
 """
 import argparse
-import csv
 import json
 import os
 import statistics
@@ -15,6 +16,9 @@ import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import datasets  # noqa: E402
+import score_all  # noqa: E402
 
 
 def run(cmd):
@@ -25,9 +29,78 @@ def run(cmd):
 
 
 def scenes(data):
-    with open(os.path.join(data, "middlebury", "datasets.tsv")) as f:
-        rows = list(csv.DictReader(f, delimiter="\t"))
-    return [(r["name"], int(r["ndisp"]), int(r["gt_scale"])) for r in rows]
+    return [(s.name, s.ndisp, s.gt_scale) for s in datasets.scenes(data, ["middlebury"])]
+
+
+def fmt1(v):
+    return "%.1f" % v if isinstance(v, (int, float)) else "–"
+
+
+def every_set_section(exe, data, w):
+    """One table per set: ours (sparse, dense, and the paper mode when the
+    program has it) beside the peers, ms per frame, and a summary line."""
+    help_text = run([exe, "match", "--help"])
+    modes = [("sparse", []), ("dense", ["--dense"])]
+    if "--optimizer" in help_text and "--cost" in help_text:
+        modes.append(("paper mode", ["--cost", "ad", "--optimizer", "dp"]))
+    peers = datasets.read_readme_peers(data)
+    runs = {}
+    for label, extra in modes:
+        try:
+            sc, res = score_all.score(exe, data, extra, jobs=1)
+        except score_all.RunError as e:
+            sys.exit("results: %s" % e)
+        runs[label] = (extra, res, score_all.summarise(sc, res, peers))
+    all_scenes = datasets.scenes(data)
+    w("## Every data set of ../shared/data\n")
+    w("Scored as ../shared/data/README.md scores the peers: a pixel is bad when its error exceeds "
+      "the threshold or it has no disparity (invalid = bad); only pixels with known ground truth count; "
+      "Middlebury 2014 and ETH3D bad > 2 px and KITTI D1 (> 3 px and > 5 %% of gt) on every known-GT "
+      "pixel, Middlebury v2 bad > 1 px on its nonocc and all masks. Modes: %s. One thread; ms = the "
+      "pipeline's own total for that frame (`--stats`), one run, the machine shared with other jobs: "
+      "a guide, not a benchmark. Peers: OpenCV 4.6 StereoSGBM (MODE_SGBM_3WAY), StereoBM and libelas "
+      "per scene from ../shared/data/README.md; for v2 only their means exist (%s). "
+      "The same tables, quicker, for tuning: `scripts/score_all.py [-- match options]`.\n" % (
+          ", ".join("%s (`%s`)" % (l, " ".join(e) or "defaults") for l, e in modes),
+          datasets.V2_PEER_MEANS["source"]))
+    for set_name, set_label, metrics in datasets.SETS:
+        set_scenes = [s for s in all_scenes if s.set == set_name]
+        w("### %s\n" % set_label)
+        per_scene_peers = set_name != "middlebury"
+        for m_label, _, _ in metrics:
+            cols = ["scene", "D", "metric"] + ["%s" % l for l in runs]
+            if per_scene_peers:
+                cols += ["SGBM 3-way", "StereoBM", "libelas"]
+            cols += ["ms %s" % l for l in runs]
+            w("| " + " | ".join(cols) + " |")
+            w("|---|--:|---|" + "--:|" * (len(cols) - 3))
+            for s in set_scenes:
+                row = [s.name, str(s.ndisp), m_label]
+                row += [fmt1(runs[l][1][s.id]["metrics"][m_label]) for l in runs]
+                if per_scene_peers:
+                    p = peers.get(s.id, {})
+                    row += [fmt1(p.get(k)) for k in datasets.PEERS]
+                row += ["%.0f" % runs[l][1][s.id]["ms"] for l in runs]
+                w("| " + " | ".join(row) + " |")
+            row = ["**mean**", "", m_label]
+            row += ["**%s**" % fmt1(runs[l][2][set_name]["metrics"][m_label]["ours"]) for l in runs]
+            m0 = runs["sparse"][2][set_name]["metrics"][m_label]
+            if per_scene_peers:
+                row += [fmt1(m0.get(k)) for k in datasets.PEERS]
+            row += ["%.0f" % runs[l][2][set_name]["ms_mean"] for l in runs]
+            w("| " + " | ".join(row) + " |")
+            if not per_scene_peers:
+                w("\nPeers (means over the four scenes, %s): SGBM 3-way %.1f %%, libelas %.1f %%." % (
+                    m0["peer_source"], m0["SGBM"], m0["libelas"]))
+            w("")
+        for l in runs:
+            for m_label, m in runs[l][2][set_name]["metrics"].items():
+                worse = m.get("worse_than_SGBM")
+                if worse is not None:
+                    w("- %s, %s: %d of %d scenes worse than SGBM%s." % (
+                        l, m_label, len(worse), len(set_scenes),
+                        (" (" + ", ".join(x.split("/")[1] for x in worse) + ")") if worse else ""))
+        w("")
 
 
 def match(exe, scene_dir, ndisp, tmp, tag, extra, repeats):
@@ -67,7 +140,7 @@ def fmt_bad(s):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tristereo", default=os.path.join(ROOT, "build", "tristereo"))
-    ap.add_argument("--data", default=os.path.join(ROOT, "..", "shared", "data"))
+    ap.add_argument("--data", default=datasets.DEFAULT_DATA)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "results.md"))
     a = ap.parse_args()
@@ -76,12 +149,15 @@ def main():
     info = run([exe, "info"])
     lines = []
     w = lines.append
-    w("# Results on the Middlebury v2 public scenes\n")
+    w("# Results on ../shared/data\n")
     w("Generated by `scripts/results.sh` (this file is overwritten; do not edit by hand). "
       "Default parameters unless stated (`tristereo match --help`), one thread, default kernel set. "
-      "Bad-pixel rates are Middlebury v2 style: percentage of pixels of the mask whose disparity "
-      "error exceeds 0.5 / 1 / 2 px; invalid counts as bad.\n")
+      "Data: ../shared/data (its README cites the sources; research evaluation use only).\n")
     w("Machine and build (`tristereo info`):\n\n```\n" + info.strip() + "\n```\n")
+    every_set_section(exe, a.data, w)
+    w("## Middlebury v2 in detail\n")
+    w("Bad-pixel rates Middlebury v2 style: percentage of pixels of the mask whose disparity "
+      "error exceeds 0.5 / 1 / 2 px; invalid counts as bad.\n")
 
     rows, timing_rows, mesh_rows = [], [], []
     means = {"sparse_nonocc": [], "dense_nonocc": [], "sparse_all": [], "dense_all": []}
@@ -100,7 +176,7 @@ def main():
         rows.append((name, ndisp, s_stats, res))
         timing_rows.append((name, s_stats, d_stats))
 
-    w("## Accuracy (bad > 0.5 / 1 / 2 px, %)\n")
+    w("### Accuracy (bad > 0.5 / 1 / 2 px, %)\n")
     w("| scene | D | sparse DP at samples (nonocc) | dense DP at the same samples (nonocc) | "
       "sparse + interpolation, dense map (nonocc) | dense DP map (nonocc) | sparse map (all) | dense map (all) |")
     w("|---|---|---|---|---|---|---|---|")
@@ -110,29 +186,40 @@ def main():
             fmt_bad(res["sparse", "nonocc"]["dense"]), fmt_bad(res["dense", "nonocc"]["dense"]),
             fmt_bad(res["sparse", "all"]["dense"]), fmt_bad(res["dense", "all"]["dense"])))
     mean = lambda v: sum(v) / len(v)
-    w("\nMean bad > 1 px over the four scenes, dense output map: **sparse DP %.2f %% nonocc / %.2f %% all**; "
-      "dense DP %.2f %% nonocc / %.2f %% all. Reference points measured by the project's issue on the same data: "
-      "OpenCV StereoSGBM (3-way, blockSize 5) 11.4 %% nonocc / 17.4 %% all; libelas 6.8 %% / 12.1 %%.\n" % (
-          mean(means["sparse_nonocc"]), mean(means["sparse_all"]), mean(means["dense_nonocc"]), mean(means["dense_all"])))
+    v2p = datasets.V2_PEER_MEANS
+    w("\nMean bad > 1 px over the four scenes, dense output map: **sparse %.2f %% nonocc / %.2f %% all**; "
+      "dense %.2f %% nonocc / %.2f %% all. Peers (%s): OpenCV StereoSGBM (3-way, blockSize 5) "
+      "%.1f %% nonocc / %.1f %% all; libelas %.1f %% / %.1f %%.\n" % (
+          mean(means["sparse_nonocc"]), mean(means["sparse_all"]), mean(means["dense_nonocc"]),
+          mean(means["dense_all"]), v2p["source"], v2p["bad 1 px nonocc"]["SGBM"], v2p["bad 1 px all"]["SGBM"],
+          v2p["bad 1 px nonocc"]["libelas"], v2p["bad 1 px all"]["libelas"]))
 
-    w("## Mesh and time per stage (median of %d runs, ms, one thread)\n" % a.repeats)
-    w("| scene | vertices | sample fraction | triangles | forced splits | tritree | cost aggregation | DP | "
-      "interpolation | total | dense DP: cost agg. | dense DP: DP | dense total | DP time sparse/dense | "
-      "frame sparse/dense |")
-    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    # Stage columns from --stats itself, so new stages appear without editing this file.
+    stages = [k for k in timing_rows[0][1]["ms"] if k != "total"]
+    matching = [k for k in stages if k not in ("tritree", "interpolation")]
+    w("### Mesh and time per stage (median of %d runs, ms, one thread)\n" % a.repeats)
+    cols = (["scene", "vertices", "sample fraction", "triangles", "forced splits"] +
+            ["sparse: %s" % k.replace("_", " ") for k in stages] + ["sparse total"] +
+            ["dense: %s" % k.replace("_", " ") for k in matching] + ["dense total",
+             "matching sparse/dense", "frame sparse/dense"])
+    w("| " + " | ".join(cols) + " |")
+    w("|---|" + "--:|" * (len(cols) - 1))
     for name, s, d in timing_rows:
-        w("| %s | %d | %.3f | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.3f | %.3f |" % (
-            name, s["vertices"], s["sample_fraction"], s["triangles"], s["forced_splits"], s["ms"]["tritree"],
-            s["ms"]["cost_aggregation"], s["ms"]["dp"], s["ms"]["interpolation"], s["ms"]["total"],
-            d["ms"]["cost_aggregation"], d["ms"]["dp"], d["ms"]["total"],
-            s["ms"]["dp"] / d["ms"]["dp"] if d["ms"]["dp"] > 0 else float("nan"),
-            s["ms"]["total"] / d["ms"]["total"]))
-    w("\nThe paper claims sparse DP takes at most half the time of dense DP. \"DP time\" is the DP stage "
-      "alone; \"frame\" includes the tritree and interpolation, which dense mode also runs (for the mesh).\n")
+        ms_s, ms_d = s["ms"], d["ms"]
+        m_s, m_d = sum(ms_s[k] for k in matching), sum(ms_d[k] for k in matching)
+        w("| " + " | ".join([name, "%d" % s["vertices"], "%.3f" % s["sample_fraction"], "%d" % s["triangles"],
+                             "%d" % s["forced_splits"]] +
+                            ["%.2f" % ms_s[k] for k in stages] + ["%.2f" % ms_s["total"]] +
+                            ["%.2f" % ms_d[k] for k in matching] + ["%.2f" % ms_d["total"],
+                             "%.3f" % (m_s / m_d) if m_d > 0 else "–",
+                             "%.3f" % (ms_s["total"] / ms_d["total"]) if ms_d["total"] > 0 else "–"]) + " |")
+    w("\nThe paper claims sparse DP takes at most half the time of dense DP. \"matching\" is the stages "
+      "between the tritree and the interpolation (%s); \"frame\" includes the tritree and interpolation, "
+      "which dense mode also runs (for the mesh).\n" % ", ".join(k.replace("_", " ") for k in matching))
 
     # Mesh size against the PSNR threshold.
     psnrs = [30, 32.5, 35, 37.5, 40, 42.5, 45, 47.5, 50]
-    w("## Mesh size against the PSNR threshold (A_max = 100 px^2)\n")
+    w("### Mesh size against the PSNR threshold (A_max = 100 px^2)\n")
     w("| scene | " + " | ".join("%.1f dB" % p for p in psnrs) + " |")
     w("|---|" + "---|" * len(psnrs))
     series = {}
@@ -168,18 +255,14 @@ def main():
         w("![mesh size vs PSNR](img/mesh_vs_psnr.png)\n")
     except ImportError:
         w("(matplotlib not installed: plot skipped)\n")
-    w("## Defaults and the measurements behind them\n")
-    w("Defaults: tritree 40 dB / 100 px^2 (the paper's values; lower thresholds give fewer samples "
-      "but worse maps: see the mean bad-pixel row of the PSNR table above), box 5x5 support window, cost truncation T_c = 30, smoothness lambda = 40 (Q4 cost units) "
-      "with a **constant** gap policy tau(g) = 1, sub-pixel refinement on. The paper asks for tau "
-      "decreasing with the gap; measured on these four scenes, the constant policy at its best lambda "
-      "beats 1/g and 1/g^2 at theirs. The tables below are docs/tuning.md, produced by "
-      "`/usr/bin/python3 scripts/tune.py` (mean nonocc bad > 1 px of the sparse pipeline):\n")
+    w("### Defaults and the measurements behind them\n")
+    w("The defaults of this run, as `tristereo match --stats` reports them: `%s`. "
+      "Why they are the defaults is docs/tuning.md, included here:\n" % json.dumps(timing_rows[0][1].get("params", {})))
     tuning = os.path.join(ROOT, "docs", "tuning.md")
     if os.path.exists(tuning):
         with open(tuning) as f:
             body = f.read().split("\n")
-        w("\n".join(("#" + l) if l.startswith("## ") else l for l in body[1:]))
+        w("\n".join(("##" + l) if l.startswith("## ") else l for l in body[1:]))
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("wrote", a.out)

@@ -1,4 +1,4 @@
-// datasets.tsv: the list of Middlebury scenes and their evaluation settings.
+// datasets.tsv: the scenes of a data set folder and their evaluation settings.
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -55,6 +55,14 @@ std::vector<MiddleburyScene> read_datasets_tsv(const std::string& path) {
                   "'" + path + "': header has no column '" + names[k] + "'");
     }
   }
+  const auto optional_column = [&](const char* name) {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return i;
+    return header.size();
+  };
+  const std::size_t opt_gt_file = optional_column("gt_file");
+  const std::size_t opt_gt_format = optional_column("gt_format");
+  const std::size_t opt_noc_mask = optional_column("noc_mask");
   std::vector<MiddleburyScene> scenes;
   int line_no = 1;
   while (std::getline(in, line)) {
@@ -77,7 +85,10 @@ std::vector<MiddleburyScene> read_datasets_tsv(const std::string& path) {
     s.width = parse_int(f[col[1]], path, line_no, "width", 1, 65535);
     s.height = parse_int(f[col[2]], path, line_no, "height", 1, 65535);
     s.ndisp = parse_int(f[col[3]], path, line_no, "ndisp", 1, 4096);
-    s.gt_scale = parse_int(f[col[4]], path, line_no, "gt_scale", 1, 255);
+    s.gt_scale = parse_int(f[col[4]], path, line_no, "gt_scale", 1, 65535);
+    if (opt_gt_file < header.size()) s.gt_file = f[opt_gt_file];
+    if (opt_gt_format < header.size()) s.gt_format = f[opt_gt_format];
+    if (opt_noc_mask < header.size()) s.noc_mask = f[opt_noc_mask];
     scenes.push_back(s);
   }
   return scenes;

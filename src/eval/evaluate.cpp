@@ -1,11 +1,10 @@
-// Bad-pixel statistics (Middlebury v2 style) and ground-truth loading.
+// Bad-pixel statistics: Middlebury's bad > t px and KITTI's D1.
 #include "tristereo/eval.hpp"
 
 #include <cmath>
 #include <string>
 
 #include "tristereo/fixed_point.hpp"
-#include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -47,7 +46,8 @@ bool known_gt(float g) { return std::isfinite(g) && g != 0.f; }
 
 // Accumulates one evaluated pixel; `d` non-finite = no disparity.
 struct Accumulator {
-  std::int64_t evaluated = 0, invalid = 0, bad05 = 0, bad1 = 0, bad2 = 0, valid = 0;
+  std::int64_t evaluated = 0, invalid = 0, bad05 = 0, bad1 = 0, bad2 = 0, bad3 = 0, d1 = 0,
+               valid = 0;
   double sq = 0;
 
   void add(double d, double gt) {
@@ -57,12 +57,17 @@ struct Accumulator {
       ++bad05;
       ++bad1;
       ++bad2;
+      ++bad3;
+      ++d1;
       return;
     }
     const double e = std::fabs(d - gt);
     bad05 += e > 0.5;
     bad1 += e > 1.0;
     bad2 += e > 2.0;
+    bad3 += e > 3.0;
+    // KITTI's devkit: outlier when the error exceeds both 3 px and 5 % of gt.
+    d1 += e > 3.0 && e > 0.05 * std::fabs(gt);
     ++valid;
     sq += e * e;
   }
@@ -74,6 +79,8 @@ struct Accumulator {
       s.bad_0_5 = 100.0 * static_cast<double>(bad05) / static_cast<double>(evaluated);
       s.bad_1 = 100.0 * static_cast<double>(bad1) / static_cast<double>(evaluated);
       s.bad_2 = 100.0 * static_cast<double>(bad2) / static_cast<double>(evaluated);
+      s.bad_3 = 100.0 * static_cast<double>(bad3) / static_cast<double>(evaluated);
+      s.d1 = 100.0 * static_cast<double>(d1) / static_cast<double>(evaluated);
     }
     if (valid > 0) s.rms = std::sqrt(sq / static_cast<double>(valid));
     return s;
@@ -138,24 +145,6 @@ BadPixelStats evaluate_at_points(ImageView<const float> gt, const std::vector<Ve
     acc.add(d, g);
   }
   return acc.stats();
-}
-
-Image<float> load_middlebury_gt(const std::string& png_path, int gt_scale) {
-  if (gt_scale < 1 || gt_scale > 255) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "load_middlebury_gt: gt_scale " + std::to_string(gt_scale) + " is outside 1..255");
-  }
-  const ImageU8 raw = read_image_u8(png_path);
-  if (raw.channels != 1) {
-    throw Error(ErrorCode::kUnsupportedFormat,
-                "load_middlebury_gt: '" + png_path + "' has " + std::to_string(raw.channels) +
-                    " channels, expected a single-channel disparity image");
-  }
-  Image<float> gt(raw.width, raw.height, 1);
-  for (std::size_t i = 0; i < raw.pixels.size(); ++i) {
-    gt.pixels[i] = static_cast<float>(raw.pixels[i]) / static_cast<float>(gt_scale);
-  }
-  return gt;
 }
 
 }  // namespace tristereo
