@@ -1,12 +1,14 @@
 // libFuzzer harness: 16-bit disparity PNGs read as Q4 (value = 16 d) and as
 // KITTI (value = 256 d) through read_disparity, whose conversion must never
-// overflow int16 silently. Seeds: tests/fuzz/corpus/disp_png (Q4 and KITTI
-// maps written by write_disparity).
+// overflow int16 silently; each input as it is and with its chunk CRCs
+// repaired (png_crc.hpp). Seeds: tests/fuzz/corpus/disp_png (Q4 and KITTI maps
+// written by write_disparity).
 #include <cstddef>
 #include <cstdint>
 
 #include "tests/fuzz/fuzz_support.hpp"
 #include "tests/fuzz/image_roundtrip.hpp"
+#include "tests/fuzz/png_crc.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/io.hpp"
 
@@ -38,8 +40,13 @@ void check_scale(const std::string& path, DispPngScale scale, const char* what) 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = write_scratch("input_disp.png", data, size);
-  check_scale(path, DispPngScale::kQ4, "read_disparity(png, Q4)");
-  check_scale(path, DispPngScale::kKitti, "read_disparity(png, KITTI)");
+  std::vector<std::uint8_t> bytes(data, data + size);
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::string path = write_scratch("input_disp.png", bytes);
+    check_scale(path, DispPngScale::kQ4, "read_disparity(png, Q4)");
+    check_scale(path, DispPngScale::kKitti, "read_disparity(png, KITTI)");
+    if (!has_png_signature(data, size)) break;
+    bytes = with_png_crcs_fixed(data, size);  // second pass: CRCs repaired
+  }
   return 0;
 }
