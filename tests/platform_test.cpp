@@ -17,6 +17,7 @@
 #include "platform/cpu_features.hpp"
 #include "platform/function_ref.hpp"
 #include "platform/realtime.hpp"
+#include "support/keep_alive.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -203,6 +204,7 @@ TEST(Clock, PeakRssSeesTouchedMemory) {
   constexpr size_t kBytes = 64u << 20;
   std::vector<char> block(kBytes);
   for (size_t i = 0; i < kBytes; i += 4096) block[i] = static_cast<char>(i);
+  test::keep_alive(block.data());  // else clang drops the unobserved block
   EXPECT_GE(peak_rss_bytes(), static_cast<std::int64_t>(kBytes));
   // Same high-water mark the kernel shows as VmHWM (KiB), give or take the
   // kernel's batched RSS accounting.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "support/keep_alive.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -427,6 +428,7 @@ TEST(RssTrace, CurrentRssSeesTouchedAndFreedMemory) {
   constexpr std::size_t kBytes = 64u << 20;
   auto block = std::make_unique<char[]>(kBytes);
   for (std::size_t i = 0; i < kBytes; i += 4096) block[i] = static_cast<char>(i >> 12);
+  test::keep_alive(block.get());  // else clang drops the unobserved block
   const std::int64_t touched = current_rss_bytes();
   EXPECT_GE(touched - before, static_cast<std::int64_t>(kBytes) - (4 << 20));
   block.reset();  // a 64 MiB block is its own mapping: free() returns it at once
