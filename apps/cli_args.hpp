@@ -26,6 +26,8 @@ class Args {
   std::string get(const std::string& name, const std::string& fallback) const;
   int get_int(const std::string& name, int fallback) const;
   double get_double(const std::string& name, double fallback) const;
+  // get_int, and UsageError "--name V is out of range [lo, hi]" outside.
+  int get_int_in(const std::string& name, int fallback, int lo, int hi) const;
   bool flag(const std::string& name) const { return flags_.count(name) != 0; }
 
  private:
@@ -33,6 +35,9 @@ class Args {
   std::map<std::string, std::string> values_;
   std::set<std::string> flags_;
 };
+
+// The exit status paragraph of every --help.
+const char* exit_codes_help();
 
 int parse_int(const std::string& option, const std::string& text);
 double parse_double(const std::string& option, const std::string& text);

@@ -30,15 +30,18 @@ int cmd_demo(int argc, char** argv) {
                  "Generates a synthetic stereo scene with exact ground truth, runs sparse DP and the\n"
                  "dense-DP baseline, checks the integer pipeline against the float reference, scores\n"
                  "both against the ground truth and writes the inputs, disparity maps (PFM + colour\n"
-                 "PNG), the 2.5D mesh (PLY) and stats (JSON) to OUTDIR.\n";
+                 "PNG), the 2.5D mesh (PLY) and stats (JSON) to OUTDIR.\n" << "\n" << exit_codes_help();
     return 0;
   }
+  if (args.positional().size() > 1)
+    throw UsageError("demo takes at most one path, OUTDIR; got " + std::to_string(args.positional().size()));
   const std::filesystem::path dir = args.positional().empty() ? "demo-out" : args.positional()[0];
   SynthParams sp;
-  sp.width = args.get_int("width", 640);
-  sp.height = args.get_int("height", 480);
-  sp.num_disp = args.get_int("ndisp", 64);
-  sp.seed = static_cast<std::uint32_t>(args.get_int("seed", 1));
+  sp.width = args.get_int_in("width", 640, 16, 4096);
+  sp.height = args.get_int_in("height", 480, 16, 4096);
+  sp.num_disp = args.get_int_in("ndisp", 64, 8, 256);
+  sp.seed = static_cast<std::uint32_t>(args.get_int_in("seed", 1, 0, 2147483647));
+  const int threads = args.get_int_in("threads", 0, 0, 256);
   const SyntheticScene scene = make_synthetic_scene(sp);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -55,7 +58,7 @@ int cmd_demo(int argc, char** argv) {
     run.config.max_height = sp.height;
     run.config.params.num_disp = sp.num_disp;
     run.config.params.dense = dense;
-    run.config.threads = args.get_int("threads", 0);
+    run.config.threads = threads;
     run.config.pin_threads = false;
     Pipeline pipeline;
     pipeline.configure(run.config);

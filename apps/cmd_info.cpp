@@ -14,9 +14,10 @@ int cmd_info(int argc, char** argv) {
   Args args(argc, argv, {}, {"help"});
   if (args.flag("help")) {
     std::cout << "usage: tristereo info\n\nPrints the version, the compiled, available and "
-                 "default kernel sets, the CPUs and GPIO support.\n";
+                 "default kernel sets, the CPUs and GPIO support.\n" << "\n" << exit_codes_help();
     return 0;
   }
+  if (!args.positional().empty()) throw UsageError("info takes no paths; got '" + args.positional()[0] + "'");
   std::cout << "tristereo " << kVersionString << "\n";
   std::cout << "cpu: " << cpu_model_name() << "\n";
   std::cout << "kernel sets compiled:";

@@ -8,6 +8,11 @@
 #include "apps/commands.hpp"
 #include "apps/stereo_options.hpp"
 #include "apps/match_outputs.hpp"
+#include "apps/match_warnings.hpp"
+#include "apps/output_paths.hpp"
+#include "apps/stereo_pair.hpp"
+#include "tristereo/gray.hpp"
+#include "platform/thread_pool.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/reference.hpp"
@@ -21,7 +26,9 @@ const char* kMatchHelp = R"(usage: tristereo match LEFT RIGHT --ndisp D [options
 Computes the tritree mesh of LEFT, sparse DP disparities at its vertices, the dense
 disparity map and the 2.5D mesh. LEFT/RIGHT: rectified 8-bit PNG/PGM/PPM (gray or RGB).
 
-Outputs:
+Outputs (each checked before computing: the format follows the extension, other
+extensions are refused, no output may name an input or another output; each is written
+to a temporary file in its folder and renamed into place when complete):
   --disp OUT.pfm|OUT.png    dense disparity: PFM float (Middlebury, +inf = invalid) or
                             16-bit PNG holding disparity*16 (0 = invalid)
   --disp-format q4|kitti    how a --disp PNG encodes d: q4 (default, value = 16 d) or
@@ -41,6 +48,10 @@ Outputs:
   --samples OUT.csv         the samples (mesh vertices): x,y,disparity (for eval --samples)
   --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds
   --reference               run the float reference instead of the integer pipeline
+
+Warnings (stderr, exit 0): LEFT and RIGHT probably swapped, a disparity range with no
+match inside the image, more --threads than CPUs, a gray image with an RGB one (matched
+in gray), mesh faces left out (vertices without a valid or finite depth).
 )";
 }  // namespace
 
@@ -52,22 +63,50 @@ int cmd_match(int argc, char** argv) {
   add_stereo_options(values, flags);
   Args args(argc, argv, values, flags);
   if (args.flag("help")) {
-    std::cout << kMatchHelp << stereo_options_help();
+    std::cout << kMatchHelp << stereo_options_help() << exit_codes_help();
     return 0;
   }
-  if (args.positional().size() != 2) throw UsageError("match needs LEFT and RIGHT image paths (see --help)");
-  const ImageU8 left = read_image_u8(args.positional()[0]);
-  const ImageU8 right = read_image_u8(args.positional()[1]);
-  if (left.width != right.width || left.height != right.height)
-    throw Error(ErrorCode::kSizeMismatch, "left is " + std::to_string(left.width) + "x" +
-                                              std::to_string(left.height) + " but right is " +
-                                              std::to_string(right.width) + "x" +
-                                              std::to_string(right.height));
+  const auto& pos = args.positional();
+  check_two_paths("match", pos);
+  const std::string& left_path = pos[0];
+  const std::string& right_path = pos[1];
+  check_output_paths(args, match_output_options(),
+                     {{"LEFT", left_path}, {"RIGHT", right_path}, {"--calib", args.get("calib", "")}});
+  ImageU8 left = read_image_u8(left_path);
+  ImageU8 right = read_image_u8(right_path);
+  check_stereo_pair(left_path, left, right_path, right);
   const PipelineConfig config = stereo_config_from_args(args, left.width, left.height);
+  const StereoParams& p = config.params;
+  if (args.has("disp")) {
+    // What a 16-bit PNG cannot hold is refused now, not after the computing.
+    const std::string disp = args.get("disp", "");
+    const bool png = disp.size() >= 4 && (disp.compare(disp.size() - 4, 4, ".png") == 0 ||
+                                          disp.compare(disp.size() - 4, 4, ".PNG") == 0);
+    if (png && p.d_min < 0)
+      throw UsageError("--disp " + disp + ": a PNG cannot hold the negative disparities of --dmin " +
+                       std::to_string(p.d_min) + "; write a .pfm file");
+    if (png && args.get("disp-format", "q4") == "kitti" && p.d_min + p.num_disp - 1 >= 256)
+      throw UsageError("--disp " + disp + " --disp-format kitti holds disparities below 256; --dmin + --ndisp - 1 is " +
+                       std::to_string(p.d_min + p.num_disp - 1) + "; use q4 or a .pfm file");
+  }
 
   MatchRun run;
   run.config = config;
   run.camera = camera_from_args(args, left.width, left.height, &run.camera_source);
+  {
+    const ImageU8 lg = left.channels == 1 ? ImageU8() : to_gray(left);
+    const ImageU8 rg = right.channels == 1 ? ImageU8() : to_gray(right);
+    const std::string w = swapped_warning(left.channels == 1 ? left.view() : lg.view(),
+                                          right.channels == 1 ? right.view() : rg.view(), p.d_min, p.num_disp);
+    if (!w.empty()) std::cerr << w << "\n";
+  }
+  for (const std::string& w : {range_outside_image_warning(left.width, p.d_min, p.num_disp),
+                               threads_warning(config.threads,
+                                               static_cast<int>(config.cpus.empty()
+                                                                    ? ThreadPool::available_cpus().size()
+                                                                    : config.cpus.size()),
+                                               !config.cpus.empty())})
+    if (!w.empty()) std::cerr << w << "\n";
   if (args.flag("reference")) {
     const auto t0 = std::chrono::steady_clock::now();
     run.output = run_reference(left, right, config.params);

@@ -16,18 +16,18 @@ int cmd_synth(int argc, char** argv) {
     std::cout << "usage: tristereo synth OUTDIR [--width 640] [--height 480] [--ndisp 64] [--seed 1] "
                  "[--frame 0]\n\n"
                  "Writes OUTDIR/left.png, right.png (8-bit gray), disp_left.pfm (exact ground truth,\n"
-                 "Middlebury PFM) and nonocc.png (255 = visible in both views).\n";
+                 "Middlebury PFM) and nonocc.png (255 = visible in both views).\n" << "\n" << exit_codes_help();
     return 0;
   }
   if (args.positional().size() != 1) throw UsageError("synth needs OUTDIR (see --help)");
   SynthParams sp;
-  sp.width = args.get_int("width", sp.width);
-  sp.height = args.get_int("height", sp.height);
-  sp.num_disp = args.get_int("ndisp", sp.num_disp);
+  sp.width = args.get_int_in("width", sp.width, 16, 4096);
+  sp.height = args.get_int_in("height", sp.height, 16, 4096);
+  sp.num_disp = args.get_int_in("ndisp", sp.num_disp, 8, 256);
   const int seed = args.get_int("seed", static_cast<int>(sp.seed));
   if (seed < 0) throw UsageError("--seed must be >= 0");
   sp.seed = static_cast<std::uint32_t>(seed);
-  sp.frame = args.get_int("frame", 0);
+  sp.frame = args.get_int_in("frame", 0, 0, 100000);
   const SyntheticScene scene = make_synthetic_scene(sp);
   const std::filesystem::path dir = args.positional()[0];
   std::error_code ec;

@@ -4,6 +4,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
 #include "apps/stereo_options.hpp"
+#include "apps/stereo_pair.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/verify.hpp"
@@ -21,14 +22,13 @@ int cmd_verify(int argc, char** argv) {
                  "can run (and 1 and N threads), compares mesh, sample disparities and dense map.\n"
                  "Prints 'bit-exact' and exits 0 when all are identical; otherwise prints the first\n"
                  "difference and exits 1.\n\n"
-              << stereo_options_help();
+              << stereo_options_help() << exit_codes_help();
     return 0;
   }
-  if (args.positional().size() != 2) throw UsageError("verify needs LEFT and RIGHT image paths (see --help)");
-  const ImageU8 left = read_image_u8(args.positional()[0]);
-  const ImageU8 right = read_image_u8(args.positional()[1]);
-  if (left.width != right.width || left.height != right.height)
-    throw Error(ErrorCode::kSizeMismatch, "left and right images differ in size");
+  check_two_paths("verify", args.positional());
+  ImageU8 left = read_image_u8(args.positional()[0]);
+  ImageU8 right = read_image_u8(args.positional()[1]);
+  check_stereo_pair(args.positional()[0], left, args.positional()[1], right);
   const PipelineConfig config = stereo_config_from_args(args, left.width, left.height);
   std::vector<int> thread_counts;
   if (args.has("thread-counts")) {

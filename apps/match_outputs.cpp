@@ -1,11 +1,14 @@
 #include "apps/match_outputs.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "apps/option_errors.hpp"
+#include "apps/output_paths.hpp"
 #include "tristereo/calib.hpp"
 #include "tristereo/depth.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -17,10 +20,14 @@ namespace tristereo::cli {
 namespace {
 double ms(std::int64_t ns) { return static_cast<double>(ns) / 1e6; }
 
-std::ofstream open_out(const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw Error(ErrorCode::kIoError, "cannot write '" + path + "'");
-  return f;
+// Runs one output's writer; its errors name the option as typed.
+template <typename Fn>
+void write_output(const char* option, const Fn& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    throw Error(e.code(), std::string("--") + option + ": " + without_function_prefix(e.what()));
+  }
 }
 
 CameraParams parse_camera(const std::string& text) {
@@ -35,6 +42,14 @@ CameraParams parse_camera(const std::string& text) {
   }
   if (n < 4) throw UsageError("--camera needs F,B,CX,CY[,DOFFS]");
   if (!(v[0] > 0) || !(v[1] > 0)) throw UsageError("--camera: focal length and baseline must be > 0");
+  // Far beyond any real camera, and small enough that no 3D point overflows
+  // (|X|, |Y|, Z <= 1e6 * 1e6 * 16 for any Q4 disparity).
+  for (int i = 0; i < 5; ++i)
+    if (!(std::fabs(v[i]) <= 1e6)) {
+      char num[32];
+      std::snprintf(num, sizeof num, "%g", v[i]);
+      throw UsageError(std::string("--camera: ") + num + " is out of range; each of F,B,CX,CY,DOFFS must be within +-1e6");
+    }
   c.focal_px = v[0];
   c.baseline = v[1];
   c.cx = v[2];
@@ -119,7 +134,7 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
 }
 
 void write_samples_csv(const std::string& path, const StereoOutput& out) {
-  std::ofstream f = open_out(path);
+  std::ostringstream f;
   f << "x,y,disparity\n";
   for (std::size_t i = 0; i < out.mesh.vertices.size(); ++i) {
     const int16_t d = out.vertex_disp_q4[i];
@@ -129,13 +144,13 @@ void write_samples_csv(const std::string& path, const StereoOutput& out) {
     else
       f << d / 16.0 << '\n';
   }
+  write_text_file(path, f.str());
 }
 
 void write_stats_json(const std::string& path, const MatchRun& run) {
   const StereoOutput& o = run.output;
   const StereoParams& p = run.config.params;
   const double pixels = static_cast<double>(o.mesh.width) * o.mesh.height;
-  std::ofstream f = open_out(path);
   char buf[2048];
   std::snprintf(buf, sizeof buf,
                 "{\n"
@@ -178,33 +193,66 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
     text.resize(text.size() - 3);  // drop "\n}\n": the object goes on
     text += buf;
   }
-  f << text;
-  if (!f) throw Error(ErrorCode::kIoError, "error writing '" + path + "'");
+  write_text_file(path, text);
+}
+
+const std::vector<OutputOption>& match_output_options() {
+  static const std::vector<OutputOption> kOutputs = {
+      {"disp", {".pfm", ".png"}},   {"disp-color", {".png"}}, {"mesh", {".ply"}},
+      {"depth", {".pfm", ".png"}},  {"points", {".ply"}},     {"samples", {".csv"}},
+      {"stats", {".json"}}};
+  return kOutputs;
 }
 
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run) {
   const StereoOutput& o = run.output;
   if (args.has("disp"))
-    write_disparity(args.get("disp", ""), o.disp_q4.view(),
-                    args.get("disp-format", "q4") == "kitti" ? DispPngScale::kKitti : DispPngScale::kQ4);
+    write_output("disp", [&] {
+      write_disparity(args.get("disp", ""), o.disp_q4.view(),
+                      args.get("disp-format", "q4") == "kitti" ? DispPngScale::kKitti : DispPngScale::kQ4);
+    });
   if (args.has("disp-color"))
-    write_disparity_color(args.get("disp-color", ""), o.disp_q4.view(), run.config.params.d_min,
-                          run.config.params.num_disp);
+    write_output("disp-color", [&] {
+      write_disparity_color(args.get("disp-color", ""), o.disp_q4.view(), run.config.params.d_min,
+                            run.config.params.num_disp);
+    });
   const CameraParams* cam = run.camera ? &*run.camera : nullptr;
-  if (args.has("mesh"))
-    write_mesh_ply(args.get("mesh", ""), o.mesh, o.vertex_disp_q4, left.view(), cam, !args.flag("mesh-ascii"));
+  if (args.has("mesh")) {
+    MeshWriteReport r;
+    write_output("mesh", [&] {
+      r = write_mesh_ply(args.get("mesh", ""), o.mesh, o.vertex_disp_q4, left.view(), cam,
+                         !args.flag("mesh-ascii"));
+    });
+    const std::size_t dropped = r.faces_without_disparity + r.faces_behind_camera;
+    if (dropped > 0) {
+      std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
+                << o.mesh.triangles.size() << " faces left out";
+      if (r.faces_without_disparity > 0)
+        std::cerr << "; " << r.faces_without_disparity
+                  << " touch a vertex without a valid disparity";
+      if (r.faces_behind_camera > 0)
+        std::cerr << "; " << r.faces_behind_camera
+                  << " touch a vertex at or beyond infinity (disparity + doffs <= 0: check the "
+                     "camera's doffs and --dmin)";
+      std::cerr << " (their vertices are still written, so indices match the mesh)\n";
+    }
+  }
   if (args.has("depth") && cam) {
-    const DepthWriteReport r =
-        write_depth(args.get("depth", ""), depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
+    DepthWriteReport r;
+    write_output("depth", [&] {
+      r = write_depth(args.get("depth", ""), depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
+    });
     if (r.out_of_range > 0)
       std::cerr << "warning: --depth " << args.get("depth", "") << ": " << r.out_of_range
                 << " pixels are 65.535 m or farther and were written as 0 (invalid); use a .pfm file "
                    "to keep them\n";
   }
   if (args.has("points") && cam)
-    write_points_ply(args.get("points", ""), o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
-  if (args.has("samples")) write_samples_csv(args.get("samples", ""), o);
-  if (args.has("stats")) write_stats_json(args.get("stats", ""), run);
+    write_output("points", [&] {
+      write_points_ply(args.get("points", ""), o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
+    });
+  if (args.has("samples")) write_output("samples", [&] { write_samples_csv(args.get("samples", ""), o); });
+  if (args.has("stats")) write_output("stats", [&] { write_stats_json(args.get("stats", ""), run); });
 }
 
 void print_match_summary(std::ostream& os, const MatchRun& run) {

@@ -4,8 +4,10 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "apps/cli_args.hpp"
+#include "apps/output_paths.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
@@ -29,6 +31,10 @@ struct MatchRun {
 // probably in the wrong unit.
 std::optional<CameraParams> camera_from_args(const Args& args, int width, int height,
                                              std::string* source);
+
+// The output options of match, with the extensions each writes (for
+// check_output_paths, before computing).
+const std::vector<OutputOption>& match_output_options();
 
 // Honors --disp, --disp-color, --mesh (+ --mesh-ascii; metric with a camera),
 // --depth, --points, --samples, --stats.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "apps/option_errors.hpp"
+
 #include "platform/cpu_features.hpp"
 
 namespace tristereo::cli {
@@ -23,7 +25,9 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   p.d_min = a.get_int("dmin", 0);
   p.dense = a.flag("dense");
   const double psnr = a.get_double("psnr", 40.0);
-  if (!(psnr >= 0 && psnr <= 1000)) throw UsageError("--psnr must be in dB, e.g. 40");
+  if (!(psnr >= kMinPsnrDeciDb / 10.0 && psnr <= kMaxPsnrDeciDb / 10.0))
+    throw UsageError("--psnr " + a.get("psnr", "") + " is out of range [" + std::to_string(kMinPsnrDeciDb / 10) +
+                     ", " + std::to_string(kMaxPsnrDeciDb / 10) + "] dB");
   p.tritree.psnr_deci_db = static_cast<int>(std::lround(psnr * 10));
   p.tritree.max_area_px2 = a.get_int("max-area", p.tritree.max_area_px2);
   if (a.has("window")) {
@@ -31,18 +35,18 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
     p.cost.window_w = w;
     p.cost.window_h = h;
   }
-  if (a.has("weights")) p.cost.weights = parse_weights(a.get("weights", ""));
+  if (a.has("weights")) as_usage_error("--weights", [&] { p.cost.weights = parse_weights(a.get("weights", "")); });
   p.cost.truncation = a.get_int("truncation", p.cost.truncation);
   p.cost.asw_gamma_color = a.get_int("gamma-color", p.cost.asw_gamma_color);
   p.cost.asw_gamma_proximity = a.get_int("gamma-proximity", p.cost.asw_gamma_proximity);
   p.dp.lambda_q4 = a.get_int("lambda", p.dp.lambda_q4);
-  if (a.has("gap")) p.dp.gap = parse_gap_policy(a.get("gap", ""));
+  if (a.has("gap")) as_usage_error("--gap", [&] { p.dp.gap = parse_gap_policy(a.get("gap", "")); });
   p.dp.subpixel = !a.flag("no-subpixel");
-  validate_params(p);
-  c.kernels = parse_kernel_choice(a.get("kernels", "auto"));
+  as_usage_error(nullptr, [&] { validate_params(p); });
+  as_usage_error("--kernels", [&] { c.kernels = parse_kernel_choice(a.get("kernels", "auto")); });
   c.threads = a.get_int("threads", 0);
   if (c.threads < 0 || c.threads > 256) throw UsageError("--threads must be 0 (one per CPU) .. 256");
-  if (a.has("cpus")) c.cpus = parse_cpu_list(a.get("cpus", ""));
+  if (a.has("cpus")) as_usage_error("--cpus", [&] { c.cpus = parse_cpu_list(a.get("cpus", "")); });
   c.pin_threads = !a.flag("no-pin");
   return c;
 }

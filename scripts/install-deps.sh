@@ -98,8 +98,9 @@ if [ "$fuzz" -eq 1 ]; then
 fi
 if [ "$plot" -eq 1 ]; then
   deps_need_cmd python3 "Python"
-  if ! python3 -c 'import matplotlib, numpy' 2>/dev/null; then
-    deps_problem "python3 modules matplotlib and numpy"
+  # Debian's python3, the one the packages above serve (another python3 may come first on PATH).
+  if ! /usr/bin/python3 -c 'import matplotlib, numpy' 2>/dev/null; then
+    deps_problem "python3 modules matplotlib and numpy for /usr/bin/python3"
   fi
 fi
 deps_verify "profiles:$profiles"

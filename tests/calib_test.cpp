@@ -253,6 +253,23 @@ TEST_F(Calib, BadFilesNameFileLineAndKey) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
 }
 
+// A stream has no size to check and no end: the reader stops one byte past its limit.
+TEST_F(Calib, StreamsFoldersAndBinaryFilesAreNotCalibrations) {
+  ErrorCode code{};
+  std::string m = message_of([&] { read_calibration("/dev/zero"); }, &code);
+  EXPECT_EQ(code, ErrorCode::kUnsupportedFormat);
+  EXPECT_NE(m.find("not a calibration file"), std::string::npos) << m;
+  m = message_of([&] { read_calibration(dir_.string()); }, &code);
+  EXPECT_EQ(code, ErrorCode::kIoError) << m;
+  m = message_of([&] { read_calibration(write("bin.txt", std::string("cam0=\0\1", 7))); }, &code);
+  EXPECT_EQ(code, ErrorCode::kUnsupportedFormat);
+  EXPECT_NE(m.find("NUL bytes"), std::string::npos) << m;
+  m = message_of([&] { read_calibration(write("big.txt", std::string((1 << 20) + 1, '#'))); }, &code);
+  EXPECT_EQ(code, ErrorCode::kUnsupportedFormat);
+  m = message_of([&] { read_calibration((dir_ / "missing.txt").string()); }, &code);
+  EXPECT_NE(m.find("No such file or directory"), std::string::npos) << m;
+}
+
 TEST_F(Calib, PointCloudHasOnePointPerValidPixel) {
   Image<std::int16_t> disp(5, 4, 1, 32);
   disp.at(1, 1) = kInvalidDispQ4;

@@ -749,5 +749,29 @@ TEST_F(IoTest, PlyRejectsInconsistentInput) {
   EXPECT_FALSE(fs::exists(path("x.ply")));
 }
 
+TEST_F(IoTest, PlyReportsTheFacesItLeavesOut) {
+  SmallMesh m;
+  const MeshWriteReport pixels = write_mesh_ply(path("p.ply"), m.mesh, m.disp, cview(m.gray), nullptr, true);
+  EXPECT_EQ(pixels.faces_written, 1u);
+  EXPECT_EQ(pixels.faces_without_disparity, 1u);  // triangle 1 touches the invalid vertex 3
+  EXPECT_EQ(pixels.faces_behind_camera, 0u);
+  const CameraParams behind{100.0, 50.0, 1.0, 0.5, -2.0};  // vertex 0: d + doffs = 0
+  const MeshWriteReport metric = write_mesh_ply(path("n.ply"), m.mesh, m.disp, cview(m.gray), &behind, true);
+  EXPECT_EQ(metric.faces_written, 0u);
+  EXPECT_EQ(metric.faces_without_disparity, 1u);
+  EXPECT_EQ(metric.faces_behind_camera, 1u);
+}
+
+TEST_F(IoTest, PlyRefusesACameraThatOverflowsFloat) {
+  SmallMesh m;
+  const CameraParams huge{1e300, 1e300, 0.0, 0.0, 0.0};  // finite, but Z = B f / d is not
+  EXPECT_EQ(code_of([&] { write_mesh_ply(path("x.ply"), m.mesh, m.disp, cview(m.gray), &huge, true); }),
+            ErrorCode::kInvalidArgument);
+  const CameraParams wide{1.0, 1e38, 1e38, 0.0, 0.0};  // finite Z, X beyond float
+  EXPECT_EQ(code_of([&] { write_mesh_ply(path("x.ply"), m.mesh, m.disp, cview(m.gray), &wide, true); }),
+            ErrorCode::kInvalidArgument);
+  EXPECT_FALSE(fs::exists(path("x.ply")));
+}
+
 }  // namespace
 }  // namespace tristereo

@@ -7,12 +7,17 @@
 //   kUnsupportedFormat a valid file we do not read (16-bit PNG in read_image_u8,
 //                      maxval != 255, unknown magic) or one larger than the reader
 //                      limits below; sizes are checked before any pixel allocation.
-// Writers validate everything before creating the file and remove a partial file
-// if writing fails (kIoError).
+// Writers validate everything before creating the file, then write atomically:
+// into a hidden temporary in the same folder, every write, the flush, fsync,
+// close and the final rename checked (kIoError naming the path and the OS
+// reason, e.g. "No space left on device"). On failure only the temporary is
+// removed: what was at the path before stays as it was. An existing device or
+// FIFO at the path (/dev/null, a named pipe) is written in place, never removed.
 #pragma once
 
 #include "tristereo/export.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,9 +27,28 @@
 
 namespace tristereo {
 
-// Reader limits: headers claiming more are rejected before allocating.
+// Reader limits, checked before anything is allocated for the pixels:
+//  - each side <= kMaxReadSide and width * height <= kMaxReadPixels;
+//  - the file <= kMaxReadFileBytes (a regular file's size is checked before
+//    it is read; a stream stops there), and its first 64 KiB must start like
+//    the format asked for, so /dev/zero or a large file of another kind
+//    costs one 64 KiB chunk;
+//  - PNM and PFM: the header's size must fit in the bytes that follow it;
+//  - PNG: the header's pixel data must fit in kMaxPngExpansion times the
+//    file's size (deflate cannot expand more), and rows are stored as they
+//    decode, so a file claiming more pixels than it holds fails after
+//    costing about what it really decoded.
+// Memory for a read is therefore bounded by a small multiple of the file's
+// size plus the decoded image (at most kMaxPngExpansion times the file).
 constexpr int kMaxReadSide = 65535;                          // pixels per side
 constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;  // width * height
+// The largest image the limits allow (RGB, 16-bit would be 2x) plus headers.
+constexpr std::uint64_t kMaxReadFileBytes = (std::uint64_t{1} << 28) * 4 * 3 + (1 << 20);
+constexpr std::int64_t kMaxPngExpansion = 1032;
+
+// `contents` as the whole file at `path`, written atomically as above (for
+// text outputs such as CSV and JSON).
+TRISTEREO_API void write_text_file(const std::string& path, const std::string& contents);
 
 // ---------------------------------------------------------------- 8-bit images
 // PNG (libpng) or binary/ASCII PNM (P5/P6/P2/P3, maxval 255 only).
@@ -110,10 +134,17 @@ struct CameraParams {
 // A vertex whose disparity is kInvalidDispQ4 (or, with a camera, whose
 // d + doffs <= 0) is still written, so indices stay those of the mesh, at
 // (x, y, 0) in pixel mode or (0, 0, 0) in metric mode; every face touching
-// it is dropped. Throws kSizeMismatch / kInvalidArgument on inconsistent input.
-TRISTEREO_API void write_mesh_ply(const std::string& path, const Mesh& mesh,
-                    const std::vector<std::int16_t>& vertex_disp_q4,
-                    ImageView<const std::uint8_t> left_gray_or_rgb,
-                    const CameraParams* camera, bool binary);
+// it is dropped, and counted in the report. Throws kSizeMismatch /
+// kInvalidArgument on inconsistent input, and kInvalidArgument when a camera
+// puts a vertex beyond float range (inf/nan coordinates are never written).
+struct MeshWriteReport {
+  std::size_t faces_written = 0;
+  std::size_t faces_without_disparity = 0;  // a corner's disparity is invalid
+  std::size_t faces_behind_camera = 0;      // metric: a corner has d + doffs <= 0
+};
+TRISTEREO_API MeshWriteReport write_mesh_ply(const std::string& path, const Mesh& mesh,
+                                             const std::vector<std::int16_t>& vertex_disp_q4,
+                                             ImageView<const std::uint8_t> left_gray_or_rgb,
+                                             const CameraParams* camera, bool binary);
 
 }  // namespace tristereo

@@ -1,31 +1,41 @@
 #include "src/calib/calib_text.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 namespace tristereo::calib_detail {
 
 std::vector<Line> read_lines(const std::string& path) {
+  errno = 0;
   std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot open it");
-  f.seekg(0, std::ios::end);
-  const long long size = static_cast<long long>(f.tellg());
-  if (size < 0) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot read it");
-  if (size > kMaxCalibBytes)
+  if (!f)
+    throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot open it" +
+                                         (errno ? std::string(": ") + std::strerror(errno) : std::string()));
+  // Read at most one byte past the limit, whatever the file claims: a stream
+  // such as /dev/zero has no size to ask for and no end.
+  std::string all(static_cast<std::size_t>(kMaxCalibBytes) + 1, '\0');
+  f.read(&all[0], static_cast<std::streamsize>(all.size()));
+  if (f.bad()) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': cannot read it");
+  all.resize(static_cast<std::size_t>(f.gcount()));
+  if (all.size() > static_cast<std::size_t>(kMaxCalibBytes))
     throw Error(ErrorCode::kUnsupportedFormat,
-                "calibration file '" + path + "': " + std::to_string(size) +
-                    " bytes is not a calibration file (at most " + std::to_string(kMaxCalibBytes) +
-                    " bytes are read)");
-  f.seekg(0);
+                "calibration file '" + path + "': more than " + std::to_string(kMaxCalibBytes) +
+                    " bytes, not a calibration file");
+  if (all.find('\0') != std::string::npos)
+    throw Error(ErrorCode::kUnsupportedFormat,
+                "calibration file '" + path + "': holds NUL bytes, not a text calibration file");
   std::vector<Line> lines;
+  std::istringstream in(all);
   std::string text;
   int n = 0;
-  while (std::getline(f, text)) {
+  while (std::getline(in, text)) {
     if (!text.empty() && text.back() == '\r') text.pop_back();
     lines.push_back({++n, text});
   }
-  if (f.bad()) throw Error(ErrorCode::kIoError, "calibration file '" + path + "': read error");
   return lines;
 }
 

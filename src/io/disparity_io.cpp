@@ -73,7 +73,7 @@ void write_disparity(const std::string& path, ImageView<const std::int16_t> disp
 }
 
 Image<std::int16_t> read_disparity(const std::string& path, DispPngScale png_scale) {
-  const std::vector<std::uint8_t> head = read_file_bytes(path);
+  const std::vector<std::uint8_t> head = read_file_head(path, 8);
   Image<std::int16_t> out;
   if (is_png(head)) {
     const Image<std::uint16_t> u = read_png_u16(path);

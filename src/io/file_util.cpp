@@ -4,7 +4,13 @@
 #include <charconv>
 #include <cerrno>
 #include <cstring>
+#include <atomic>
+#include <climits>
 #include <memory>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
@@ -24,30 +30,54 @@ struct FileCloser {
 
 }  // namespace
 
-std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head) {
   std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
   if (!f) throw Error(ErrorCode::kIoError, os_error("cannot open", path, errno));
+  struct stat st {};
+  if (::fstat(::fileno(f.get()), &st) != 0) throw Error(ErrorCode::kIoError, os_error("cannot read", path, errno));
+  if (S_ISDIR(st.st_mode)) throw Error(ErrorCode::kIoError, "cannot read '" + path + "': it is a directory");
+  const bool regular = S_ISREG(st.st_mode);
+  if (regular && static_cast<std::uint64_t>(st.st_size) > kMaxReadFileBytes) {
+    throw Error(ErrorCode::kUnsupportedFormat,
+                "'" + path + "' is " + std::to_string(st.st_size) + " bytes, larger than the reader limit of " +
+                    std::to_string(kMaxReadFileBytes) + " bytes");
+  }
+  // The first chunk alone decides whether this is a format the caller reads:
+  // a stream such as /dev/zero or a large file of another kind costs one chunk.
+  constexpr std::size_t kChunk = std::size_t{1} << 16;
   std::vector<std::uint8_t> bytes;
-  // Read in chunks rather than trusting a size from seek: works for pipes and
-  // reports EISDIR for directories as a read error.
-  constexpr std::size_t kChunk = 1 << 16;
-  // Enough for the largest image the readers accept plus any header.
-  constexpr std::size_t kMaxFileBytes = (std::size_t{1} << 28) * 4 * 3 + (1 << 20);
+  bool head_checked = false;
   for (;;) {
     const std::size_t old = bytes.size();
-    if (old > kMaxFileBytes) {
+    if (head_checked && old >= kMaxReadFileBytes) {
       throw Error(ErrorCode::kUnsupportedFormat,
-                  "'" + path + "' is larger than " + std::to_string(kMaxFileBytes) + " bytes");
+                  "'" + path + "' is larger than the reader limit of " + std::to_string(kMaxReadFileBytes) + " bytes");
+    }
+    if (head_checked && regular && bytes.capacity() < static_cast<std::size_t>(st.st_size) + 1) {
+      bytes.reserve(static_cast<std::size_t>(st.st_size) + 1);  // the size is known and bounded
     }
     bytes.resize(old + kChunk);
     const std::size_t got = std::fread(bytes.data() + old, 1, kChunk, f.get());
     bytes.resize(old + got);
-    if (got < kChunk) {
-      if (std::ferror(f.get())) throw Error(ErrorCode::kIoError, os_error("cannot read", path, errno));
-      break;
+    const bool at_end = got < kChunk;
+    if (at_end && std::ferror(f.get())) throw Error(ErrorCode::kIoError, os_error("cannot read", path, errno));
+    if (!head_checked) {
+      if (bytes.empty()) throw Error(ErrorCode::kCorruptFile, "'" + path + "' is empty");
+      if (check_head) check_head(bytes, path);
+      head_checked = true;
     }
+    if (at_end) break;
   }
   return bytes;
+}
+
+std::vector<std::uint8_t> read_file_head(const std::string& path, std::size_t n) {
+  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
+  if (!f) throw Error(ErrorCode::kIoError, os_error("cannot open", path, errno));
+  std::vector<std::uint8_t> head(n);
+  head.resize(std::fread(head.data(), 1, n, f.get()));
+  if (std::ferror(f.get())) throw Error(ErrorCode::kIoError, os_error("cannot read", path, errno));
+  return head;
 }
 
 void check_read_size(std::int64_t width, std::int64_t height, const std::string& what) {
@@ -89,16 +119,79 @@ void append_float_text(std::string& out, float f) {
   out.append(buf, r.ptr);
 }
 
+namespace {
+
+// The folder a path lives in ("." for a bare name), and its last component.
+std::string parent_dir(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+std::string base_name(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+}  // namespace
+
 OutputFile::OutputFile(const std::string& path) : path_(path) {
-  file_ = std::fopen(path.c_str(), "wb");
-  if (!file_) throw Error(ErrorCode::kIoError, os_error("cannot create", path, errno));
+  struct stat st {};
+  const bool exists = ::stat(path.c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode)) {
+    throw Error(ErrorCode::kIoError, "cannot create '" + path + "': it is a directory");
+  }
+  if (exists && !S_ISREG(st.st_mode)) {
+    // A device or a FIFO (/dev/null, /dev/stdout, a named pipe): written in
+    // place. Renaming a file over it would replace the node itself, and as
+    // root that destroys e.g. /dev/full; it is never removed either.
+    file_ = std::fopen(path.c_str(), "wb");
+    if (!file_) throw Error(ErrorCode::kIoError, os_error("cannot open", path, errno));
+    return;
+  }
+  // A symbolic link to a file: the file it names is replaced, the link kept.
+  struct stat lst {};
+  if (exists && ::lstat(path.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode)) {
+    char target[PATH_MAX];
+    if (::realpath(path.c_str(), target)) target_ = target;
+  }
+  if (target_.empty()) target_ = path;
+  // A regular file, or none yet: a hidden temporary in the same folder (the
+  // rename must not cross file systems), renamed over the path by commit().
+  // Created with mode 0666 like fopen, so the umask applies as usual; a file
+  // it replaces keeps its mode.
+  const std::string dir = parent_dir(target_);
+  static std::atomic<unsigned> counter{0};
+  int fd = -1;
+  std::string temp;
+  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+    temp = dir + "/." + base_name(target_) + ".tmp-" + std::to_string(::getpid()) + "-" +
+           std::to_string(counter.fetch_add(1));
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0) {
+    const int err = errno;
+    throw Error(ErrorCode::kIoError,
+                "cannot create '" + path + "': " + std::strerror(err) + " (in folder '" + dir + "')");
+  }
+  if (exists) ::fchmod(fd, st.st_mode & 07777);  // best effort: the default mode otherwise
+  file_ = ::fdopen(fd, "wb");
+  if (!file_) {
+    const int err = errno;
+    ::close(fd);
+    ::unlink(temp.c_str());
+    throw Error(ErrorCode::kIoError, os_error("cannot create", path, err));
+  }
+  temp_path_ = temp;
 }
 
 OutputFile::~OutputFile() {
-  if (file_) {
-    std::fclose(file_);
-    std::remove(path_.c_str());
-  }
+  // Not committed: discard what was written. Only our own temporary is ever
+  // removed; whatever was at path_ before stays untouched.
+  if (file_) std::fclose(file_);
+  if (!temp_path_.empty()) ::unlink(temp_path_.c_str());
 }
 
 void OutputFile::write(const void* data, std::size_t n) {
@@ -111,13 +204,17 @@ void OutputFile::write(const void* data, std::size_t n) {
 void OutputFile::commit() {
   std::FILE* f = file_;
   file_ = nullptr;
-  const bool flushed = std::fflush(f) == 0 && !std::ferror(f);
-  const int err = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!flushed || !closed) {
-    std::remove(path_.c_str());
-    throw Error(ErrorCode::kIoError, os_error("cannot write", path_, flushed ? errno : err));
+  int err = 0;
+  if (std::fflush(f) != 0 || std::ferror(f)) err = errno ? errno : EIO;
+  // The data must be on disk before the rename makes it visible under the
+  // final name, or a crash could leave an empty file there.
+  if (err == 0 && !temp_path_.empty() && ::fsync(::fileno(f)) != 0) err = errno;
+  if (std::fclose(f) != 0 && err == 0) err = errno ? errno : EIO;
+  if (err == 0 && !temp_path_.empty() && std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
+    err = errno;
   }
+  if (err != 0) throw Error(ErrorCode::kIoError, os_error("cannot write", path_, err));
+  temp_path_.clear();  // renamed: nothing left to remove
 }
 
 [[noreturn]] void throw_view_error(const char* what, const std::string& detail) {
@@ -125,4 +222,10 @@ void OutputFile::commit() {
 }
 
 }  // namespace io_detail
+void write_text_file(const std::string& path, const std::string& contents) {
+  io_detail::OutputFile f(path);
+  f.write(contents);
+  f.commit();
+}
+
 }  // namespace tristereo

@@ -11,10 +11,20 @@
 namespace tristereo {
 namespace io_detail {
 
-// Whole file in memory (kIoError if it cannot be opened or read). Readers
-// parse from memory so that "header claims more data than the file holds" is
-// a size comparison, not a short read halfway through a decoder.
-std::vector<std::uint8_t> read_file_bytes(const std::string& path);
+// Throws (kUnsupportedFormat naming what the file starts with) unless the
+// first bytes of a file are a format the caller reads.
+using HeadCheck = void (*)(const std::vector<std::uint8_t>& head, const std::string& path);
+
+// Whole file in memory, read in chunks so that memory follows what the file
+// really holds: kIoError if it cannot be opened or read (missing, a
+// directory), kCorruptFile if empty, kUnsupportedFormat if larger than
+// kMaxReadFileBytes (a regular file's size is checked before reading). After
+// the first chunk (64 KiB, or the whole file if shorter) `check_head` sees it,
+// so a device like /dev/zero or a huge file of another kind costs one chunk.
+// Readers parse from memory so that "header claims more data than the file
+// holds" is a size comparison, not a short read halfway through a decoder.
+std::vector<std::uint8_t> read_file_head(const std::string& path, std::size_t n);
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head);
 
 // kUnsupportedFormat when width/height/pixels exceed the reader limits,
 // kCorruptFile when a side is < 1. `what` prefixes the message.
@@ -28,8 +38,14 @@ void append_float_text(std::string& out, float f);
 // Lower-case extension including the dot ("" when none).
 std::string lower_extension(const std::string& path);
 
-// A file being written: removed again unless commit() succeeds, so a failed
-// write leaves no truncated file behind.
+// A file being written atomically: the bytes go to a hidden temporary in the
+// same folder, and commit() flushes, syncs, closes and renames it over the
+// path, checking each step (kIoError naming the path and the OS reason). If
+// anything fails, or commit() is never reached, the temporary is removed and
+// whatever was at the path before is left as it was. An existing device or
+// FIFO (/dev/null, /dev/full, a pipe) is written in place instead, and never
+// removed. A symbolic link at the path keeps pointing at the file it names,
+// which is the one replaced. A directory at the path is kIoError.
 class OutputFile {
  public:
   explicit OutputFile(const std::string& path);  // kIoError if it cannot be created
@@ -44,6 +60,8 @@ class OutputFile {
 
  private:
   std::string path_;
+  std::string target_;     // path_, or the file a symbolic link at path_ names
+  std::string temp_path_;  // empty when writing in place
   std::FILE* file_ = nullptr;
 };
 

@@ -30,11 +30,22 @@ std::string describe_magic(const std::vector<std::uint8_t>& bytes) {
   return s;
 }
 
+void check_image_head(const std::vector<std::uint8_t>& head, const std::string& path) {
+  if (is_png(head) || is_pnm(head)) return;
+  throw Error(ErrorCode::kUnsupportedFormat,
+              "'" + path + "' is not a PNG or PGM/PPM file (starts with \"" + describe_magic(head) + "\")");
+}
+
+void check_png_head(const std::vector<std::uint8_t>& head, const std::string& path) {
+  if (is_png(head)) return;
+  throw Error(ErrorCode::kUnsupportedFormat,
+              "'" + path + "' is not a PNG file (starts with \"" + describe_magic(head) + "\")");
+}
+
 }  // namespace
 
 ImageU8 read_image_u8(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = read_file_bytes(path);
-  if (bytes.empty()) throw Error(ErrorCode::kCorruptFile, "'" + path + "' is empty");
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path, check_image_head);
   if (is_png(bytes)) {
     DecodedPng png = decode_png(bytes, path, /*want16=*/false);
     ImageU8 img;
@@ -44,19 +55,11 @@ ImageU8 read_image_u8(const std::string& path) {
     img.pixels = std::move(png.pixels);
     return img;
   }
-  if (is_pnm(bytes)) return decode_pnm(bytes, path);
-  throw Error(ErrorCode::kUnsupportedFormat,
-              "'" + path + "' is not a PNG or PGM/PPM file (starts with \"" +
-                  describe_magic(bytes) + "\")");
+  return decode_pnm(bytes, path);
 }
 
 Image<std::uint16_t> read_png_u16(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = read_file_bytes(path);
-  if (bytes.empty()) throw Error(ErrorCode::kCorruptFile, "'" + path + "' is empty");
-  if (!is_png(bytes)) {
-    throw Error(ErrorCode::kUnsupportedFormat,
-                "'" + path + "' is not a PNG file (starts with \"" + describe_magic(bytes) + "\")");
-  }
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path, check_png_head);
   DecodedPng png = decode_png(bytes, path, /*want16=*/true);
   Image<std::uint16_t> img(png.width, png.height, 1);
   std::memcpy(img.pixels.data(), png.pixels.data(), png.pixels.size());

@@ -36,6 +36,12 @@ std::int64_t parse_dim(const std::string& tok, const std::string& path, const ch
   return std::stoll(tok);
 }
 
+void check_pfm_head(const std::vector<std::uint8_t>& b, const std::string& path) {
+  if (b.size() < 2 || b[0] != 'P' || (b[1] != 'f' && b[1] != 'F')) {
+    throw Error(ErrorCode::kUnsupportedFormat, "'" + path + "' is not a PFM file (no Pf/PF magic)");
+  }
+}
+
 }  // namespace
 
 void write_pfm(const std::string& path, ImageView<const float> img) {
@@ -62,11 +68,7 @@ void write_pfm(const std::string& path, ImageView<const float> img) {
 }
 
 Image<float> read_pfm(const std::string& path) {
-  const std::vector<std::uint8_t> b = read_file_bytes(path);
-  if (b.empty()) throw Error(ErrorCode::kCorruptFile, "'" + path + "' is empty");
-  if (b.size() < 2 || b[0] != 'P' || (b[1] != 'f' && b[1] != 'F')) {
-    throw Error(ErrorCode::kUnsupportedFormat, "'" + path + "' is not a PFM file (no Pf/PF magic)");
-  }
+  const std::vector<std::uint8_t> b = read_file_bytes(path, check_pfm_head);
   const int channels = b[1] == 'F' ? 3 : 1;
   std::size_t pos = 2;
   if (pos >= b.size() || !is_space(b[pos])) corrupt(path, "missing whitespace after the magic");

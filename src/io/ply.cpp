@@ -76,21 +76,23 @@ void append_int_le(std::string& out, std::int32_t v) {
 
 }  // namespace
 
-void write_mesh_ply(const std::string& path, const Mesh& mesh,
-                    const std::vector<std::int16_t>& vertex_disp_q4,
-                    ImageView<const std::uint8_t> left_gray_or_rgb, const CameraParams* camera,
-                    bool binary) {
+MeshWriteReport write_mesh_ply(const std::string& path, const Mesh& mesh,
+                               const std::vector<std::int16_t>& vertex_disp_q4,
+                               ImageView<const std::uint8_t> left_gray_or_rgb,
+                               const CameraParams* camera, bool binary) {
   check_inputs(mesh, vertex_disp_q4, left_gray_or_rgb, camera);
   const std::size_t nv = mesh.vertices.size();
 
   // Positions first: they decide which faces survive (the header needs the count).
   std::vector<float> xyz(3 * nv);
+  // Per vertex: 1 = has a position; 0 = invalid disparity; 2 = at or behind infinity.
+  enum : std::uint8_t { kNoDisparity = 0, kHasDepth = 1, kBehind = 2 };
   std::vector<std::uint8_t> has_depth(nv);
   for (std::size_t i = 0; i < nv; ++i) {
     const Vertex& v = mesh.vertices[i];
     const std::int16_t q = vertex_disp_q4[i];
     if (q == kInvalidDispQ4) {
-      has_depth[i] = 0;
+      has_depth[i] = kNoDisparity;
       xyz[3 * i] = camera ? 0.f : static_cast<float>(v.x);
       xyz[3 * i + 1] = camera ? 0.f : static_cast<float>(v.y);
       xyz[3 * i + 2] = 0.f;
@@ -98,7 +100,7 @@ void write_mesh_ply(const std::string& path, const Mesh& mesh,
     }
     const double d = static_cast<double>(q) / kDispOne;
     if (!camera) {
-      has_depth[i] = 1;
+      has_depth[i] = kHasDepth;
       xyz[3 * i] = static_cast<float>(v.x);
       xyz[3 * i + 1] = static_cast<float>(v.y);
       xyz[3 * i + 2] = static_cast<float>(d);
@@ -106,7 +108,7 @@ void write_mesh_ply(const std::string& path, const Mesh& mesh,
     }
     const double denom = d + camera->doffs;
     if (!(denom > 0)) {  // at or behind infinity: no finite point
-      has_depth[i] = 0;
+      has_depth[i] = kBehind;
       xyz[3 * i] = xyz[3 * i + 1] = xyz[3 * i + 2] = 0.f;
       continue;
     }
@@ -115,10 +117,28 @@ void write_mesh_ply(const std::string& path, const Mesh& mesh,
     xyz[3 * i] = static_cast<float>((v.x - camera->cx) * z / camera->focal_px);
     xyz[3 * i + 1] = static_cast<float>((v.y - camera->cy) * z / camera->focal_px);
     xyz[3 * i + 2] = static_cast<float>(z);
+    // Finite but extreme camera values (1e308) overflow here: refuse rather
+    // than write inf/nan vertices that viewers choke on.
+    if (!std::isfinite(xyz[3 * i]) || !std::isfinite(xyz[3 * i + 1]) || !std::isfinite(xyz[3 * i + 2])) {
+      bad(ErrorCode::kInvalidArgument,
+          "the camera (focal length " + std::to_string(camera->focal_px) + " px, baseline " +
+              std::to_string(camera->baseline) + ") puts vertex " + std::to_string(i) + " (" +
+              std::to_string(v.x) + ", " + std::to_string(v.y) + ", disparity " +
+              std::to_string(d) + ") at a point beyond float range; check the camera's values and units");
+    }
   }
-  std::size_t nf = 0;
-  for (const Triangle& t : mesh.triangles)
-    if (has_depth[t[0]] && has_depth[t[1]] && has_depth[t[2]]) ++nf;
+  MeshWriteReport report;
+  for (const Triangle& t : mesh.triangles) {
+    const std::uint8_t a = has_depth[t[0]], b = has_depth[t[1]], c = has_depth[t[2]];
+    if (a == kHasDepth && b == kHasDepth && c == kHasDepth) {
+      ++report.faces_written;
+    } else if (a == kNoDisparity || b == kNoDisparity || c == kNoDisparity) {
+      ++report.faces_without_disparity;
+    } else {
+      ++report.faces_behind_camera;
+    }
+  }
+  const std::size_t nf = report.faces_written;
 
   std::string header = "ply\n";
   header += binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
@@ -161,7 +181,8 @@ void write_mesh_ply(const std::string& path, const Mesh& mesh,
     flush_if_big();
   }
   for (const Triangle& t : mesh.triangles) {
-    if (!(has_depth[t[0]] && has_depth[t[1]] && has_depth[t[2]])) continue;
+    if (has_depth[t[0]] != kHasDepth || has_depth[t[1]] != kHasDepth || has_depth[t[2]] != kHasDepth)
+      continue;
     if (binary) {
       chunk += static_cast<char>(3);
       for (int k = 0; k < 3; ++k) append_int_le(chunk, t[k]);
@@ -173,6 +194,7 @@ void write_mesh_ply(const std::string& path, const Mesh& mesh,
   }
   file.write(chunk);
   file.commit();
+  return report;
 }
 
 }  // namespace tristereo

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "src/io/file_util.hpp"
+#include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -77,11 +78,14 @@ bool png_read_header(png_structp png, png_infop info, Header* h) {
 bool png_setup_transforms(png_structp png, png_infop info, const Header& h, bool keep16,
                           int* passes) {
   if (setjmp(png_jmpbuf(png))) return false;
-  if (h.color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+  // Palette images are read as one index per byte and expanded here, not by
+  // libpng: its expansion maps an index beyond the palette to black with only
+  // a warning, and such a file is corrupt. Their tRNS (transparency) is ignored.
+  if (h.color_type == PNG_COLOR_TYPE_PALETTE) png_set_packing(png);
   if (h.color_type == PNG_COLOR_TYPE_GRAY && h.bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-  // Alpha and tRNS transparency are dropped (no compositing). The palette
-  // expansion also turns tRNS into alpha, hence the tRNS test.
-  if ((h.color_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS))
+  // Alpha and tRNS transparency are dropped (no compositing).
+  if (h.color_type != PNG_COLOR_TYPE_PALETTE &&
+      ((h.color_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS)))
     png_set_strip_alpha(png);
   if (keep16 && h.bit_depth == 16 && host_is_little_endian()) png_set_swap(png);
   *passes = png_set_interlace_handling(png);
@@ -89,11 +93,22 @@ bool png_setup_transforms(png_structp png, png_infop info, const Header& h, bool
   return true;
 }
 
-bool png_read_pixels(png_structp png, png_infop info, png_bytepp rows) {
+bool png_read_pixels(png_structp png, png_bytepp rows) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_image(png, rows);
-  // Reads the trailing chunks too, so a file cut after its pixel data still
-  // counts as truncated and their CRCs are checked.
+  return true;
+}
+
+bool png_read_one_row(png_structp png, png_bytep row) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_read_row(png, row, nullptr);
+  return true;
+}
+
+// Reads the trailing chunks too, so a file cut after its pixel data still
+// counts as truncated and their CRCs are checked.
+bool png_read_trailer(png_structp png) {
+  if (setjmp(png_jmpbuf(png))) return false;
   png_read_end(png, nullptr);
   return true;
 }
@@ -127,30 +142,85 @@ DecodedPng decode_png(const std::vector<std::uint8_t>& bytes, const std::string&
     throw Error(ErrorCode::kUnsupportedFormat,
                 "PNG '" + path + "' has bit depth " + std::to_string(h.bit_depth) +
                     (want16 ? "; only 16-bit is read here"
-                            : "; only 1, 2, 4 and 8-bit are read here (16-bit: read_png_u16)"));
+                            : "; only 1, 2, 4 and 8-bit images are read here (a 16-bit PNG is a disparity "
+                              "or depth map, not a camera image)"));
   }
   const bool gray = h.color_type == PNG_COLOR_TYPE_GRAY || h.color_type == PNG_COLOR_TYPE_GRAY_ALPHA;
   if (want16 && !gray) {
     throw Error(ErrorCode::kUnsupportedFormat,
                 "PNG '" + path + "' is a 16-bit colour image; only 16-bit gray is read");
   }
+  const bool palette = h.color_type == PNG_COLOR_TYPE_PALETTE;
+  const int channels = gray ? 1 : 3;
+  const int decoded_channels = palette ? 1 : channels;  // palette: indices
+  const int bytes_per_sample = want16 ? 2 : 1;
+  const std::size_t decoded_row_bytes =
+      static_cast<std::size_t>(h.width) * decoded_channels * bytes_per_sample;
+  // Deflate expands at most ~1032:1, so a header claiming more pixel data
+  // than that many times the file is a lie: refuse it before allocating.
+  const std::uint64_t claimed = static_cast<std::uint64_t>(decoded_row_bytes) * h.height;
+  if (claimed > static_cast<std::uint64_t>(kMaxPngExpansion) * bytes.size()) {
+    throw Error(ErrorCode::kCorruptFile,
+                "corrupt PNG '" + path + "': the header claims " + std::to_string(h.width) + " x " +
+                    std::to_string(h.height) + " pixels (" + std::to_string(claimed) +
+                    " bytes), more than a " + std::to_string(bytes.size()) +
+                    "-byte file can hold");
+  }
+  png_colorp plte = nullptr;
+  int plte_size = 0;
+  if (palette && png_get_PLTE(s.png, s.info, &plte, &plte_size) == 0) {
+    throw Error(ErrorCode::kCorruptFile, "corrupt PNG '" + path + "': palette image without a palette");
+  }
   int passes = 0;
   if (!png_setup_transforms(s.png, s.info, h, want16, &passes)) throw_png(path, ctx);
+  if (png_get_rowbytes(s.png, s.info) != decoded_row_bytes) {
+    throw Error(ErrorCode::kUnsupportedFormat, "PNG '" + path + "': unexpected row layout");
+  }
+
+  std::vector<std::uint8_t> decoded;
+  if (passes == 1) {
+    // Row by row, the buffer growing with the rows actually decoded: a file
+    // that ends early costs what it held, not what its header claimed.
+    std::vector<std::uint8_t> row(decoded_row_bytes);
+    // Real images compress 1.5-4x: reserve at once when the claim is plausible
+    // for this file, grow geometrically (one copy of the data on average) when not.
+    if (claimed <= 16 * static_cast<std::uint64_t>(bytes.size())) decoded.reserve(static_cast<std::size_t>(claimed));
+    for (png_uint_32 y = 0; y < h.height; ++y) {
+      if (!png_read_one_row(s.png, row.data())) throw_png(path, ctx);
+      decoded.insert(decoded.end(), row.begin(), row.end());
+    }
+  } else {
+    // Interlaced: every pass touches every row; the size is bounded above.
+    decoded.resize(static_cast<std::size_t>(claimed));
+    std::vector<png_bytep> rows(h.height);
+    for (png_uint_32 y = 0; y < h.height; ++y) rows[y] = decoded.data() + decoded_row_bytes * y;
+    if (!png_read_pixels(s.png, rows.data())) throw_png(path, ctx);
+  }
+  if (!png_read_trailer(s.png)) throw_png(path, ctx);
 
   DecodedPng out;
   out.width = static_cast<int>(h.width);
   out.height = static_cast<int>(h.height);
-  out.channels = gray ? 1 : 3;
-  out.bytes_per_sample = want16 ? 2 : 1;
-  const std::size_t row_bytes =
-      static_cast<std::size_t>(out.width) * out.channels * out.bytes_per_sample;
-  if (png_get_rowbytes(s.png, s.info) != row_bytes) {
-    throw Error(ErrorCode::kUnsupportedFormat, "PNG '" + path + "': unexpected row layout");
+  out.channels = channels;
+  out.bytes_per_sample = bytes_per_sample;
+  if (!palette) {
+    out.pixels = std::move(decoded);
+    return out;
   }
-  out.pixels.resize(row_bytes * out.height);
-  std::vector<png_bytep> rows(out.height);
-  for (int y = 0; y < out.height; ++y) rows[y] = out.pixels.data() + row_bytes * y;
-  if (!png_read_pixels(s.png, s.info, rows.data())) throw_png(path, ctx);
+  out.pixels.resize(decoded.size() * 3);
+  for (std::size_t i = 0; i < decoded.size(); ++i) {
+    const int index = decoded[i];
+    if (index >= plte_size) {
+      const std::size_t x = i % h.width, y = i / h.width;
+      throw Error(ErrorCode::kCorruptFile,
+                  "corrupt PNG '" + path + "': pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                      ") has palette index " + std::to_string(index) + " but the palette has " +
+                      std::to_string(plte_size) + " entries");
+    }
+    out.pixels[3 * i] = plte[index].red;
+    out.pixels[3 * i + 1] = plte[index].green;
+    out.pixels[3 * i + 2] = plte[index].blue;
+  }
   return out;
 }
 

@@ -1,0 +1,155 @@
+# Bad input tried on the tristereo program: sourced by tests/cli/run_cases.sh,
+# which defines $T (the program), $BAD (the hostile-file maker), $W (the work
+# folder, the current folder of every case) and run():
+#   run KIND EXIT REGEX DESCRIPTION COMMAND [AFTER_CHECK AFTER_DESCRIPTION]
+# Add a case here, then regenerate the table of docs/reliability.md:
+#   tests/cli/run_cases.sh build/tristereo build/tests/make_bad_files /tmp/cases --write-doc docs/reliability.md
+
+# ---- fixtures (not cases): a 96x64 synthetic RGB pair, gray and hostile files
+"$T" synth "$W/p" --width 96 --height 64 --ndisp 16 --seed 3 > /dev/null || exit 1
+"$T" synth "$W/small" --width 40 --height 30 --ndisp 8 --seed 3 > /dev/null || exit 1
+"$BAD" "$W" > /dev/null || exit 1
+cp "$W/p/left.png" "$W/left_copy.png"
+{ printf 'P6\n96 64\n255\n'; head -c 18432 /dev/zero | tr '\0' '\200'; } > "$W/rgb.ppm"
+"$T" match "$W/p/left.png" "$W/p/right.png" --ndisp 16 --disp "$W/disp16.png" > /dev/null || exit 1
+head -c 300 "$W/p/left.png" > "$W/truncated.png"
+: > "$W/empty.png"
+echo "left image" > "$W/text.png"
+mkdir -p "$W/folder.png" "$W/folder.json"
+printf 'P5\n16000 16000\n255\n0123456789' > "$W/claims_256M.pgm"
+printf 'P5\n60000 60000\n255\n0123456789' > "$W/claims_3600M.pgm"
+printf 'P5\n5000 2\n255\n' > "$W/wide.pgm"; head -c 10000 /dev/zero >> "$W/wide.pgm"
+printf 'P5\n1 1\n255\nA' > "$W/dot.pgm"
+printf 'P5\n70000 1\n255\n' > "$W/too_wide.pgm"
+printf 'P2\n2 2\n255\n0 1 2 300\n' > "$W/ascii_over_maxval.pgm"
+printf 'P5\n2 2\n65535\n01234567' > "$W/maxval16.pgm"
+echo "previous results" > "$W/old.csv"
+echo "previous results" > "$W/old.ply"
+echo "previous results" > "$W/old.pfm"
+# /dev/full under an output name: a device node where root may create one
+# (the issue's reproducer), else a symbolic link to it.
+mknod "$W/full.ply" c 1 7 2> /dev/null || ln -s /dev/full "$W/full.ply"
+L=p/left.png
+R=p/right.png
+M="$T match $L $R"
+
+# ---- usage errors: exit 2, the option named as typed
+run error 2 '--ndisp 0 is out of range \[1, 256\]' "D = 0" "$M --ndisp 0"
+run error 2 "--ndisp: 'sixty' is not an integer" "D not a number" "$M --ndisp sixty"
+run error 2 '--ndisp 300 is out of range \[1, 256\]' "D > 256" "$M --ndisp 300"
+run error 2 '--ndisp D is required' "no D" "$M"
+run error 2 'option --ndisp needs a value' "option without its value" "$M --ndisp"
+run error 2 'unknown option --nidsp' "misspelt option" "$M --nidsp 16"
+run error 2 '--dmin -2147483648 is out of range' "d_min = INT_MIN" "$M --ndisp 16 --dmin -2147483648"
+run error 2 '--dmin 99999999999 is out of range' "d_min beyond int" "$M --ndisp 16 --dmin 99999999999"
+run error 2 '--dmin 5000 is out of range \[-2032, 2032\]' "d_min beyond the Q4 range" "$M --ndisp 16 --dmin 5000"
+run error 2 '--window width 4 must be odd' "even window" "$M --ndisp 16 --window 4"
+run error 2 '--window height 33 is out of range \[1, 31\]' "window too tall" "$M --ndisp 16 --window 5x33"
+run error 2 '--psnr 5 is out of range \[10, 70\] dB' "PSNR threshold out of range" "$M --ndisp 16 --psnr 5"
+run error 2 "--psnr: 'nan' is not a number" "PSNR threshold nan" "$M --ndisp 16 --psnr nan"
+run error 2 '--max-area 0 is out of range' "maximum area 0" "$M --ndisp 16 --max-area 0"
+run error 2 '--truncation 256 is out of range' "truncation 256" "$M --ndisp 16 --truncation 256"
+run error 2 '--lambda -1 is out of range' "negative smoothness" "$M --ndisp 16 --lambda -1"
+run error 2 '--gamma-color 0 is out of range' "adaptive weight scale 0" "$M --ndisp 16 --weights adaptive --gamma-color 0"
+run error 2 "--weights: unknown weights 'gauss'" "unknown weights" "$M --ndisp 16 --weights gauss"
+run error 2 "--gap: unknown gap policy 'sq'" "unknown gap policy" "$M --ndisp 16 --gap sq"
+run error 2 "--kernels: unknown kernel set 'avx512'" "unknown kernel set" "$M --ndisp 16 --kernels avx512"
+run error 2 '--threads must be 0' "threads > 256" "$M --ndisp 16 --threads 300"
+run error 2 "--cpus: invalid CPU list '3-1'" "reversed CPU range" "$M --ndisp 16 --cpus 3-1"
+run error 2 'match takes two image paths, LEFT and RIGHT; got 3' "three positional paths" "$M $L --ndisp 16"
+run error 2 'match takes two image paths, LEFT and RIGHT; got 1' "one positional path" "$T match $L --ndisp 16"
+run error 2 "unknown command 'mtach'" "misspelt command" "$T mtach $L $R"
+run error 2 '--ndisp 0 is out of range' "verify with D = 0" "$T verify $L $R --ndisp 0"
+run error 2 'verify takes two image paths, LEFT and RIGHT; got 3' "verify with three paths" "$T verify $L $R $R --ndisp 16"
+run error 2 "--thread-counts: each count must be 1..256" "verify with 0 threads" "$T verify $L $R --ndisp 16 --thread-counts 1,0"
+run error 2 "option --no-pin takes no value \(found '1'\)" "a flag given a value" "$M --ndisp 16 --no-pin=1"
+run error 2 "--window: '3x' is not a size \(W or WxH" "window size cut short" "$M --ndisp 16 --window 3x"
+run error 2 '--width 5 is out of range \[16, 4096\]' "synthetic scene too small" "$T synth s --width 5" "test ! -e s" "no folder s"
+run error 2 '--ndisp 4 is out of range \[8, 256\]' "synthetic scene with D = 4" "$T synth s --ndisp 4"
+run error 2 '--frame -1 is out of range \[0, 100000\]' "negative frame number" "$T synth s --frame -1"
+run error 2 'synth needs OUTDIR' "synth without a folder" "$T synth"
+run error 1 "cannot create 'p/left.png': Not a directory" "synth into a file" "$T synth p/left.png"
+run error 2 '--threads -1 is out of range \[0, 256\]' "demo with -1 threads" "$T demo d --threads -1" "test ! -e d" "nothing written"
+run error 2 'demo takes at most one path, OUTDIR; got 2' "demo with two folders" "$T demo d e"
+run error 2 "info takes no paths; got 'x'" "info with a path" "$T info x"
+run error 2 "--mesh m.obj: extension '.obj' is not written; the file must end in .ply" \
+  "mesh in a format not written" "$M --ndisp 16 --mesh m.obj" "test ! -e m.obj" "no m.obj"
+run error 2 "--disp-color c.jpg: extension '.jpg' is not written; the file must end in .png" \
+  "colour map as JPEG" "$M --ndisp 16 --disp-color c.jpg" "test ! -e c.jpg" "no c.jpg"
+run error 2 "--disp d.tiff: extension '.tiff' is not written; the file must end in .pfm, .png" \
+  "disparity as TIFF" "$M --ndisp 16 --disp d.tiff"
+run error 2 "--samples s: no extension; the file must end in .csv" "samples without extension" "$M --ndisp 16 --samples s"
+run error 2 '--disp p/left.png is the LEFT input; refusing to overwrite an input' \
+  "output over the LEFT input" "$M --ndisp 16 --disp $L --stats s.json" "cmp p/left.png left_copy.png && test ! -e s.json" \
+  "LEFT unchanged, no other output written"
+run error 2 '--disp-color ./p/../p/right.png is the RIGHT input' "output over RIGHT, by another path" \
+  "$M --ndisp 16 --disp-color ./p/../p/right.png"
+run error 2 '--points a.ply is also the --mesh output' "two outputs, one file" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --mesh a.ply --points a.ply" "test ! -e a.ply" "nothing written"
+run error 2 'option --stats given twice' "an option given twice" "$M --ndisp 16 --stats x.json --stats y.json"
+run error 2 '--disp d.png: a PNG cannot hold the negative disparities of --dmin -4' \
+  "negative disparities into a PNG" "$M --ndisp 16 --dmin -4 --disp d.png"
+run error 2 '--camera: 1e\+308 is out of range' "camera values that overflow" \
+  "$M --ndisp 16 --camera 1e308,1e308,0,0 --mesh m.ply" "test ! -e m.ply" "no m.ply"
+run error 2 '--camera: focal length and baseline must be > 0' "zero focal length" "$M --ndisp 16 --camera 0,1,0,0 --mesh m.ply"
+run error 2 '--camera needs F,B,CX,CY' "camera with 3 numbers" "$M --ndisp 16 --camera 1,2,3 --mesh m.ply"
+run error 2 '--calib and --camera both set the camera' "two cameras" "$M --ndisp 16 --camera 1,1,0,0 --calib x.txt"
+run error 2 '--depth needs a camera' "depth without a camera" "$M --ndisp 16 --depth z.pfm"
+
+# ---- bad input and failed checks: exit 1
+run error 1 "cannot open 'nope.png': No such file or directory" "missing LEFT" "$T match nope.png $R --ndisp 16"
+run error 1 "cannot read 'folder.png': it is a directory" "a folder as LEFT" "$T match folder.png $R --ndisp 16"
+run error 1 "'empty.png' is empty" "empty file" "$T match empty.png $R --ndisp 16"
+run error 1 "'text.png' is not a PNG or PGM/PPM file \(starts with \"left\"\)" "text file named .png" "$T match text.png $R --ndisp 16"
+run error 1 "'/dev/zero' is not a PNG or PGM/PPM file" "endless stream of zeros (memory limit 100 MB)" \
+  "vmem_limit_100mb; $T match /dev/zero $R --ndisp 16"
+run error 1 "huge_claim.png': the header claims 16384 x 16384 pixels .* more than a 66-byte file can hold" \
+  "66-byte PNG claiming 16384x16384 (memory limit 100 MB)" "vmem_limit_100mb; $T match huge_claim.png $R --ndisp 16"
+run error 1 "palette_oob.png': pixel \(4, 0\) has palette index 5 but the palette has 2 entries" \
+  "palette index beyond the palette" "$T match palette_oob.png $R --ndisp 16"
+run error 1 "corrupt PNG 'truncated.png'" "PNG cut after 300 bytes" "$T match truncated.png $R --ndisp 16"
+run error 1 "corrupt PNM 'claims_256M.pgm': truncated: header promises 256000000 bytes of pixels, file has 10" \
+  "PGM claiming 16000x16000 (memory limit 100 MB)" "vmem_limit_100mb; $T match claims_256M.pgm $R --ndisp 16"
+run error 1 "PNM 'claims_3600M.pgm': image size 60000 x 60000 exceeds the reader limit of 268435456 pixels" \
+  "PGM claiming 60000x60000" "$T match claims_3600M.pgm $R --ndisp 16"
+run error 1 "exceeds the reader limit of 65535 pixels per side" "PGM 70000 pixels wide" "$T match too_wide.pgm $R --ndisp 16"
+run error 1 "sample 300 exceeds maxval 255" "ASCII PGM sample above maxval" "$T match ascii_over_maxval.pgm $R --ndisp 16"
+run error 1 "has maxval 65535; only maxval 255" "16-bit PGM" "$T match maxval16.pgm $R --ndisp 16"
+run error 1 "has bit depth 16; only 1, 2, 4 and 8-bit images are read here \(a 16-bit PNG is a disparity or depth map" \
+  "a disparity PNG as LEFT" "$T match disp16.png $R --ndisp 16"
+run error 1 "LEFT p/left.png is 96x64 but RIGHT small/right.png is 40x30" "images of different sizes" \
+  "$T match $L small/right.png --ndisp 16"
+run error 1 "the pair is 5000x2; matching takes 2 to 4096 pixels per side" "images wider than the pipeline takes" \
+  "$T match wide.pgm wide.pgm --ndisp 16"
+run error 1 "the pair is 1x1; matching takes 2 to 4096" "1x1 images" "$T match dot.pgm dot.pgm --ndisp 16"
+run error 1 "calibration file 'missing.txt': cannot open it: No such file or directory" "missing calibration file" "$M --ndisp 16 --calib missing.txt"
+run error 1 "calibration file '/dev/zero': more than 1048576 bytes, not a calibration file" \
+  "endless stream as calibration (memory limit 100 MB)" "vmem_limit_100mb; $M --ndisp 16 --calib /dev/zero --depth z.pfm"
+run error 1 "calibration file 'p': cannot read it" "a folder as calibration" "$M --ndisp 16 --calib p --depth z.pfm"
+run error 1 "--stats nodir/s.json: folder 'nodir': No such file or directory \(create it first\)" \
+  "stats into a missing folder" "$M --ndisp 16 --disp d.pfm --stats nodir/s.json" "test ! -e d.pfm" "no d.pfm written"
+run error 1 "--stats folder.json is a folder" "stats onto a folder" "$M --ndisp 16 --stats folder.json"
+run error 1 "--mesh: cannot write 'full.ply': No space left on device" "mesh onto /dev/full (mknod full.ply c 1 7)" \
+  "$M --ndisp 16 --mesh full.ply" "test -c full.ply" "full.ply still the device"
+run error 1 "--samples: cannot write 'old.csv': File too large" "samples onto a full disk (ulimit -f 4)" \
+  "ulimit -f 4; trap '' XFSZ; $M --ndisp 16 --samples old.csv" \
+  "test \"\$(cat old.csv)\" = 'previous results' && test -z \"\$(ls -A | grep tmp-)\"" "old.csv intact, no temporary left"
+run error 1 "--points: cannot write 'old.ply': File too large" "point cloud onto a full disk (ulimit -f 8)" \
+  "ulimit -f 8; trap '' XFSZ; $M --ndisp 16 --camera 200,0.1,48,32 --points old.ply" \
+  "test \"\$(cat old.ply)\" = 'previous results' && test -z \"\$(ls -A | grep tmp-)\"" "old.ply intact, no temporary left"
+run error 1 "--disp: cannot write 'old.pfm': File too large" "disparity onto a full disk (ulimit -f 8)" \
+  "ulimit -f 8; trap '' XFSZ; $M --ndisp 16 --disp old.pfm" \
+  "test \"\$(cat old.pfm)\" = 'previous results' && test -z \"\$(ls -A | grep tmp-)\"" "old.pfm intact, no temporary left"
+
+# ---- valid but suspicious: exit 0, a warning that says what to check
+run warning 0 "warning: LEFT and RIGHT look swapped: .* check the order of the paths" "LEFT and RIGHT swapped" \
+  "$T match $R $L --ndisp 16"
+run warning 0 "warning: the disparity range 500..515 leaves no match inside the 96-pixel-wide image" \
+  "--dmin 500 on a 96-wide pair" "$M --ndisp 16 --dmin 500"
+run warning 0 "warning: the disparity range -200..-185 leaves no match" "range entirely below -W" "$M --ndisp 16 --dmin -200"
+run warning 0 "warning: --threads [0-9]+ with only [0-9]+ CPUs allowed" "more threads than CPUs" "$M --ndisp 16 --threads \$((\$(nproc) + 1))"
+run warning 0 "warning: --threads 2 with only 1 CPUs in --cpus" "more threads than --cpus" "$M --ndisp 16 --threads 2 --cpus 0"
+run warning 0 "warning: --mesh m.ply: [0-9]+ of [0-9]+ faces left out; [0-9]+ touch a vertex at or beyond infinity" \
+  "metric mesh with vertices behind the camera" "$M --ndisp 16 --camera 100,1,48,32,-3 --mesh m.ply" "test -s m.ply" "m.ply written"
+run warning 0 "warning: LEFT p/left.png is gray but RIGHT rgb.ppm is RGB" "gray LEFT, RGB RIGHT" "$T match $L rgb.ppm --ndisp 16"
+run warning 0 "warning: RIGHT p/right.png is gray but LEFT rgb.ppm is RGB" "RGB LEFT, gray RIGHT" "$T match rgb.ppm $R --ndisp 16"

@@ -1,0 +1,150 @@
+// The command line's rules, without a terminal: warnings for suspicious
+// input (apps/match_warnings.cpp), library errors in option names
+// (apps/option_errors.cpp) and integer parsing (apps/cli_args.cpp).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "apps/cli_args.hpp"
+#include "apps/match_warnings.hpp"
+#include "apps/option_errors.hpp"
+#include "support/data.hpp"
+#include "tristereo/io.hpp"
+#include "tristereo/gray.hpp"
+#include "tristereo/params.hpp"
+#include "tristereo/synth.hpp"
+
+namespace tristereo::cli {
+namespace {
+
+std::string usage_message(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "(no UsageError)";
+}
+
+TEST(CliWarnings, SwappedSyntheticPairIsFlaggedAndTheRightOrderIsNot) {
+  SynthParams sp;
+  sp.width = 160;
+  sp.height = 120;
+  sp.num_disp = 32;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  const SwapVotes right_order = swap_votes(s.left.view(), s.right.view(), 31);
+  const SwapVotes swapped = swap_votes(s.right.view(), s.left.view(), 31);
+  EXPECT_GE(right_order.positive, kSwapMinBlocks);
+  EXPECT_LT(right_order.negative * kSwapRatio, right_order.positive);
+  EXPECT_GE(swapped.negative, kSwapRatio * swapped.positive);
+  EXPECT_EQ(swapped_warning(s.left.view(), s.right.view(), 0, 32), "");
+  EXPECT_NE(swapped_warning(s.right.view(), s.left.view(), 0, 32).find("look swapped"), std::string::npos);
+  // A negative d_min is deliberate: no verdict.
+  EXPECT_EQ(swapped_warning(s.right.view(), s.left.view(), -4, 32), "");
+  // A flat image has no textured block: no verdict either.
+  const ImageU8 flat(160, 120, 1);
+  EXPECT_EQ(swap_votes(flat.view(), flat.view(), 31).positive, 0);
+  EXPECT_EQ(swapped_warning(flat.view(), flat.view(), 0, 32), "");
+}
+
+// Every pair of ../shared/data, both ways round: the figures of docs/reliability.md.
+TEST(CliWarnings, SwapCheckOnEveryDataSet) {
+  for (const char* set : {"middlebury", "middlebury2014", "kitti2015", "eth3d"}) {
+    if (!test::data_set_available(set)) {
+      TRISTEREO_REQUIRE_DATA(set);
+      continue;
+    }
+    std::ifstream tsv(test::data_set_dir(set) + "/datasets.tsv");
+    std::string line;
+    std::getline(tsv, line);  // header
+    while (std::getline(tsv, line)) {
+      std::istringstream fields(line);
+      std::string name;
+      int w = 0, h = 0, ndisp = 0;
+      fields >> name >> w >> h >> ndisp;
+      const std::string dir = test::data_set_dir(set) + "/" + name;
+      const ImageU8 l = to_gray(read_image_u8(dir + "/left.png"));
+      const ImageU8 r = to_gray(read_image_u8(dir + "/right.png"));
+      const SwapVotes fwd = swap_votes(l.view(), r.view(), ndisp - 1);
+      const SwapVotes back = swap_votes(r.view(), l.view(), ndisp - 1);
+      std::printf("swap votes %s/%s D=%d: right order +%d/-%d, swapped +%d/-%d\n", set, name.c_str(), ndisp,
+                  fwd.positive, fwd.negative, back.positive, back.negative);
+      EXPECT_EQ(swapped_warning(l.view(), r.view(), 0, ndisp), "") << set << "/" << name;
+      EXPECT_NE(swapped_warning(r.view(), l.view(), 0, ndisp), "") << set << "/" << name;
+    }
+  }
+}
+
+TEST(CliWarnings, RangeOutsideTheImage) {
+  EXPECT_EQ(range_outside_image_warning(96, 0, 16), "");
+  EXPECT_EQ(range_outside_image_warning(96, 95, 1), "");      // x = 95 matches right x = 0
+  EXPECT_NE(range_outside_image_warning(96, 96, 1), "");      // nothing left
+  EXPECT_NE(range_outside_image_warning(450, 500, 16), "");
+  EXPECT_EQ(range_outside_image_warning(96, -110, 16), "");   // d = -95 still lands inside
+  EXPECT_NE(range_outside_image_warning(96, -111, 16), "");   // d_max = -96: none
+  EXPECT_NE(range_outside_image_warning(450, 500, 16).find("500..515"), std::string::npos);
+}
+
+TEST(CliWarnings, ThreadsBeyondCpus) {
+  EXPECT_EQ(threads_warning(0, 2, false), "");
+  EXPECT_EQ(threads_warning(2, 2, false), "");
+  EXPECT_NE(threads_warning(3, 2, false).find("--threads 3 with only 2 CPUs allowed"), std::string::npos);
+  EXPECT_NE(threads_warning(2, 1, true).find("in --cpus"), std::string::npos);
+}
+
+// Each parameter validate_params can refuse comes back under its option name.
+TEST(CliOptionErrors, EveryRefusedFieldIsNamedAsAnOption) {
+  struct Case {
+    void (*set)(StereoParams&);
+    const char* expected;
+  };
+  const Case cases[] = {
+      {[](StereoParams& p) { p.num_disp = 0; }, "--ndisp 0 is out of range [1, 256]"},
+      {[](StereoParams& p) { p.d_min = 5000; }, "--dmin 5000 is out of range"},
+      {[](StereoParams& p) { p.tritree.psnr_deci_db = 5; }, "--psnr (in 0.1 dB) 5 is out of range"},
+      {[](StereoParams& p) { p.tritree.max_area_px2 = 0; }, "--max-area 0 is out of range"},
+      {[](StereoParams& p) { p.cost.window_w = 4; }, "--window width 4 must be odd"},
+      {[](StereoParams& p) { p.cost.window_h = 33; }, "--window height 33 is out of range"},
+      {[](StereoParams& p) { p.cost.truncation = 0; }, "--truncation 0 is out of range"},
+      {[](StereoParams& p) { p.cost.asw_gamma_color = 0; }, "--gamma-color 0 is out of range"},
+      {[](StereoParams& p) { p.cost.asw_gamma_proximity = 0; }, "--gamma-proximity 0 is out of range"},
+      {[](StereoParams& p) { p.dp.lambda_q4 = -1; }, "--lambda -1 is out of range"},
+  };
+  for (const Case& c : cases) {
+    StereoParams p;
+    c.set(p);
+    const std::string m = usage_message([&] { as_usage_error(nullptr, [&] { validate_params(p); }); });
+    EXPECT_EQ(m.rfind(c.expected, 0), 0u) << m;
+    EXPECT_EQ(m.find('_'), std::string::npos) << "an internal identifier leaked: " << m;
+  }
+  EXPECT_EQ(option_message("something = 3 broke"), "invalid parameter: something = 3 broke");
+}
+
+TEST(CliOptionErrors, FunctionPrefixesAreDropped) {
+  EXPECT_EQ(without_function_prefix("write_disparity: negative disparity -1"), "negative disparity -1");
+  EXPECT_EQ(without_function_prefix("write_mesh_ply (left image): null data"), "null data");
+  EXPECT_EQ(without_function_prefix("cannot write 'x': No space left"), "cannot write 'x': No space left");
+  EXPECT_EQ(without_function_prefix("corrupt PNG 'a_b.png': bad"), "corrupt PNG 'a_b.png': bad");
+}
+
+TEST(CliArgs, IntegersOutOfRangeAreNotCalledNonIntegers) {
+  EXPECT_EQ(parse_int("--dmin", "-2147483647"), -2147483647);
+  EXPECT_EQ(parse_int("--dmin", "2147483647"), 2147483647);
+  EXPECT_EQ(usage_message([] { parse_int("--dmin", "-2147483648"); }).find("--dmin -2147483648 is out of range"), 0u);
+  EXPECT_EQ(usage_message([] { parse_int("--dmin", "99999999999999999999"); }).find("is out of range"),
+            std::string("--dmin 99999999999999999999 ").size());
+  EXPECT_EQ(usage_message([] { parse_int("--ndisp", "sixty"); }), "--ndisp: 'sixty' is not an integer");
+  EXPECT_EQ(usage_message([] { parse_int("--ndisp", " 5"); }), "--ndisp: ' 5' is not an integer");
+  EXPECT_EQ(usage_message([] { parse_double("--psnr", "1e999"); }), "--psnr 1e999 is out of range");
+  EXPECT_EQ(usage_message([] { parse_double("--psnr", "inf"); }), "--psnr: 'inf' is not a finite number");
+}
+
+TEST(CliArgs, AnOptionGivenTwiceIsAUsageError) {
+  const char* argv[] = {"match", "--ndisp", "16", "--ndisp=32"};
+  EXPECT_EQ(usage_message([&] { Args(4, const_cast<char**>(argv), {"ndisp"}, {}); }), "option --ndisp given twice");
+}
+
+}  // namespace
+}  // namespace tristereo::cli
