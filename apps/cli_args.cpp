@@ -69,9 +69,9 @@ const char* exit_codes_help() {
   1  bad input or failed check: unreadable, corrupt or unsupported file, images that do
      not fit together, an output that cannot be written (full disk, missing folder),
      verify finding a difference
-  2  usage error: unknown option, missing or out-of-range value (--ndisp 0), wrong number
-     of paths, an output path that names an input or another output, or whose extension
-     is not one the option writes
+  2  usage error: unknown option, an option given twice, missing or out-of-range value
+     (--ndisp 0), wrong number of paths, an output path that names an input or another
+     output, or whose extension is not one the option writes
 )";
 }
 

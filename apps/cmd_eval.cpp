@@ -1,20 +1,16 @@
 // tristereo eval DISP GT [...]: bad-pixel rates and KITTI's D1 against a ground truth.
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
+#include "apps/output_paths.hpp"
 #include "tristereo/eval.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/io.hpp"
@@ -51,8 +47,8 @@ with known ground truth whose error exceeds 0.5, 1, 2 and 3 px, and KITTI's D1 (
 Warnings on stderr when the numbers are probably meaningless: the ground truth is
 about k times the disparity (a wrong --gt-scale or format), or DISP looks like a
 ground truth (holes, float values) and GT like a matcher's output (complete, on the
-1/16 px grid): DISP and GT swapped. Exit status: 0 scored, 1 bad input (a
-file missing, unreadable or of the wrong size), 2 usage error.
+1/16 px grid): DISP and GT swapped.
+
 )";
 
 struct MapSource {
@@ -201,57 +197,13 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
-// The --json output: created as a temporary file beside the final name before
-// any work (so a bad path fails first), renamed into place only once every
-// byte is written and flushed; on any failure the temporary is removed and the
-// final name is never touched.
-class JsonOutput {
- public:
-  explicit JsonOutput(const std::string& path) : path_(path) {
-    tmp_ = path + ".tmp" + std::to_string(::getpid());
-    f_ = std::fopen(tmp_.c_str(), "wb");
-    if (!f_)
-      throw Error(ErrorCode::kIoError,
-                  "--json: cannot create '" + path + "': " + std::strerror(errno));
-  }
-  ~JsonOutput() {
-    if (f_) std::fclose(f_);
-    if (!done_) std::remove(tmp_.c_str());
-  }
-  JsonOutput(const JsonOutput&) = delete;
-  JsonOutput& operator=(const JsonOutput&) = delete;
-  void commit(const std::string& text) {
-    const bool wrote = std::fwrite(text.data(), 1, text.size(), f_) == text.size();
-    const bool flushed = std::fflush(f_) == 0;
-    const int err = errno;
-    const bool closed = std::fclose(f_) == 0;
-    f_ = nullptr;
-    if (!wrote || !flushed || !closed)
-      throw Error(ErrorCode::kIoError, "--json: error writing '" + path_ + "': " + std::strerror(err));
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
-      throw Error(ErrorCode::kIoError,
-                  "--json: cannot rename the output to '" + path_ + "': " + std::strerror(errno));
-    done_ = true;
-  }
-
- private:
-  std::string path_, tmp_;
-  std::FILE* f_ = nullptr;
-  bool done_ = false;
-};
-
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  return std::filesystem::equivalent(a, b, ec) && !ec;
-}
-
 }  // namespace
 
 int cmd_eval(int argc, char** argv) {
   Args args(argc, argv, {"gt-scale", "disp-scale", "disp-format", "gt-format", "mask", "samples", "json"},
             {"help"});
   if (args.flag("help")) {
-    std::cout << kEvalHelp;
+    std::cout << kEvalHelp << exit_codes_help();
     return 0;
   }
   if (args.positional().size() != 2) {
@@ -260,14 +212,10 @@ int cmd_eval(int argc, char** argv) {
   }
   MapSource disp_src{"DISP", "--disp-format", "--disp-scale", args.positional()[0]};
   MapSource gt_src{"GT", "--gt-format", "--gt-scale", args.positional()[1]};
-  std::unique_ptr<JsonOutput> json_out;
-  if (args.has("json")) {
-    const std::string out = args.get("json", "");
-    for (const std::string& in : {disp_src.path, gt_src.path, args.get("mask", ""), args.get("samples", "")})
-      if (!in.empty() && (in == out || same_file(in, out)))
-        throw UsageError("--json " + out + " names an input file; choose another output path");
-    json_out = std::make_unique<JsonOutput>(out);
-  }
+  // The output is checked before anything is read (extension, not an input, folder writable).
+  check_output_paths(args, {{"json", {".json"}}},
+                     {{"DISP", disp_src.path}, {"GT", gt_src.path}, {"--mask", args.get("mask", "")},
+                      {"--samples", args.get("samples", "")}});
 
   const Image<float> disp = load_map(args, disp_src, "disp-format", "disp-scale", DispFileFormat::kQ4);
   const Image<float> gt = load_map(args, gt_src, "gt-format", "gt-scale", DispFileFormat::kKitti);
@@ -361,7 +309,7 @@ int cmd_eval(int argc, char** argv) {
     json += ",\n  \"samples\": " + stats_json(at);
   }
   json += "\n}\n";
-  if (json_out) json_out->commit(json);
+  if (args.has("json")) write_text_file(args.get("json", ""), json);  // atomic, every write checked
   return 0;
 }
 

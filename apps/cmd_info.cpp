@@ -1,4 +1,6 @@
-// tristereo info: what this build and this machine offer.
+// tristereo info: what this build and this machine offer, and the working
+// memory a pipeline configured for a given maximum size and D allocates.
+#include <cstdio>
 #include <iostream>
 
 #include "apps/cli_args.hpp"
@@ -6,18 +8,36 @@
 #include "platform/cpu_features.hpp"
 #include "platform/gpio.hpp"
 #include "tristereo/kernels.hpp"
+#include "tristereo/pipeline.hpp"
 #include "tristereo/version.hpp"
 
 namespace tristereo::cli {
 
 int cmd_info(int argc, char** argv) {
-  Args args(argc, argv, {}, {"help"});
+  Args args(argc, argv, {"max-size", "ndisp", "threads"}, {"dense", "help"});
   if (args.flag("help")) {
-    std::cout << "usage: tristereo info\n\nPrints the version, the compiled, available and "
-                 "default kernel sets, the CPUs and GPIO support.\n" << "\n" << exit_codes_help();
+    std::cout << "usage: tristereo info [--max-size WxH] [--ndisp D] [--threads N] [--dense]\n\n"
+                 "Prints the version, the compiled, available and default kernel sets, the CPUs,\n"
+                 "GPIO support, and the working memory of a pipeline configured for frames up to\n"
+                 "WxH (default 640x480) with D disparities (default 64) on N workers (default 0:\n"
+                 "one per allowed CPU): the bytes it allocates once, in total and per configured\n"
+                 "pixel (docs/performance.md, \"Working memory\").\n"
+              << "\n" << exit_codes_help();
     return 0;
   }
   if (!args.positional().empty()) throw UsageError("info takes no paths; got '" + args.positional()[0] + "'");
+  PipelineConfig config;
+  if (args.has("max-size")) {
+    const auto [w, h] = parse_size("--max-size", args.get("max-size", ""));
+    config.max_width = w;
+    config.max_height = h;
+  }
+  config.params.num_disp = args.get_int("ndisp", 64);
+  config.params.dense = args.flag("dense");
+  config.threads = args.get_int("threads", 0);
+  if (config.threads < 0 || config.threads > 256) throw UsageError("--threads must be 0 (one per CPU) .. 256");
+  config.pin_threads = false;
+
   std::cout << "tristereo " << kVersionString << "\n";
   std::cout << "cpu: " << cpu_model_name() << "\n";
   std::cout << "kernel sets compiled:";
@@ -29,6 +49,21 @@ int cmd_info(int argc, char** argv) {
   for (int c : allowed_cpus()) std::cout << ' ' << c;
   std::cout << " (online: " << online_cpu_count() << ")\n";
   std::cout << "GPIO frame markers (libgpiod v1): " << (gpio_supported() ? "yes" : "no") << "\n";
+
+  // The real allocation, not an estimate: what configure() sizes is counted
+  // by the pipeline itself. No frame is run.
+  Pipeline pipeline;
+  pipeline.configure(config);
+  const double bytes = static_cast<double>(pipeline.working_memory_bytes());
+  const double pixels = static_cast<double>(config.max_width) * config.max_height;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "working memory: %.0f bytes (%.1f MiB) for %dx%d, D=%d, %s, %d worker(s): "
+                "%.1f bytes per configured pixel\n",
+                bytes, bytes / (1024.0 * 1024.0), config.max_width, config.max_height,
+                config.params.num_disp, config.params.dense ? "dense" : "sparse", pipeline.worker_count(),
+                bytes / pixels);
+  std::cout << line;
   return 0;
 }
 

@@ -523,6 +523,7 @@ int cmd_profile(int argc, char** argv) {
   rc.mesh_output = mesh_output;
   rc.warmup_frames = warmup;
   rc.frames = frames;
+  rc.working_memory_bytes = static_cast<std::int64_t>(pipeline.working_memory_bytes());
   const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
   const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss);
 

@@ -31,8 +31,9 @@ SwapVotes swap_votes(ImageView<const std::uint8_t> l, ImageView<const std::uint8
   constexpr int kHalf = 4, kSide = 2 * kHalf + 1, kN = kSide * kSide;
   SwapVotes votes;
   if (d_max < 1) return votes;
-  // About 400 blocks on the grid: 24 px apart on a VGA image, closer on small ones.
-  const int step = std::max(4, std::min(24, static_cast<int>(std::sqrt(l.width * 1.0 * l.height / 400))));
+  // About 400 blocks on the grid whatever the size (28 px apart on VGA), so the
+  // check costs about 400 x 2 d_max block comparisons; at least 4 px apart.
+  const int step = std::max(4, static_cast<int>(std::sqrt(l.width * 1.0 * l.height / 400)));
   std::vector<int> block(kN);
   for (int cy = kHalf; cy + kHalf < l.height; cy += step) {
     for (int cx = kHalf; cx + kHalf < l.width; cx += step) {

@@ -1,6 +1,7 @@
 // tristereo: command-line front end. Each subcommand lives in apps/cmd_<name>.cpp.
 #include <cstring>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "apps/cli_args.hpp"
@@ -56,6 +57,11 @@ int main(int argc, char** argv) {
   } catch (const tristereo::Error& e) {
     std::cerr << "tristereo " << cmd << ": error (" << tristereo::error_code_name(e.code())
               << "): " << e.what() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "tristereo " << cmd
+              << ": error: out of memory (the input or the options need more memory than this "
+                 "process may use: smaller images, a smaller --ndisp, or a higher memory limit)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "tristereo " << cmd << ": " << e.what() << "\n";

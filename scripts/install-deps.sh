@@ -18,13 +18,16 @@
 #          libraries (scripts/install-cross-deps.sh all)
 #   plot   python3 with matplotlib and NumPy (scripts/plot_latency.py and the
 #          plots of scripts/results.py)
+#   peers  main + Google Benchmark and OpenCV (libopencv-dev): the StereoBM and
+#          StereoSGBM rows of bench/bench_peers (scripts/perf_report.py). Only
+#          that benchmark uses OpenCV; nothing else needs it
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 deps_name="install-deps"
 # shellcheck source=scripts/deps-lib.sh
 . "$here/deps-lib.sh"
 
-main=0 test=0 fuzz=0 cross=0 plot=0
+main=0 test=0 fuzz=0 cross=0 plot=0 peers=0
 [ $# -eq 0 ] && main=1
 for arg in "$@"; do
   case "$arg" in
@@ -33,8 +36,9 @@ for arg in "$@"; do
     fuzz) main=1 fuzz=1 ;;
     cross|--cross) main=1 test=1 fuzz=1 cross=1 ;;
     plot) plot=1 ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
-    *) echo "install-deps: unknown profile '$arg' (expected main, test, fuzz, cross or plot)" >&2; exit 2 ;;
+    peers) main=1 peers=1 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    *) echo "install-deps: unknown profile '$arg' (expected main, test, fuzz, cross, plot or peers)" >&2; exit 2 ;;
   esac
 done
 
@@ -61,6 +65,10 @@ fi
 if [ "$plot" -eq 1 ]; then
   pkgs="$pkgs python3 python3-matplotlib python3-numpy"
   profiles="$profiles plot"
+fi
+if [ "$peers" -eq 1 ]; then
+  pkgs="$pkgs libbenchmark-dev libopencv-dev"
+  profiles="$profiles peers"
 fi
 # shellcheck disable=SC2086
 deps_install $pkgs
@@ -102,6 +110,10 @@ if [ "$plot" -eq 1 ]; then
   if ! /usr/bin/python3 -c 'import matplotlib, numpy' 2>/dev/null; then
     deps_problem "python3 modules matplotlib and numpy for /usr/bin/python3"
   fi
+fi
+if [ "$peers" -eq 1 ]; then
+  deps_need_file /usr/include/benchmark/benchmark.h "Google Benchmark headers"
+  deps_need_file /usr/include/opencv4/opencv2/calib3d.hpp "OpenCV's stereo matchers (calib3d)"
 fi
 deps_verify "profiles:$profiles"
 

@@ -1,13 +1,22 @@
 #!/usr/bin/python3
-"""Runs bench/bench_pipeline (Google Benchmark) and writes docs/performance-tables.md.
+"""Runs bench/bench_peers and bench/bench_pipeline (Google Benchmark) and writes
+docs/performance-tables.md.
 
-bench/bench_machine runs just before and just after it: the 2-thread/1-thread
-ceiling of plain loops on this machine at that time, to read the pipeline's
-thread speed-ups against (a shared VM's ceiling moves with its neighbours).
+bench_peers: tristereo's frame and its stages against OpenCV's StereoBM and
+StereoSGBM (3-way) on the same frames, one thread, in one run; every stage is
+printed as a ratio to StereoBM's frame of that run, per scene.
 
-Usage: /usr/bin/python3 scripts/perf_report.py [--build build] [--repetitions 5] [--reuse]
-All ratios are computed from the medians of one run of the benchmark binary:
-SIMD vs scalar per stage, sparse vs dense DP, N threads vs 1.
+bench_pipeline: bench/bench_machine runs just before and just after it: the
+2-thread/1-thread ceiling of plain loops on this machine at that time, to read
+the pipeline's thread speed-ups against (a shared VM's ceiling moves with its
+neighbours).
+
+Usage: /usr/bin/python3 scripts/perf_report.py [--build build] [--repetitions 5]
+                                               [--only peers|pipeline] [--reuse]
+All ratios are computed from the medians of one run of one benchmark binary:
+stages vs StereoBM, SIMD vs scalar per stage, sparse vs dense, N threads vs 1.
+--only runs one of the two and takes the other's tables from its JSON file of the
+last run (each section names the run it comes from).
 """
 import argparse
 import json
@@ -75,17 +84,88 @@ def describe_loop(loop):
     return "random 4-byte reads, %d MiB per thread" % (kib // 1024)
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--repetitions", type=int, default=5)
-    ap.add_argument("--filter", default="")
-    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "performance-tables.md"))
-    ap.add_argument("--reuse", action="store_true",
-                    help="write the tables from the JSON files of the last run without running anything")
-    a = ap.parse_args()
-    global REUSE
-    REUSE = a.reuse
+def repetitions_of(data):
+    """How many repetitions the run made (the most any benchmark of it has)."""
+    reps = [b.get("repetitions", 1) for b in data["benchmarks"]]
+    return max(reps) if reps else 0
+
+
+def machine_of(ctx):
+    return "Machine: %s, %d CPUs, %s MHz; load average at start %s." % (
+        ctx.get("host_name", "?"), ctx.get("num_cpus", 0), ctx.get("mhz_per_cpu", "?"),
+        ", ".join("%.2f" % x for x in ctx.get("load_avg", [])))
+
+
+# bench_peers' scenes in the order of the tables, with what they are.
+PEER_SCENES = [("teddy", "Middlebury v2 teddy 450x375"), ("cones", "Middlebury v2 cones 450x375"),
+               ("synthetic640x480", "synthetic 640x480"), ("kitti000000", "KITTI 2015 000000 1242x375")]
+
+
+def peers_section(a):
+    """tristereo's stages as ratios to StereoBM's frame, from one run of bench_peers."""
+    exe = os.path.join(a.build, "bench", "bench_peers")
+    out_json = os.path.join(a.build, "bench_peers.json")
+    run_bench([exe, "--benchmark_repetitions=%d" % a.repetitions, "--benchmark_display_aggregates_only=true",
+               "--benchmark_enable_random_interleaving=true",
+               "--benchmark_out=" + out_json, "--benchmark_out_format=json"])
+    with open(out_json) as f:
+        data = json.load(f)
+    med = {}  # (scene, D, what) -> median aggregate; what = sparse, dense, stereobm, sgbm3way
+    kernels = {}
+    for b in data["benchmarks"]:
+        if b.get("aggregate_name") != "median":
+            continue
+        parts = b["run_name"].split("/")
+        if parts[0] == "frame":  # frame/<scene>/D<d>/<mode>/<kernels>/t1
+            med[(parts[1], int(parts[2][1:]), parts[3])] = b
+            kernels[(parts[1], int(parts[2][1:]))] = parts[4]
+        elif parts[0] == "peer":  # peer/<scene>/D<d>/<matcher>
+            med[(parts[1], int(parts[2][1:]), parts[3])] = b
+    ctx = data["context"]
+    lines = ["## tristereo against OpenCV, one thread\n",
+             "From one run of `bench/bench_peers` (%s; Google Benchmark, %d repetitions in random interleaving, "
+             "medians; OpenCV %s). %s Every column is a median over the repetitions; a ratio is the stage's "
+             "median over StereoBM's median frame time in the same run. tristereo: default parameters, "
+             "best kernel set, one worker; StereoBM block 9, XSOBEL prefilter; SGBM MODE_SGBM_3WAY block 5, "
+             "P1 600, P2 2400 (../shared/data/README.md). Same gray frames for all (BT.601).\n" % (
+                 ctx.get("date", "?"), repetitions_of(data),
+                 "in this run" if ctx.get("opencv", "").startswith("yes") else "absent: no peer rows",
+                 machine_of(ctx))]
+    scenes = [(s, d) for s, _ in PEER_SCENES for d in sorted({k[1] for k in med if k[0] == s})]
+    label = dict(PEER_SCENES)
+    ms = lambda b: b["real_time"]  # the benchmarks report milliseconds
+    lines.append("| scene | D | kernels | StereoBM ms | SGBM 3-way ms | tristereo sparse frame ms | "
+                 "tritree | cost | DP | interpolation | **tritree + interpolation** | sparse frame | "
+                 "dense frame | SGBM 3-way | sparse / dense frame |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for s, d in scenes:
+        sp, de = med.get((s, d, "sparse")), med.get((s, d, "dense"))
+        bm, sg = med.get((s, d, "stereobm")), med.get((s, d, "sgbm3way"))
+        if not sp:
+            continue
+        ratio = lambda v: "%.2fx" % (v / ms(bm)) if bm else "-"
+        lines.append("| %s | %d | %s | %s | %s | %.2f | %s | %s | %s | %s | **%s** | %s | %s | %s | %s |" % (
+            label[s], d, kernels[(s, d)], "%.2f" % ms(bm) if bm else "-", "%.2f" % ms(sg) if sg else "-",
+            sp["total_ms"], ratio(sp["tritree_ms"]), ratio(sp["cost_ms"]), ratio(sp["dp_ms"]),
+            ratio(sp["interp_ms"]), ratio(sp["tritree_ms"] + sp["interp_ms"]), ratio(sp["total_ms"]),
+            ratio(de["total_ms"]) if de else "-", ratio(ms(sg)) if sg else "-",
+            "%.3f" % (sp["total_ms"] / de["total_ms"]) if de else "-"))
+    lines.append("\nThe stage columns (tritree .. SGBM 3-way) are multiples of StereoBM's frame time. "
+                 "tristereo's stages in ms (same run):\n")
+    lines.append("| scene | D | mode | tritree | cost | DP | interpolation | frame |")
+    lines.append("|---|---|---|---|---|---|---|---|")
+    for s, d in scenes:
+        for mode in ("sparse", "dense"):
+            b = med.get((s, d, mode))
+            if b:
+                lines.append("| %s | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f |" % (
+                    label[s], d, mode, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"]))
+    lines.append("")
+    return lines
+
+
+def pipeline_section(a):
+    """The tables of bench_pipeline (with bench_machine and bench_tritree around it)."""
     exe = os.path.join(a.build, "bench", "bench_pipeline")
     out_json = os.path.join(a.build, "bench_pipeline.json")
     # Random interleaving spreads the repetitions of each benchmark over the whole
@@ -115,17 +195,15 @@ def main():
         _, scene, d, mode, kernels, threads = name.split("/")[:6]
         med[(scene, int(d[1:]), mode, kernels, int(threads[1:]))] = b
     ctx = data["context"]
-    lines = ["# Performance tables\n",
-             "Generated by `/usr/bin/python3 scripts/perf_report.py` from one run of `bench/bench_pipeline` "
-             "(Google Benchmark, %d repetitions in random interleaving, medians; each repetition averages its iterations). "
-             "Machine: %s, %d CPUs, %s MHz; load average at start %s. Times in ms per frame.\n" % (
-                 a.repetitions, ctx.get("host_name", "?"), ctx.get("num_cpus", 0), ctx.get("mhz_per_cpu", "?"),
-                 ", ".join("%.2f" % x for x in ctx.get("load_avg", []))),
+    lines = ["## The pipeline: kernel sets, sparse vs dense, threads\n",
+             "From one run of `bench/bench_pipeline` (%s; Google Benchmark, %d repetitions in random interleaving, "
+             "medians; each repetition averages its iterations). %s Times in ms per frame.\n" % (
+                 ctx.get("date", "?"), repetitions_of(data), machine_of(ctx)),
              ]
     keys = sorted(med)
     scenes = sorted({k[0] for k in keys}, key=lambda s: (not s.startswith("synthetic"), s))
     kernel_order = ["scalar", "sse2", "avx2", "neon"]
-    lines.append("## Per stage, one thread\n")
+    lines.append("### Per stage, one thread\n")
     lines.append("| scene | D | mode | kernels | tritree | cost aggregation | DP | interpolation | total | "
                  "cost speed-up vs scalar | total speed-up vs scalar | Mdisp/s |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -141,7 +219,7 @@ def main():
                         s, d, mode, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
                         "%.2fx" % (base["cost_ms"] / b["cost_ms"]) if base else "-",
                         "%.2fx" % (base["total_ms"] / b["total_ms"]) if base else "-", b["Mdisp_per_s"]))
-    lines.append("\n## Sparse vs dense, one thread (best kernel set)\n")
+    lines.append("\n### Sparse vs dense, one thread (best kernel set)\n")
     lines.append("| scene | D | kernels | samples sparse | DP ms sparse / dense | DP ratio | "
                  "cost ms sparse / dense | frame ms sparse / dense | frame ratio |")
     lines.append("|---|---|---|---|---|---|---|---|---|")
@@ -154,7 +232,7 @@ def main():
                         s, d, kern, sp["samples"], sp["dp_ms"], de["dp_ms"], sp["dp_ms"] / de["dp_ms"],
                         sp["cost_ms"], de["cost_ms"], sp["total_ms"], de["total_ms"], sp["total_ms"] / de["total_ms"]))
                     break
-    lines.append("\n## Threads (best kernel set, synthetic 640x480)\n")
+    lines.append("\n### Threads (best kernel set, synthetic 640x480)\n")
     lines.append("| D | mode | threads | tritree | cost aggregation | DP | interpolation | total | speed-up vs 1 thread |")
     lines.append("|---|---|---|---|---|---|---|---|---|")
     for (s, d, mode, kern, t) in keys:
@@ -167,7 +245,7 @@ def main():
             d, mode, t, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
             one["total_ms"] / b["total_ms"]))
     if pairs:
-        lines.append("\n## Threads, paired frames (synthetic 640x480, best kernel set)\n")
+        lines.append("\n### Threads, paired frames (synthetic 640x480, best kernel set)\n")
         lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
                      "meeting the same moment of the machine. Each run takes the median over its pairs; the "
                      "runs are spread over the whole benchmark run by the random interleaving. Shown: the "
@@ -189,7 +267,7 @@ def main():
                 m("ceiling"), m("of_ceiling"),
                 m("speedup_tritree"), m("speedup_matching"),
                 "%.2fx" % m("speedup_interp") if mode == "sparse" else "-"))
-    lines.append("\n## Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
+    lines.append("\n### Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
     lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
                  "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
     lines.append("| loop | before | after |")
@@ -203,6 +281,32 @@ def main():
                  "These are separate repetitions, not pairs: on this machine a single-threaded build has "
                  "measured anywhere from 26 to 38 ms within minutes, so compare them only roughly; the "
                  "paired ceiling above is the steadier reference." % (tritree[2], tritree[3], tritree[0], tritree[1]))
+    return lines
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--repetitions", type=int, default=5)
+    ap.add_argument("--filter", default="", help="--benchmark_filter for bench_pipeline")
+    ap.add_argument("--only", choices=["peers", "pipeline"],
+                    help="run only this benchmark; the other's tables come from its JSON of the last run")
+    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "performance-tables.md"))
+    ap.add_argument("--reuse", action="store_true",
+                    help="write the tables from the JSON files of the last run without running anything")
+    a = ap.parse_args()
+    global REUSE
+    lines = ["# Performance tables\n",
+             "Generated by `/usr/bin/python3 scripts/perf_report.py` (docs/performance.md says how to rerun "
+             "it); each section names the benchmark run it comes from.\n"]
+    for name, section in (("peers", peers_section), ("pipeline", pipeline_section)):
+        REUSE = a.reuse or (a.only is not None and a.only != name)
+        try:
+            lines += section(a)
+        except FileNotFoundError as e:
+            if not REUSE:
+                raise
+            print("no %s tables: %s" % (name, e), file=sys.stderr)
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("wrote", a.out)

@@ -217,6 +217,7 @@ ProfileRunConfig make_config(bool mesh_output, int frames) {
   c.mesh_output = mesh_output;
   c.warmup_frames = 5;
   c.frames = frames;
+  c.working_memory_bytes = 640 * 480 * 37;
   return c;
 }
 
@@ -344,6 +345,8 @@ TEST(ProfileJson, ParsesBackWithConfigStagesAndFps) {
   EXPECT_NEAR(j["fps"]["from_mean"].number, r.fps_from_mean, 1e-3);
   EXPECT_NEAR(j["wall_s"].number, 0.25, 1e-9);
   EXPECT_NEAR(j["peak_rss_mb"].number, 64.0, 1e-9);
+  EXPECT_EQ(j["working_memory_bytes"].number, 640 * 480 * 37);
+  EXPECT_NEAR(j["working_memory_bytes_per_px"].number, 37.0, 1e-9);
 }
 
 TEST(ProfileJson, StringsAreEscaped) {

@@ -76,6 +76,16 @@ class TRISTEREO_API Pipeline {
   KernelChoice active_kernels() const;
   int worker_count() const;
 
+  // Working memory in bytes: the capacities of every buffer configure()
+  // allocated for the configured maximum size, D and worker count (tritree,
+  // matching tables, per-worker DP rows, output mesh and maps, gray copies);
+  // not the thread stacks, the code or the caller's images. 0 when
+  // unconfigured. Divided by max_width * max_height it is the working memory
+  // per configured pixel of docs/performance.md and `tristereo info`.
+  // configure() allocates without touching the pages (src/memory/untouched_vector.hpp):
+  // a frame smaller than the maximum never faults in the rest.
+  std::size_t working_memory_bytes() const;
+
   struct Impl;
 
  private:

@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "src/memory/capacity_bytes.hpp"
 #include "src/model/exp_table.hpp"
 #include "tristereo/status.hpp"
 
@@ -79,6 +80,15 @@ void CostScratch::resize(int num_disp) {
   window_weight_.assign(kMaxWindowPixels, 0);
 }
 
+std::size_t CostScratch::working_memory_bytes() const {
+  return capacity_bytes(sum_u16_) + capacity_bytes(sum_u32_) + capacity_bytes(window_right_) +
+         capacity_bytes(window_left_) + capacity_bytes(window_weight_);
+}
+
+std::size_t MatchContext::working_memory_bytes() const {
+  return capacity_bytes(right_rev_) + capacity_bytes(wp_);
+}
+
 MatchContext::MatchContext(int max_width, int max_height, const StereoParams& params,
                            const KernelSet& kernels) {
   configure(max_width, max_height, params, kernels);
@@ -101,7 +111,7 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   const int pad = params.num_disp + std::abs(params.d_min);
   const std::size_t stride =
       static_cast<std::size_t>(max_width + 2 * pad + kKernelSlack + 63) / 64 * 64;
-  std::vector<std::uint8_t> rev(stride * static_cast<std::size_t>(max_height), 0);
+  UntouchedVector<std::uint8_t> rev(stride * static_cast<std::size_t>(max_height));
 
   // Nothing below throws (except bad_alloc above): commit.
   max_width_ = max_width;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "src/kernels/kernel_set.hpp"
+#include "src/memory/untouched_vector.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/params.hpp"
 
@@ -47,6 +48,8 @@ class CostScratch {
   CostScratch() = default;
   explicit CostScratch(int num_disp) { resize(num_disp); }
   void resize(int num_disp);
+  // Bytes of the buffers above (allocated capacities).
+  std::size_t working_memory_bytes() const;
 
  private:
   friend class MatchContext;
@@ -99,6 +102,9 @@ class MatchContext {
   bool configured() const { return kernels_ != nullptr; }
   // True when box sums fit the u16 lanes: window pixels * truncation <= 65535.
   bool uses_u16_box() const { return use_u16_box_; }
+  // Bytes of the context's buffers (allocated capacities): the reversed right
+  // rows and the weight tables.
+  std::size_t working_memory_bytes() const;
 
   // Start of reversed right row y (for tests and SIMD benchmarks).
   const std::uint8_t* right_rev_row(int y) const {
@@ -115,7 +121,9 @@ class MatchContext {
   bool use_u16_box_ = false;
   int rev_pad_ = 0;
   std::size_t rev_stride_ = 0;
-  std::vector<std::uint8_t> right_rev_;
+  // Rows a frame does not reach stay untouched (src/memory/untouched_vector.hpp):
+  // prepare_right_rows writes every byte the kernels read before they read it.
+  UntouchedVector<std::uint8_t> right_rev_;
   std::uint8_t ws_[256] = {};              // similarity weight by |L(p) - L(c)|
   std::vector<std::uint8_t> wp_;           // proximity weight by dx^2 + dy^2
 

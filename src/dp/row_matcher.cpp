@@ -5,6 +5,7 @@
 
 #include "platform/clock.hpp"
 #include "src/dp/penalty.hpp"
+#include "src/memory/capacity_bytes.hpp"
 #include "src/dp/subpixel.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
@@ -26,13 +27,13 @@ void RowMatcher::configure(int max_width, const StereoParams& params) {
   std::vector<std::uint32_t> penalty;
   // Gaps are 1..W-1 <= max_width - 1; the table is indexed by the gap directly.
   fill_penalty_table(params.dp.lambda_q4, params.dp.gap, n_max - 1, penalty);
-  std::vector<std::uint16_t> costs(stride * n_max);
+  UntouchedVector<std::uint16_t> costs(stride * n_max);
   // Every P(g) is <= lambda (gap_penalty_q4), so lambda decides the F width.
   const bool u16_path = static_cast<std::uint32_t>(params.dp.lambda_q4) <= kMaxDpPenaltyU16;
-  std::vector<std::uint16_t> f_rows(u16_path ? stride * n_max : 0);
-  std::vector<std::uint8_t> ptr(u16_path ? 0 : stride * n_max);
+  UntouchedVector<std::uint16_t> f_rows(u16_path ? stride * n_max : 0);
+  UntouchedVector<std::uint8_t> ptr(u16_path ? 0 : stride * n_max);
   std::vector<std::uint32_t> f_prev(u16_path ? 0 : stride), f_cur(u16_path ? 0 : stride);
-  std::vector<std::int32_t> index(n_max);
+  UntouchedVector<std::int32_t> index(n_max);
   CostScratch scratch(d);
 
   num_disp_ = d;
@@ -48,6 +49,12 @@ void RowMatcher::configure(int max_width, const StereoParams& params) {
   f_cur_ = std::move(f_cur);
   index_ = std::move(index);
   scratch_ = std::move(scratch);
+}
+
+std::size_t RowMatcher::working_memory_bytes() const {
+  return capacity_bytes(penalty_) + capacity_bytes(costs_) + capacity_bytes(f_rows_) +
+         capacity_bytes(ptr_) + capacity_bytes(f_prev_) + capacity_bytes(f_cur_) +
+         capacity_bytes(index_) + scratch_.working_memory_bytes();
 }
 
 void solve_row_dp(const KernelSet& ks, const std::uint16_t* cost_q4, std::size_t stride,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "src/cost/match_context.hpp"
+#include "src/memory/untouched_vector.hpp"
 
 namespace tristereo {
 
@@ -77,20 +78,25 @@ class RowMatcher {
   // Disparity index k (0..D-1) chosen for sample i in the last match_row call.
   int sample_index(int i) const { return index_[static_cast<std::size_t>(i)]; }
 
+  // Bytes of the matcher's buffers (allocated capacities).
+  std::size_t working_memory_bytes() const;
+
  private:
   int num_disp_ = 0;
   int max_samples_ = 0;
   StereoParams params_;
   std::size_t cost_stride_ = 0;          // D rounded up, with kernel slack
   std::vector<std::uint32_t> penalty_;   // P(g), g in 0..max_width - 1
-  std::vector<std::uint16_t> costs_;     // max_samples x cost_stride_
+  // The per-sample tables are written before they are read, sample by sample
+  // (a sparse row touches only its samples' part): allocated untouched.
+  UntouchedVector<std::uint16_t> costs_;  // max_samples x cost_stride_
   // lambda_q4 <= kMaxDpPenaltyU16: the u16 DP (f_rows_), else the u32 one
   // (ptr_, f_prev_, f_cur_); only the chosen path's buffers are allocated.
   bool u16_path_ = false;
-  std::vector<std::uint16_t> f_rows_;    // max_samples x cost_stride_ F values (u16 path)
-  std::vector<std::uint8_t> ptr_;        // max_samples x cost_stride_ back-pointers
+  UntouchedVector<std::uint16_t> f_rows_;  // max_samples x cost_stride_ F values (u16 path)
+  UntouchedVector<std::uint8_t> ptr_;      // max_samples x cost_stride_ back-pointers
   std::vector<std::uint32_t> f_prev_, f_cur_;
-  std::vector<std::int32_t> index_;      // chosen k per sample
+  UntouchedVector<std::int32_t> index_;  // chosen k per sample
   CostScratch scratch_;
 };
 

@@ -217,6 +217,11 @@ void OutputFile::commit() {
   temp_path_.clear();  // renamed: nothing left to remove
 }
 
+[[noreturn]] void throw_out_of_memory(const std::string& path) {
+  throw Error(ErrorCode::kPlatform, "cannot read '" + path +
+                                        "': not enough memory for it (the process's memory limit, or the machine's)");
+}
+
 [[noreturn]] void throw_view_error(const char* what, const std::string& detail) {
   throw Error(ErrorCode::kInvalidArgument, std::string(what) + ": " + detail);
 }

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,20 @@ using HeadCheck = void (*)(const std::vector<std::uint8_t>& head, const std::str
 // holds" is a size comparison, not a short read halfway through a decoder.
 std::vector<std::uint8_t> read_file_head(const std::string& path, std::size_t n);
 std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head);
+
+[[noreturn]] void throw_out_of_memory(const std::string& path);
+
+// Runs a public reader's body: std::bad_alloc (a valid file too large for the
+// memory this process may use) becomes kPlatform naming the file, so callers
+// see a tristereo::Error like for every other bad input.
+template <typename Fn>
+auto guard_memory(const std::string& path, Fn&& fn) -> decltype(fn()) {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    throw_out_of_memory(path);
+  }
+}
 
 // kUnsupportedFormat when width/height/pixels exceed the reader limits,
 // kCorruptFile when a side is < 1. `what` prefixes the message.

@@ -44,7 +44,14 @@ void check_png_head(const std::vector<std::uint8_t>& head, const std::string& pa
 
 }  // namespace
 
+static ImageU8 read_image_u8_unguarded(const std::string& path);
+
+// std::bad_alloc never leaves a reader (file_util.hpp).
 ImageU8 read_image_u8(const std::string& path) {
+  return guard_memory(path, [&] { return read_image_u8_unguarded(path); });
+}
+
+ImageU8 read_image_u8_unguarded(const std::string& path) {
   const std::vector<std::uint8_t> bytes = read_file_bytes(path, check_image_head);
   if (is_png(bytes)) {
     DecodedPng png = decode_png(bytes, path, /*want16=*/false);
@@ -58,7 +65,14 @@ ImageU8 read_image_u8(const std::string& path) {
   return decode_pnm(bytes, path);
 }
 
+static Image<std::uint16_t> read_png_u16_unguarded(const std::string& path);
+
+// std::bad_alloc never leaves a reader (file_util.hpp).
 Image<std::uint16_t> read_png_u16(const std::string& path) {
+  return guard_memory(path, [&] { return read_png_u16_unguarded(path); });
+}
+
+Image<std::uint16_t> read_png_u16_unguarded(const std::string& path) {
   const std::vector<std::uint8_t> bytes = read_file_bytes(path, check_png_head);
   DecodedPng png = decode_png(bytes, path, /*want16=*/true);
   Image<std::uint16_t> img(png.width, png.height, 1);

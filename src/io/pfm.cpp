@@ -67,7 +67,14 @@ void write_pfm(const std::string& path, ImageView<const float> img) {
   f.commit();
 }
 
+static Image<float> read_pfm_unguarded(const std::string& path);
+
+// std::bad_alloc never leaves a reader (file_util.hpp).
 Image<float> read_pfm(const std::string& path) {
+  return guard_memory(path, [&] { return read_pfm_unguarded(path); });
+}
+
+Image<float> read_pfm_unguarded(const std::string& path) {
   const std::vector<std::uint8_t> b = read_file_bytes(path, check_pfm_head);
   const int channels = b[1] == 'F' ? 3 : 1;
   std::size_t pos = 2;

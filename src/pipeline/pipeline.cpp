@@ -19,6 +19,8 @@
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/kernels/dispatch.hpp"
+#include "src/memory/capacity_bytes.hpp"
+#include "src/memory/untouched_vector.hpp"
 #include "src/pipeline/input_check.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -38,7 +40,7 @@ struct Pipeline::Impl {
   ThreadPool pool;
   struct Worker {
     RowMatcher matcher;
-    std::vector<std::int32_t> xs;  // sample x of the row being matched
+    UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
   };
@@ -46,7 +48,7 @@ struct Pipeline::Impl {
   WorkChunks rows;       // matching: rows handed out on demand
   WorkChunks triangles;  // interpolation: triangles handed out on demand
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
-  ImageU8 left_gray, right_gray;     // used when the input is RGB
+  ImageU8 left_gray, right_gray;     // used when the input is RGB (reserved, sized per frame)
   StereoOutput out;
   FrameTimings timings;
   StageListener* listener = nullptr;
@@ -65,6 +67,19 @@ const FrameTimings& Pipeline::last_timings() const { return impl_->timings; }
 void Pipeline::set_stage_listener(StageListener* listener) { impl_->listener = listener; }
 KernelChoice Pipeline::active_kernels() const { return impl_->active; }
 int Pipeline::worker_count() const { return impl_->configured ? impl_->pool.size() : 0; }
+
+std::size_t Pipeline::working_memory_bytes() const {
+  const Impl& m = *impl_;
+  if (!m.configured) return 0;
+  std::size_t bytes = m.tritree.working_memory_bytes() + m.match.working_memory_bytes() +
+                      capacity_bytes(m.workers) + capacity_bytes(m.all_xs) +
+                      capacity_bytes(m.left_gray.pixels) + capacity_bytes(m.right_gray.pixels) +
+                      capacity_bytes(m.out.mesh.vertices) + capacity_bytes(m.out.mesh.triangles) +
+                      capacity_bytes(m.out.mesh.row_start) + capacity_bytes(m.out.vertex_disp_q4) +
+                      capacity_bytes(m.out.disp_q4.pixels);
+  for (const Impl::Worker& w : m.workers) bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs);
+  return bytes;
+}
 
 void Pipeline::configure(const PipelineConfig& config) {
   Impl& m = *impl_;
@@ -93,18 +108,24 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.workers.resize(static_cast<std::size_t>(threads));
   for (auto& w : m.workers) {
     w.matcher.configure(config.max_width, config.params);
-    w.xs.assign(static_cast<std::size_t>(config.max_width), 0);
+    w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
   }
   m.all_xs.resize(static_cast<std::size_t>(config.max_width));
   for (int x = 0; x < config.max_width; ++x) m.all_xs[static_cast<std::size_t>(x)] = x;
-  m.left_gray = ImageU8(config.max_width, config.max_height, 1);
-  m.right_gray = ImageU8(config.max_width, config.max_height, 1);
-
+  // Reserved, not filled: a fresh block stays untouched address space until a
+  // frame writes it, so a frame smaller than the maximum (or gray input, which
+  // never needs the gray copies) does not fault in pages it does not use. Each
+  // frame sizes them within capacity and writes every pixel it keeps.
   const std::size_t max_px = static_cast<std::size_t>(config.max_width) * config.max_height;
+  m.left_gray = ImageU8{};
+  m.right_gray = ImageU8{};
+  m.left_gray.pixels.reserve(max_px);
+  m.right_gray.pixels.reserve(max_px);
   m.out = StereoOutput{};
   m.tritree.reserve(m.out.mesh);
   m.out.vertex_disp_q4.reserve(max_px);
-  m.out.disp_q4 = ImageS16(config.max_width, config.max_height, 1, kInvalidDispQ4);
+  m.out.disp_q4.channels = 1;
+  m.out.disp_q4.pixels.reserve(max_px);
 
   m.pool.start(threads, cpus, config.pin_threads);
   m.config = config;

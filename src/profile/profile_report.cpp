@@ -209,6 +209,10 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
   os << "  \"fps\": {\"from_mean\": " << fixed(r.fps_from_mean, 3)
      << ", \"wall\": " << fixed(r.wall_fps, 3) << "},\n";
   os << "  \"wall_s\": " << fixed(r.wall_s, 6) << ",\n";
+  const double pixels = static_cast<double>(c.width) * c.height;
+  os << "  \"working_memory_bytes\": " << c.working_memory_bytes << ",\n";
+  os << "  \"working_memory_bytes_per_px\": "
+     << fixed(pixels > 0 ? static_cast<double>(c.working_memory_bytes) / pixels : 0.0, 3) << ",\n";
   os << "  \"peak_rss_mb\": " << fixed(r.peak_rss_mb, 3);
   if (r.has_rss) {
     os << ",\n  \"rss\": {\"samples\": " << r.rss.samples << ", \"every_frames\": " << r.rss_every_frames
@@ -249,8 +253,10 @@ void write_profile_table(std::ostream& os, const ProfileReport& r) {
   write_table_row(os, "cpu (process)", r.cpu);
   char tail[200];
   std::snprintf(tail, sizeof tail,
-                "\nfps: %.2f (1000 / mean total), %.2f wall over %.3f s; peak RSS %.1f MiB\n",
-                r.fps_from_mean, r.wall_fps, r.wall_s, r.peak_rss_mb);
+                "\nfps: %.2f (1000 / mean total), %.2f wall over %.3f s; peak RSS %.1f MiB; "
+                "working memory %.1f MiB\n",
+                r.fps_from_mean, r.wall_fps, r.wall_s, r.peak_rss_mb,
+                static_cast<double>(c.working_memory_bytes) / (1024.0 * 1024.0));
   os << tail;
   if (r.has_rss) {
     char line[200];

@@ -37,6 +37,9 @@ struct ProfileRunConfig {
   bool mesh_output = false;  // PLY writing timed as a stage
   int warmup_frames = 0;
   int frames = 0;  // measured frames
+  // Pipeline::working_memory_bytes() of the pipeline, configured for frames of
+  // width x height (0 = not known).
+  std::int64_t working_memory_bytes = 0;
 };
 
 // The machine the run was measured on (from platform/cpu_features.hpp).

@@ -61,6 +61,9 @@ class Tritree {
   // Throws Error(kNotConfigured) before configure().
   void reserve(Mesh& mesh) const;
 
+  // Bytes of the tree's own buffers (allocated capacities; src/tritree/tritree_memory.cpp).
+  std::size_t working_memory_bytes() const;
+
   // Builds the mesh of `gray` (1 channel, 2 .. max size, stride >= width).
   // Throws Error on bad input, leaving `mesh` untouched. No heap allocation
   // once `mesh` has been reserve()d. With a started `pool` (called from its

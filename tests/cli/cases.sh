@@ -20,6 +20,7 @@ printf 'P5\n16000 16000\n255\n0123456789' > "$W/claims_256M.pgm"
 printf 'P5\n60000 60000\n255\n0123456789' > "$W/claims_3600M.pgm"
 printf 'P5\n5000 2\n255\n' > "$W/wide.pgm"; head -c 10000 /dev/zero >> "$W/wide.pgm"
 printf 'P5\n1 1\n255\nA' > "$W/dot.pgm"
+{ printf 'P5\n8000 8000\n255\n'; head -c 64000000 /dev/zero; } > "$W/big_64M.pgm"
 printf 'P5\n70000 1\n255\n' > "$W/too_wide.pgm"
 printf 'P2\n2 2\n255\n0 1 2 300\n' > "$W/ascii_over_maxval.pgm"
 printf 'P5\n2 2\n65535\n01234567' > "$W/maxval16.pgm"
@@ -35,6 +36,7 @@ M="$T match $L $R"
 
 # ---- usage errors: exit 2, the option named as typed
 run error 2 '--ndisp 0 is out of range \[1, 256\]' "D = 0" "$M --ndisp 0"
+run error 2 '--ndisp 0 is out of range \[1, 256\]' "D = 0 and a missing image: usage first" "$T match nope.png $R --ndisp 0"
 run error 2 "--ndisp: 'sixty' is not an integer" "D not a number" "$M --ndisp sixty"
 run error 2 '--ndisp 300 is out of range \[1, 256\]' "D > 256" "$M --ndisp 300"
 run error 2 '--ndisp D is required' "no D" "$M"
@@ -112,6 +114,9 @@ run error 1 "corrupt PNM 'claims_256M.pgm': truncated: header promises 256000000
   "PGM claiming 16000x16000 (memory limit 100 MB)" "vmem_limit_100mb; $T match claims_256M.pgm $R --ndisp 16"
 run error 1 "PNM 'claims_3600M.pgm': image size 60000 x 60000 exceeds the reader limit of 268435456 pixels" \
   "PGM claiming 60000x60000" "$T match claims_3600M.pgm $R --ndisp 16"
+# (Without the limit, under sanitizers, the size check answers instead.)
+run error 1 "cannot read 'big_64M.pgm': not enough memory for it|the pair is 8000x8000" "a valid 64 MB image, 100 MB memory limit" \
+  "vmem_limit_100mb; $T match big_64M.pgm big_64M.pgm --ndisp 16"
 run error 1 "exceeds the reader limit of 65535 pixels per side" "PGM 70000 pixels wide" "$T match too_wide.pgm $R --ndisp 16"
 run error 1 "sample 300 exceeds maxval 255" "ASCII PGM sample above maxval" "$T match ascii_over_maxval.pgm $R --ndisp 16"
 run error 1 "has maxval 65535; only maxval 255" "16-bit PGM" "$T match maxval16.pgm $R --ndisp 16"
