@@ -74,6 +74,9 @@ int cmd_match(int argc, char** argv) {
   }
   const auto& pos = args.positional();
   check_two_paths("match", pos);
+  // Every option is checked before any file is read: a usage error is
+  // reported as one (exit 2) even when an input is missing too.
+  (void)stereo_config_from_args(args, 2, 2);
   const std::string& left_path = pos[0];
   const std::string& right_path = pos[1];
   check_output_paths(args, match_output_options(),

@@ -26,6 +26,9 @@ int cmd_verify(int argc, char** argv) {
     return 0;
   }
   check_two_paths("verify", args.positional());
+  // Every option is checked before any file is read: a usage error is
+  // reported as one (exit 2) even when an input is missing too.
+  (void)stereo_config_from_args(args, 2, 2);
   ImageU8 left = read_image_u8(args.positional()[0]);
   ImageU8 right = read_image_u8(args.positional()[1]);
   check_stereo_pair(args.positional()[0], left, args.positional()[1], right);
