@@ -86,6 +86,8 @@ class Tritree {
   void emit_tile(int tx0, int ty0, bool plain);
   template <bool kPlain>
   void emit(int ax, int ay, int bx, int by, int cx, int cy);
+  template <bool kPlain>
+  void emit_leaf(int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
   void number_vertices(Mesh& mesh);

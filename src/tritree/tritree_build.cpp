@@ -460,16 +460,17 @@ void Tritree::carry_up(int x, int y) {
   Tri tris[2];
   const int n = find_tris(x, y, tris);
   for (int i = 0; i < n; ++i) {
+    Tri p;
+    if (!parent(tris[i], &p)) continue;
+    int px, py;
+    midpoint(p, &px, &py);
+    // Mostly the parent's need is already set (by its own tile): test that first.
+    if (px > layout_.vw || py > layout_.vh || (cell(px, py) & kNeed)) continue;
     int vx[3], vy[3];
     corners(tris[i], vx, vy);
     if (where(vx, vy) != Where::kInside) continue;
-    Tri p;
-    if (!parent(tris[i], &p)) continue;
     corners(p, vx, vy);
     if (where(vx, vy) != Where::kInside) continue;  // crossing parents need anyway
-    int px, py;
-    midpoint(p, &px, &py);
-    if (cell(px, py) & kNeed) continue;
     cell(px, py) |= kNeed;
     carry_up(px, py);
   }
@@ -500,14 +501,24 @@ void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
     if (c & kNeed) {
       const bool apex_after = cy > my || (cy == my && cx > mx);
       (c & (apex_after ? 2 : 4) ? criterion_splits_ : forced_splits_) += 1;
+      if (kPlain && dx * dx + dy * dy == 8) {  // children of area 1: leaves
+        emit_leaf<true>(cx, cy, ax, ay, mx, my);
+        emit_leaf<true>(bx, by, cx, cy, mx, my);
+        return;
+      }
       // Once a tile is known plain, so are its parts; a general tile's parts may be.
       emit<kPlain>(cx, cy, ax, ay, mx, my);
       emit<kPlain>(bx, by, cx, cy, mx, my);
       return;
     }
   }
-  // A leaf: its corners' vertex ids (numbered before this pass), rotated to
-  // start at the smallest (orientation kept).
+  emit_leaf<kPlain>(ax, ay, bx, by, cx, cy);
+}
+
+// A leaf: its corners' vertex ids (numbered before this pass), rotated to
+// start at the smallest (orientation kept).
+template <bool kPlain>
+void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
   const int w = gray_.width;
   const auto id = [&](int x, int y) {
     return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
