@@ -212,6 +212,7 @@ class PyPipeline {
 
   std::string kernels() const { return to_string(pipeline_.active_kernels()); }
   int threads() const { return pipeline_.worker_count(); }
+  std::size_t working_memory_bytes() const { return pipeline_.working_memory_bytes(); }
 
  private:
   Pipeline pipeline_;
@@ -267,7 +268,9 @@ PYBIND11_MODULE(_tristereo, m) {
       .def("process", &PyPipeline::process, py::arg("left"), py::arg("right"),
            "left, right: uint8 arrays (H, W) or (H, W, 3), equal sizes; releases the GIL while it runs")
       .def_property_readonly("kernels", &PyPipeline::kernels)
-      .def_property_readonly("threads", &PyPipeline::threads);
+      .def_property_readonly("threads", &PyPipeline::threads)
+      .def_property_readonly("working_memory_bytes", &PyPipeline::working_memory_bytes,
+                             "bytes the configured pipeline allocated (docs/performance.md)");
 
   py::class_<VerifyReport>(m, "VerifyReport")
       .def_readonly("bit_exact", &VerifyReport::bit_exact)

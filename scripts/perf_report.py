@@ -302,7 +302,10 @@ def main():
     for name, section in (("peers", peers_section), ("pipeline", pipeline_section)):
         REUSE = a.reuse or (a.only is not None and a.only != name)
         try:
-            lines += section(a)
+            part = section(a)
+            lines += part
+            if name == "peers":
+                print("\n".join(part))  # the ratios to StereoBM on the console too
         except FileNotFoundError as e:
             if not REUSE:
                 raise

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <iostream>
 #include <string>
+#include <utility>
 
 #include "src/reference/ref_tritree.hpp"
 #include "src/tritree/tritree.hpp"
@@ -99,7 +100,6 @@ TEST(TritreeReference, MiddleburyAtDefaultAndOtherPsnr) {
               << 100.0 * mesh.vertices.size() / (gray.width * gray.height) << "% of pixels), "
               << mesh.triangles.size() << " triangles, " << mesh.criterion_splits
               << " criterion + " << mesh.forced_splits << " forced splits, "
-              << tree.blocked_leaves().size() << " blocked, " << tree.rounds() << " rounds, "
               << std::chrono::duration<double, std::milli>(t1 - t0).count() << " ms\n";
   }
 }
@@ -119,7 +119,8 @@ TEST(TritreeReference, SyntheticScenes) {
 TEST(TritreeReference, RandomSmallImagesAndParameters) {
   Rng rng(4242);
   for (int it = 0; it < 1200; ++it) {
-    const int w = rng.uniform(2, 40), h = rng.uniform(2, 40);
+    const int w = rng.uniform(2, 40);
+    const int h = rng.uniform(2, 40);
     const ImageU8 img = random_scene(rng, w, h);
     TritreeParams params;
     params.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
@@ -127,6 +128,23 @@ TEST(TritreeReference, RandomSmallImagesAndParameters) {
     expect_bit_exact(img, params, "random image " + std::to_string(it) + " " +
                                       std::to_string(w) + "x" + std::to_string(h));
     if (HasFailure()) return;  // one report is enough
+  }
+}
+
+TEST(TritreeReference, SpecialSizes) {
+  // 2 x 2, 3 x N, primes, partial tiles, stretched last row/column, 4096 wide.
+  const std::pair<int, int> sizes[] = {{2, 2},   {2, 9},   {3, 3},   {3, 40},  {40, 3},
+                                       {5, 5},   {17, 19}, {31, 37}, {61, 59}, {64, 64},
+                                       {65, 65}, {66, 67}, {4096, 3}, {4096, 6}, {3, 4096}};
+  Rng rng(99);
+  for (const auto& size : sizes) {
+    for (int area : {1, 5, 100, kMaxAreaLimitPx2}) {
+      const ImageU8 img = random_scene(rng, size.first, size.second);
+      TritreeParams params;
+      params.max_area_px2 = area;
+      params.psnr_deci_db = rng.uniform(300, 500);
+      expect_bit_exact(img, params, std::to_string(size.first) + "x" + std::to_string(size.second));
+    }
   }
 }
 

@@ -1,6 +1,6 @@
-// Tests of the integer tritree (src/tritree), its fill rule and the PSNR
-// threshold: exact known answers and the mesh invariants of docs/model.md
-// section 1. Equality with the float reference is in tritree_reference_test.
+// Tests of the integer tritree (src/tritree), its fill rule, pixel moments and
+// the PSNR threshold: exact known answers and the mesh invariants of
+// docs/model.md section 1. Equality with the float reference is in tritree_reference_test.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,10 +14,9 @@
 #include "platform/thread_pool.hpp"
 #include "src/model/psnr_threshold.hpp"
 #include "src/tritree/fill_rule.hpp"
-#include "src/tritree/plane_residual.hpp"
+#include "src/tritree/pixel_moments.hpp"
+#include "src/tritree/rtin_layout.hpp"
 #include "src/tritree/tritree.hpp"
-#include "src/tritree/tritree_criterion.hpp"
-#include "src/tritree/tritree_geometry.hpp"
 #include "support/alloc_counter.hpp"
 #include "support/scenes.hpp"
 #include "tristereo/gray.hpp"
@@ -28,6 +27,11 @@ namespace tristereo {
 namespace {
 
 using test::Rng;
+
+std::int64_t area2_of(const Vertex& a, const Vertex& b, const Vertex& c) {
+  return static_cast<std::int64_t>(b.x - a.x) * (c.y - a.y) -
+         static_cast<std::int64_t>(b.y - a.y) * (c.x - a.x);
+}
 
 ImageView<const std::uint8_t> cview(const ImageU8& img) { return img.view(); }
 
@@ -126,80 +130,135 @@ TEST(FillRule, TwoRootsOfA2x2ImageShareItsPixels) {
   EXPECT_TRUE(owns_pixel(a, c, d, 0, 1, 2, 2));
 }
 
-// ------------------------------------------------------------ residual kernel
+// ------------------------------------------------------------ layout
 
-TEST(PlaneResidual, SpanSumMatchesDirectFormula) {
-  const std::uint8_t row[8] = {0, 10, 20, 255, 7, 3, 100, 200};
-  // r(x) = r0 + n_x (x - 2) + area2 row[x] for x in [2, 7).
-  const std::int64_t r0 = -300, n_x = 13, area2 = 6;
-  std::uint64_t expected = 0;
-  for (int x = 2; x < 7; ++x) {
-    const std::int64_t r = r0 + n_x * (x - 2) + area2 * row[x];
-    expected += static_cast<std::uint64_t>(r * r);
-  }
-  EXPECT_EQ(plane_residual_sse_span_scalar(row, 2, 7, r0, n_x, area2), expected);
-  EXPECT_EQ(plane_residual_sse_span_scalar(row, 3, 3, r0, n_x, area2), 0u);
-  // One pixel: (-300 + 6 * 255)^2 = 1230^2.
-  EXPECT_EQ(plane_residual_sse_span_scalar(row, 3, 4, r0, n_x, area2), 1512900u);
+TEST(RtinLayout, TileSideAndVirtualGrid) {
+  EXPECT_EQ(tile_side_for(1), 2);     // halves of 2 px^2 > 1
+  EXPECT_EQ(tile_side_for(2), 4);
+  EXPECT_EQ(tile_side_for(100), 16);  // 128 > 100 >= 32
+  EXPECT_EQ(tile_side_for(127), 16);
+  EXPECT_EQ(tile_side_for(128), 32);
+  EXPECT_EQ(tile_side_for(kMaxAreaLimitPx2), 64);
+  const RtinLayout teddy(450, 375, 100);  // W-1 = 449 odd, H-1 = 374 even
+  EXPECT_EQ(teddy.vw, 448);
+  EXPECT_EQ(teddy.vh, 374);
+  EXPECT_TRUE(teddy.stretch_x);
+  EXPECT_FALSE(teddy.stretch_y);
+  EXPECT_EQ(teddy.real_x(448), 449);
+  EXPECT_EQ(teddy.real_x(447), 447);
+  EXPECT_EQ(teddy.real_y(374), 374);
+  EXPECT_EQ(teddy.tiles_x, 28);
+  EXPECT_EQ(teddy.tiles_y, 24);  // the last row of tiles is partial
+  EXPECT_TRUE(RtinLayout(2, 9, 100).strip());
+  EXPECT_FALSE(RtinLayout(3, 3, 100).strip());
+  // A quadrant's diagonal passes through its parent's centre.
+  EXPECT_TRUE(RtinLayout::backslash(0, 0, 8));   // top-left of (0,0,16): ends at (8,8)
+  EXPECT_FALSE(RtinLayout::backslash(8, 0, 8));  // top-right: from (16,0) to (8,8)
+  EXPECT_FALSE(RtinLayout::backslash(0, 8, 8));
+  EXPECT_TRUE(RtinLayout::backslash(8, 8, 8));
 }
 
-// ------------------------------------------------------------ split criterion
+// ------------------------------------------------------------ pixel moments
 
-// The criterion straight from docs/model.md: every pixel tested with
-// owns_pixel(), the full SSE, no early exit.
-bool wants_split_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, int max_area_px2,
-                             std::uint64_t mse_q8) {
-  const std::int64_t area2 = area2_of(a, b, c);
-  if (area2 > 2 * std::int64_t{max_area_px2}) return true;
+// The model's SSE, straight from the definition: pixels by the fill rule,
+// residual r = n_x (x - Ax) + n_y (y - Ay) + area2 (I - I_A).
+std::uint64_t sse_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, std::int64_t* n_px) {
   const std::int64_t ia = img.at(a.x, a.y), ib = img.at(b.x, b.y), ic = img.at(c.x, c.y);
-  const std::int64_t n_x = (b.y - a.y) * (ic - ia) - (ib - ia) * (c.y - a.y);
-  const std::int64_t n_y = (ib - ia) * (c.x - a.x) - (b.x - a.x) * (ic - ia);
-  std::uint64_t sse = 0, n_px = 0;
+  const std::int64_t ux = b.x - a.x, uy = b.y - a.y, ui = ib - ia;
+  const std::int64_t vx = c.x - a.x, vy = c.y - a.y, vi = ic - ia;
+  const std::int64_t n_x = uy * vi - ui * vy, n_y = ui * vx - ux * vi, area2 = ux * vy - uy * vx;
+  std::uint64_t sse = 0;
+  *n_px = 0;
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {
       if (!owns_pixel(a, b, c, x, y, img.width, img.height)) continue;
       const std::int64_t r = n_x * (x - a.x) + n_y * (y - a.y) + area2 * (img.at(x, y) - ia);
       sse += static_cast<std::uint64_t>(r * r);
-      ++n_px;
+      ++*n_px;
     }
   }
-  return sse * 256 > mse_q8 * n_px * static_cast<std::uint64_t>(area2 * area2);
+  return sse;
 }
 
-TEST(Criterion, EqualsBruteForceOnRandomTriangles) {
-  // The production criterion walks the spans once and stops early against a
-  // bound on the pixel count; its answer must still be the model's.
+PixelMoments moments_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, int ox, int oy) {
+  PixelMoments m;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      if (owns_pixel(a, b, c, x, y, img.width, img.height)) m.add_pixel(x - ox, y - oy, img.at(x, y));
+    }
+  }
+  return m;
+}
+
+TEST(PixelMoments, PlaneSseEqualsBruteForceOnRandomTrianglesAndImages) {
+  // Any triangle (not only the tritree's), any origin of the moments: the
+  // expanded sum is the exact SSE, and the test decides as the model does.
   Rng rng(21);
-  int splits = 0, keeps = 0;
-  for (int it = 0; it < 6000; ++it) {
-    const int w = rng.uniform(2, 40), h = rng.uniform(2, 40);
+  int splits = 0, keeps = 0, checked = 0;
+  for (int it = 0; it < 4000; ++it) {
+    const int w = rng.uniform(2, 70);
+    const int h = rng.uniform(2, 70);
     const ImageU8 img = mixed_image(rng, w, h);
     Vertex v[3];
     for (Vertex& p : v) p = Vertex{rng.uniform(0, w - 1), rng.uniform(0, h - 1)};
-    const std::int64_t a2 = area2_of(v[0], v[1], v[2]);
-    if (a2 == 0) continue;
-    if (a2 < 0) std::swap(v[1], v[2]);
-    const int max_area = rng.uniform(1, 400);
-    const std::uint64_t mse_q8 = mse_threshold_q8(rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb));
-    const bool expected = wants_split_brute_force(img, v[0], v[1], v[2], max_area, mse_q8);
-    ASSERT_EQ(tritree_wants_split(cview(img), v[0], v[1], v[2], max_area, mse_q8), expected)
+    std::int64_t a2 = area2_of(v[0], v[1], v[2]);
+    if (a2 == 0 || std::abs(a2) > 2 * kMaxAreaLimitPx2) continue;
+    if (a2 < 0) std::swap(v[1], v[2]), a2 = -a2;
+    const int ox = rng.uniform(0, w - 1), oy = rng.uniform(0, h - 1);
+    const PixelMoments m = moments_brute_force(img, v[0], v[1], v[2], ox, oy);
+    std::int64_t n_px = 0;
+    const std::uint64_t expected = sse_brute_force(img, v[0], v[1], v[2], &n_px);
+    ASSERT_EQ(m.n, n_px);
+    PlaneCorner c[3];
+    for (int i = 0; i < 3; ++i) c[i] = PlaneCorner{v[i].x - ox, v[i].y - oy, img.at(v[i].x, v[i].y)};
+    ASSERT_EQ(plane_sse(m, c[0], c[1], c[2]), expected)
         << "triangle (" << v[0].x << "," << v[0].y << ") (" << v[1].x << "," << v[1].y << ") ("
-        << v[2].x << "," << v[2].y << ") in " << w << "x" << h << " max_area " << max_area
-        << " mse_q8 " << mse_q8;
-    (expected ? splits : keeps) += 1;
+        << v[2].x << "," << v[2].y << ") in " << w << "x" << h;
+    // Any rotation of the corners is the same plane.
+    ASSERT_EQ(plane_sse(m, c[1], c[2], c[0]), expected);
+    const std::uint64_t mse_q8 = mse_threshold_q8(rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb));
+    const bool fails = plane_fit_fails(expected, n_px, a2, mse_q8);
+    const std::uint64_t ua2 = static_cast<std::uint64_t>(a2);
+    EXPECT_EQ(fails, expected * 256 > mse_q8 * static_cast<std::uint64_t>(n_px) * ua2 * ua2);
+    (fails ? splits : keeps) += 1;
+    ++checked;
   }
-  // Both answers occur often, so the comparison covers both branches.
-  EXPECT_GT(splits, 1000);
-  EXPECT_GT(keeps, 1000);
+  EXPECT_GT(checked, 2500);
+  EXPECT_GT(splits, 500);  // both answers occur often
+  EXPECT_GT(keeps, 500);
+}
+
+TEST(PixelMoments, ChildrenAddUpToTheirParent) {
+  // Bisecting a triangle at its hypotenuse's midpoint partitions its pixels
+  // (the fill rule gives each pixel to one side), so moments add exactly.
+  Rng rng(5);
+  for (int it = 0; it < 2000; ++it) {
+    const int w = rng.uniform(3, 40);
+    const int h = rng.uniform(3, 40);
+    const ImageU8 img = mixed_image(rng, w, h);
+    const int s = 2 * rng.uniform(1, std::min(w - 1, h - 1) / 2);  // even legs
+    const int x0 = rng.uniform(0, w - 1 - s), y0 = rng.uniform(0, h - 1 - s);
+    // A right triangle with legs along the axes and its two children.
+    const Vertex a{x0, y0}, b{x0 + s, y0 + s}, c{x0 + s, y0};  // hypotenuse a-b, apex c
+    Vertex p[3] = {b, a, c};
+    if (area2_of(p[0], p[1], p[2]) < 0) std::swap(p[0], p[1]);
+    const Vertex m{(a.x + b.x) / 2, (a.y + b.y) / 2};
+    Vertex c0[3] = {c, a, m}, c1[3] = {b, c, m};
+    if (area2_of(c0[0], c0[1], c0[2]) < 0) std::swap(c0[0], c0[1]);
+    if (area2_of(c1[0], c1[1], c1[2]) < 0) std::swap(c1[0], c1[1]);
+    const PixelMoments parent = moments_brute_force(img, p[0], p[1], p[2], 0, 0);
+    const PixelMoments sum = moments_brute_force(img, c0[0], c0[1], c0[2], 0, 0) +
+                             moments_brute_force(img, c1[0], c1[1], c1[2], 0, 0);
+    ASSERT_TRUE(parent == sum) << "square " << x0 << "," << y0 << " side " << s << " in " << w << "x" << h;
+  }
 }
 
 // ------------------------------------------------------------ golden meshes
 
 TEST(Tritree, Golden3x3ConstantHandDerived) {
-  // Derived by hand from docs/model.md: both roots have area2 4 > 2 * A_max = 2
-  // and share their longest edge, the diagonal (len2 8); they split as a pair
-  // at M = (1,1), and both wanted to: 2 criterion splits, 0 forced. The four
-  // children have area2 2 and the image is constant (SSE 0), so refinement stops.
+  // W - 1 = H - 1 = 2: one tile of side 2 (A_max = 1), no stretch. Its halves
+  // (area 2 > A_max) both want to split at the centre (1,1): 2 criterion
+  // splits; the four side triangles have area 1 and cannot split.
   ImageU8 img(3, 3, 1, 77);
   TritreeParams params;
   params.max_area_px2 = 1;
@@ -211,45 +270,46 @@ TEST(Tritree, Golden3x3ConstantHandDerived) {
   EXPECT_EQ(m.row_start, (std::vector<std::int32_t>{0, 2, 3, 5}));
   EXPECT_EQ(m.criterion_splits, 2);
   EXPECT_EQ(m.forced_splits, 0);
+  // With A_max = 2 the tile is 4 wide (virtual 2 x 2 inside it): the tile's
+  // halves and side triangles cross the grid's border and split as virtual
+  // triangles; the 2 x 2 square's halves (area 2) fit the constant plane.
+  params.max_area_px2 = 2;
+  const Mesh two = build_mesh(img, params);
+  EXPECT_EQ(two.vertices, (std::vector<Vertex>{{0, 0}, {2, 0}, {0, 2}, {2, 2}}));
+  EXPECT_EQ(two.triangles, (std::vector<Triangle>{{0, 1, 3}, {0, 3, 2}}));
+  EXPECT_EQ(two.criterion_splits + two.forced_splits, 0);
 }
 
-TEST(Tritree, Golden9x7Step) {
-  // Left of x = 5 a vertical ramp 20 + 10 y, right of it 200; 40 dB, A_max 12.
-  // Arrays produced by reference::build_tritree (src/reference) and checked
-  // here against the integer path; the invariant tests below cover them too.
-  ImageU8 img(9, 7);
-  for (int y = 0; y < 7; ++y) {
-    for (int x = 0; x < 9; ++x) img.at(x, y) = static_cast<std::uint8_t>(x >= 5 ? 200 : 20 + 10 * y);
-  }
+TEST(Tritree, Golden4x2StripAndStretched4x4) {
+  // A side of 2 pixels: the diagonal's two triangles, never split.
+  ImageU8 strip(4, 2, 1, 0);
+  strip.at(1, 0) = 255;
   TritreeParams params;
-  params.psnr_deci_db = 400;
-  params.max_area_px2 = 12;
-  const Mesh m = build_mesh(img, params);
-  const std::vector<Vertex> vertices = {
-      {0, 0}, {4, 0}, {6, 0}, {8, 0}, {2, 1}, {4, 1}, {6, 1}, {5, 2}, {0, 3}, {4, 3},
-      {6, 3}, {8, 3}, {2, 4}, {4, 4}, {6, 4}, {5, 5}, {0, 6}, {4, 6}, {6, 6}, {8, 6}};
-  const std::vector<Triangle> triangles = {
-      {0, 1, 4},    {0, 4, 8},    {1, 2, 6},    {1, 5, 4},    {1, 6, 5},    {2, 3, 6},
-      {3, 11, 6},   {4, 5, 9},    {4, 9, 8},    {5, 6, 7},    {5, 7, 9},    {6, 10, 7},
-      {6, 11, 10},  {7, 10, 9},   {8, 9, 12},   {8, 12, 16},  {9, 10, 14},  {9, 13, 12},
-      {9, 14, 13},  {10, 11, 14}, {11, 19, 14}, {12, 13, 17}, {12, 17, 16}, {13, 14, 15},
-      {13, 15, 17}, {14, 18, 15}, {14, 19, 18}, {15, 18, 17}};
-  EXPECT_EQ(m.vertices, vertices);
-  EXPECT_EQ(m.triangles, triangles);
-  EXPECT_EQ(m.row_start, (std::vector<std::int32_t>{0, 4, 7, 8, 12, 15, 16, 20}));
-  EXPECT_EQ(m.criterion_splits, 19);
-  EXPECT_EQ(m.forced_splits, 7);
+  params.max_area_px2 = 1;
+  const Mesh s = build_mesh(strip, params);
+  EXPECT_EQ(s.vertices, (std::vector<Vertex>{{0, 0}, {3, 0}, {0, 1}, {3, 1}}));
+  EXPECT_EQ(s.triangles, (std::vector<Triangle>{{0, 1, 3}, {0, 3, 2}}));
+  // 4 x 4: W - 1 = 3 is odd, so the virtual grid is 2 x 2 and its last column
+  // and row sit on pixel 3. The halves of the stretched square have area
+  // 4.5 > A_max = 1 and split at the virtual centre (1,1).
+  const ImageU8 flat(4, 4, 1, 50);
+  const Mesh f = build_mesh(flat, params);
+  EXPECT_EQ(f.vertices, (std::vector<Vertex>{{0, 0}, {3, 0}, {1, 1}, {0, 3}, {3, 3}}));
+  EXPECT_EQ(f.triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 2, 3}, {1, 4, 2}, {2, 4, 3}}));
+  EXPECT_EQ(f.criterion_splits, 2);
 }
 
 // ------------------------------------------------------------ invariants
 
-// Checks every structural property of docs/model.md section 1 on `m`.
+// Checks every structural property of docs/model.md section 1 on `m`:
+// raster vertices and canonical triangles, coverage, one owner per pixel,
+// conformity, area bounds, and that every leaf passes the criterion or
+// cannot split.
 void expect_valid_mesh(const ImageU8& gray, const TritreeParams& params, const Mesh& m,
-                       const std::vector<std::array<Vertex, 3>>& blocked) {
+                       bool check_criterion = true) {
   const int w = gray.width, h = gray.height;
   ASSERT_EQ(m.width, w);
   ASSERT_EQ(m.height, h);
-  // Vertices strictly in raster order, row index consistent.
   ASSERT_EQ(m.row_start.size(), static_cast<std::size_t>(h) + 1);
   ASSERT_EQ(m.row_start.front(), 0);
   ASSERT_EQ(m.row_start.back(), static_cast<std::int32_t>(m.vertices.size()));
@@ -267,8 +327,11 @@ void expect_valid_mesh(const ImageU8& gray, const TritreeParams& params, const M
   for (std::size_t i = 0; i < m.vertices.size(); ++i) {
     grid[static_cast<std::size_t>(m.vertices[i].y) * w + m.vertices[i].x] = static_cast<std::int32_t>(i);
   }
+  std::vector<char> used(m.vertices.size(), 0);
 
-  // Canonical triangles, positive orientation, areas tile the rectangle.
+  // Canonical triangles, positive orientation, areas tile the rectangle,
+  // area >= 1 px^2 (the two triangles of a strip image excepted).
+  const RtinLayout layout(w, h, params.max_area_px2);
   std::int64_t area_sum = 0;
   for (std::size_t i = 0; i < m.triangles.size(); ++i) {
     const Triangle& t = m.triangles[i];
@@ -278,17 +341,24 @@ void expect_valid_mesh(const ImageU8& gray, const TritreeParams& params, const M
     }
     const std::int64_t a2 = area2_of(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
     ASSERT_GT(a2, 0);
+    if (!layout.strip()) {
+      ASSERT_GE(a2, 2);
+    }
     area_sum += a2;
+    for (int c = 0; c < 3; ++c) used[static_cast<std::size_t>(t[c])] = 1;
   }
   EXPECT_EQ(area_sum, 2 * std::int64_t{w - 1} * (h - 1));
+  for (std::size_t i = 0; i < used.size(); ++i) ASSERT_TRUE(used[i]) << "vertex " << i << " unused";
 
-  // Every pixel owned by exactly one triangle.
+  // Every pixel owned by exactly one triangle (checked pixel by pixel).
   std::vector<int> owners(static_cast<std::size_t>(w) * h, 0);
   for (const Triangle& t : m.triangles) {
-    for_each_owned_span(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], w, h,
-                        [&](int y, int x0, int x1) {
-                          for (int x = x0; x < x1; ++x) ++owners[static_cast<std::size_t>(y) * w + x];
-                        });
+    const Vertex a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+    for (int y = std::min({a.y, b.y, c.y}); y <= std::max({a.y, b.y, c.y}); ++y) {
+      for (int x = std::min({a.x, b.x, c.x}); x <= std::max({a.x, b.x, c.x}); ++x) {
+        if (owns_pixel(a, b, c, x, y, w, h)) ++owners[static_cast<std::size_t>(y) * w + x];
+      }
+    }
   }
   for (std::size_t p = 0; p < owners.size(); ++p) ASSERT_EQ(owners[p], 1) << "pixel " << p;
 
@@ -316,45 +386,60 @@ void expect_valid_mesh(const ImageU8& gray, const TritreeParams& params, const M
       }
     }
   }
+  if (!check_criterion || layout.strip()) return;
 
-  // Every leaf passes the criterion, or its own bisection is invalid, or it
-  // was blocked.
-  std::set<std::array<std::int64_t, 3>> blocked_keys;
-  for (const auto& b : blocked) {
-    std::array<std::int64_t, 3> k = {vertex_key(b[0]), vertex_key(b[1]), vertex_key(b[2])};
-    std::sort(k.begin(), k.end());
-    blocked_keys.insert(k);
-  }
+  // Every leaf passes the criterion (area, then PSNR by brute force) unless it
+  // cannot split: its virtual area (undo the stretch) is 1 px^2.
   const std::uint64_t mse_q8 = mse_threshold_q8(params.psnr_deci_db);
-  std::size_t blocked_seen = 0;
+  const auto virtual_of = [&](const Vertex& v) {
+    return Vertex{layout.stretch_x && v.x == w - 1 ? layout.vw : v.x,
+                  layout.stretch_y && v.y == h - 1 ? layout.vh : v.y};
+  };
   for (const Triangle& t : m.triangles) {
-    Vertex v[3] = {m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]};
-    std::array<std::int64_t, 3> k = {vertex_key(v[0]), vertex_key(v[1]), vertex_key(v[2])};
-    std::sort(k.begin(), k.end());
-    const bool is_blocked = blocked_keys.count(k) != 0;
-    blocked_seen += is_blocked;
-    const int l = longest_edge_index(v);
-    const Vertex a = v[l], b = v[(l + 1) % 3], c = v[(l + 2) % 3];
-    const bool own_valid = half_bisection_valid(a, b, c, snapped_midpoint(a, b));
-    const bool wants = tritree_wants_split(cview(gray), a, b, c, params.max_area_px2, mse_q8);
-    EXPECT_TRUE(!wants || !own_valid || is_blocked);
+    const Vertex a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+    if (area2_of(virtual_of(a), virtual_of(b), virtual_of(c)) < 4) continue;
+    const std::int64_t a2 = area2_of(a, b, c);
+    ASSERT_LE(a2, 2 * params.max_area_px2) << "leaf larger than A_max";
+    std::int64_t n_px = 0;
+    const std::uint64_t sse = sse_brute_force(gray, a, b, c, &n_px);
+    ASSERT_FALSE(plane_fit_fails(sse, n_px, a2, mse_q8))
+        << "leaf (" << a.x << "," << a.y << ") (" << b.x << "," << b.y << ") (" << c.x << ","
+        << c.y << ") fails the PSNR test";
   }
-  EXPECT_EQ(blocked_seen, blocked.size());  // blocked triangles are leaves of the mesh
 }
 
 TEST(Tritree, InvariantsOnRandomImages) {
   Rng rng(2024);
   for (int it = 0; it < 300; ++it) {
-    const int w = rng.uniform(2, 48), h = rng.uniform(2, 48);
+    const int w = rng.uniform(2, 48);
+    const int h = rng.uniform(2, 48);
     const ImageU8 img = mixed_image(rng, w, h);
     TritreeParams params;
     params.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
     params.max_area_px2 = rng.uniform(1, 64);
-    Tritree tree;
-    const Mesh m = build_mesh(img, params, &tree);
+    const Mesh m = build_mesh(img, params);
     SCOPED_TRACE(::testing::Message() << "image " << it << " " << w << "x" << h);
-    expect_valid_mesh(img, params, m, tree.blocked_leaves());
+    expect_valid_mesh(img, params, m);
     if (HasFatalFailure()) return;
+  }
+}
+
+TEST(Tritree, InvariantsOnSpecialSizes) {
+  // 2 x 2, 3 x N, primes, thin and 4096 wide.
+  const std::pair<int, int> sizes[] = {{2, 2},  {2, 3},  {3, 2},   {3, 3},  {3, 17},  {17, 3},
+                                       {3, 64}, {5, 7},  {7, 5},   {13, 31}, {31, 13}, {37, 41},
+                                       {97, 89}, {127, 2}, {4096, 3}, {4096, 5}, {4095, 4}, {2, 4096}};
+  Rng rng(77);
+  for (const auto& size : sizes) {
+    for (int area : {1, 7, 100}) {
+      const ImageU8 img = mixed_image(rng, size.first, size.second);
+      TritreeParams params;
+      params.max_area_px2 = area;
+      const Mesh m = build_mesh(img, params);
+      SCOPED_TRACE(::testing::Message() << size.first << "x" << size.second << " A_max " << area);
+      expect_valid_mesh(img, params, m, /*check_criterion=*/size.first * size.second < 20000);
+      if (HasFatalFailure()) return;
+    }
   }
 }
 
@@ -363,10 +448,9 @@ TEST(Tritree, InvariantsOnMiddlebury) {
   for (const std::string& name : test::middlebury_names()) {
     const ImageU8 gray = to_gray(test::load_middlebury(name).left);
     const TritreeParams params;  // defaults: 40 dB, 100 px^2
-    Tritree tree;
-    const Mesh m = build_mesh(gray, params, &tree);
+    const Mesh m = build_mesh(gray, params);
     SCOPED_TRACE(name);
-    expect_valid_mesh(gray, params, m, tree.blocked_leaves());
+    expect_valid_mesh(gray, params, m);
     EXPECT_GT(m.vertices.size(), 1000u);  // a textured scene is refined well below A_max
   }
 }
@@ -395,7 +479,7 @@ TEST(Tritree, BuildDoesNotAllocate) {
   const ImageU8 small = mixed_image(rng, 30, 20);
   const ImageU8 large = mixed_image(rng, 90, 70);
   TritreeParams params;
-  params.max_area_px2 = 4;  // deep refinement: many rounds and forced splits
+  params.max_area_px2 = 4;  // deep refinement
   Tritree tree;
   tree.configure(90, 70, params);
   Mesh mesh;
@@ -408,107 +492,22 @@ TEST(Tritree, BuildDoesNotAllocate) {
   EXPECT_GT(mesh.vertices.size(), 50u);
 }
 
-// A started pool (unpinned) and a tree configured and reserved for it: the
-// setup of every pooled-build test.
-struct PooledTree {
-  PooledTree(int workers, int max_width, int max_height, const TritreeParams& params) {
-    pool.start(workers, {}, /*pin=*/false);
-    tree.configure(max_width, max_height, params);
-    tree.reserve(mesh);
-  }
-  const Mesh& build(const ImageU8& img) {
-    tree.build(cview(img), mesh, &pool);
-    return mesh;
-  }
-  ThreadPool pool;
-  Tritree tree;
-  Mesh mesh;
-};
-
-TEST(Tritree, BuildTimesCoverRoundsIdleAndOutput) {
-  SynthParams sp;
-  sp.width = 320;
-  sp.height = 240;
-  const ImageU8 img = make_synthetic_scene(sp).left;
-  PooledTree one(1, sp.width, sp.height, TritreeParams{});
-  PooledTree two(2, sp.width, sp.height, TritreeParams{});
-  one.build(img);
-  two.build(img);
-  for (const PooledTree* p : {&one, &two}) {
-    const Tritree::BuildTimes& t = p->tree.build_times();
-    EXPECT_GT(t.rounds_ns, 0);
-    EXPECT_GT(t.output_ns, 0);
-    // Each worker's busy time lies inside its round's wall time.
-    EXPECT_GE(t.round_idle_ns, 0);
-  }
-  // One worker: no parallel round, so no idle time is counted.
-  EXPECT_EQ(one.tree.build_times().round_idle_ns, 0);
-  EXPECT_GT(two.tree.regions(), 1);
-}
-
 TEST(Tritree, IdenticalForAnyThreadCount) {
-  // The criterion runs in parallel chunks; the mesh must not depend on the
-  // worker count (1, 2, 3, 8 workers, unpinned) nor differ from a pool-less build.
-  TRISTEREO_REQUIRE_MIDDLEBURY();
-  std::vector<ImageU8> images;
-  SynthParams sp;
-  sp.width = 320;
-  sp.height = 240;
-  images.push_back(make_synthetic_scene(sp).left);
-  for (const std::string& name : test::middlebury_names()) {
-    images.push_back(to_gray(test::load_middlebury(name).left));
-  }
+  // The pool is accepted and unused: any pool gives the serial mesh.
   Rng rng(31);
-  for (int i = 0; i < 4; ++i) images.push_back(mixed_image(rng, rng.uniform(40, 200), rng.uniform(40, 200)));
+  const ImageU8 img = mixed_image(rng, 150, 101);
   const TritreeParams params;
-  std::vector<Mesh> serial;
-  for (const ImageU8& img : images) serial.push_back(build_mesh(img, params));
-
-  for (const int workers : {1, 2, 3, 8}) {
-    PooledTree pooled(workers, 450, 383, params);
-    ASSERT_EQ(pooled.pool.size(), workers);
-    for (std::size_t i = 0; i < images.size(); ++i) {
-      ASSERT_EQ(pooled.build(images[i]), serial[i]) << workers << " workers, image " << i;
-    }
+  const Mesh serial = build_mesh(img, params);
+  for (int workers : {1, 2, 3}) {
+    ThreadPool pool;
+    pool.start(workers, {}, /*pin=*/false);
+    Tritree tree;
+    tree.configure(img.width, img.height, params);
+    Mesh mesh;
+    tree.reserve(mesh);
+    tree.build(cview(img), mesh, &pool);
+    EXPECT_EQ(mesh, serial) << workers << " workers";
   }
-  EXPECT_GT(serial[0].triangles.size(), 5000u);  // big enough to run the parallel path
-}
-
-TEST(Tritree, PoolBuildOfTinyAndThinImagesMatchesSerial) {
-  // The pooled finish cuts rows, node slots and vertex ids into one band per
-  // worker (at most 16): with more workers than rows or triangles many bands
-  // are empty, and 20 workers exceed the band cap. Fine refinement
-  // (A_max = 1) also makes every round after the first few tiny.
-  Rng rng(77);
-  std::vector<ImageU8> images;
-  for (const auto& size : {std::pair<int, int>{2, 2}, {3, 2}, {2, 41}, {57, 3}, {33, 29}}) {
-    images.push_back(mixed_image(rng, size.first, size.second));
-  }
-  TritreeParams params;
-  params.max_area_px2 = 1;
-  params.psnr_deci_db = kMaxPsnrDeciDb;
-  for (const int workers : {2, 8, 20}) {
-    PooledTree pooled(workers, 64, 64, params);
-    for (std::size_t i = 0; i < images.size(); ++i) {
-      const Mesh& mesh = pooled.build(images[i]);
-      const Mesh serial = build_mesh(images[i], params);
-      ASSERT_EQ(mesh, serial) << workers << " workers, image " << i;
-      EXPECT_EQ(mesh.row_start.back(), static_cast<std::int32_t>(mesh.vertices.size()));
-    }
-  }
-}
-
-TEST(Tritree, BuildWithPoolDoesNotAllocate) {
-  SynthParams sp;
-  sp.width = 200;
-  sp.height = 150;
-  const ImageU8 img = make_synthetic_scene(sp).left;
-  PooledTree pooled(3, 200, 150, TritreeParams{});
-  pooled.build(img);  // warm-up
-  test::start_counting_allocations();
-  pooled.build(img);
-  EXPECT_EQ(test::stop_counting_allocations(), 0);
-  EXPECT_GT(pooled.mesh.triangles.size(), 1000u);
 }
 
 TEST(Tritree, StrideMatchesPackedBuild) {
@@ -525,72 +524,31 @@ TEST(Tritree, StrideMatchesPackedBuild) {
   Mesh strided;
   tree.build(view, strided);
   EXPECT_EQ(strided, build_mesh(img, params));
-  EXPECT_GT(tree.rounds(), 3);
-}
-
-TEST(Tritree, ManyRegionsDeferCrossingPropagationsAndMatchSerial) {
-  // Fine meshes cut into up to 64 stripes: many propagations cross a stripe
-  // border and are finished by the merge tree over the regions (12 and 20
-  // regions give groups with a single half). The mesh and the split counts
-  // must equal the single-region build's.
-  Rng rng(41);
-  TritreeParams params;
-  params.max_area_px2 = 4;
-  params.psnr_deci_db = 450;
-  std::vector<ImageU8> images;
-  for (int i = 0; i < 6; ++i) images.push_back(mixed_image(rng, rng.uniform(90, 200), rng.uniform(60, 160)));
-  for (const int workers : {2, 3, 5, 16}) {
-    PooledTree pooled(workers, 200, 160, params);
-    std::int64_t deferred = 0;
-    for (std::size_t i = 0; i < images.size(); ++i) {
-      ASSERT_EQ(pooled.build(images[i]), build_mesh(images[i], params))
-          << workers << " workers, image " << i;
-      EXPECT_EQ(pooled.tree.regions(), std::min(Tritree::kRegionsPerWorker * workers, Tritree::kMaxRegions));
-      deferred += pooled.tree.deferred_propagations();
-    }
-    EXPECT_GT(deferred, 0) << workers << " workers: no propagation was ever deferred";
-  }
-}
-
-TEST(Tritree, RegionOutOfSlotsFallsBackToOneRegion) {
-  // The midpoint snap moves slivers of area between the two triangles of a
-  // pair, so a region's leaves can outgrow its stripe's area bound. Without
-  // spare slots, image 31 of this sequence (115x106, 3 workers, 24 regions)
-  // runs a region out of slots: the build must start over on one region and
-  // still give the serial mesh. With the default spare none of them does.
-  const TritreeParams params;
-  std::vector<ImageU8> images;
-  Rng rng(7);
-  for (int i = 0; i < 32; ++i) {
-    const int w = rng.uniform(40, 200);
-    const int h = rng.uniform(40, 200);  // drawn in order: argument order is unspecified
-    images.push_back(mixed_image(rng, w, h));
-  }
-  PooledTree no_spare(3, 200, 200, params);
-  no_spare.tree.limit_spare_slots_for_testing(0);
-  PooledTree with_spare(3, 200, 200, params);
-  int fallbacks = 0, partitioned = 0;
-  for (std::size_t i = 0; i < images.size(); ++i) {
-    const Mesh serial = build_mesh(images[i], params);
-    ASSERT_EQ(no_spare.build(images[i]), serial) << "image " << i << ", no spare slots";
-    fallbacks += no_spare.tree.fell_back_to_one_region() ? 1 : 0;
-    ASSERT_EQ(with_spare.build(images[i]), serial) << "image " << i;
-    EXPECT_FALSE(with_spare.tree.fell_back_to_one_region()) << "image " << i;
-    partitioned += with_spare.tree.regions() == 3 * Tritree::kRegionsPerWorker ? 1 : 0;
-  }
-  EXPECT_GE(fallbacks, 1);
-  EXPECT_GE(partitioned, 16);  // the small images never reach 64 leaves per region
+  EXPECT_GT(strided.vertices.size(), 20u);
 }
 
 TEST(Tritree, CountsCriterionAndForcedSplits) {
-  // Every split is one of the two kinds, and each split adds one triangle.
+  // Both kinds occur; a split replaces one triangle by two, and the inside
+  // tiles' halves are the starting triangles.
   Rng rng(9);
-  const ImageU8 img = mixed_image(rng, 40, 30);
+  const ImageU8 img = mixed_image(rng, 65, 33);  // W-1 = 64, H-1 = 32: whole tiles
   TritreeParams params;
   params.max_area_px2 = 8;
   const Mesh m = build_mesh(img, params);
-  EXPECT_EQ(static_cast<std::int64_t>(m.triangles.size()), 2 + m.criterion_splits + m.forced_splits);
+  const RtinLayout layout(65, 33, params.max_area_px2);
+  const std::int64_t roots = 2 * layout.tiles_x * layout.tiles_y;
+  EXPECT_EQ(static_cast<std::int64_t>(m.triangles.size()), roots + m.criterion_splits + m.forced_splits);
   EXPECT_GT(m.forced_splits, 0);
+  EXPECT_GT(m.criterion_splits, m.forced_splits);
+}
+
+TEST(Tritree, ReportsItsMemory) {
+  Tritree tree;
+  EXPECT_EQ(tree.working_memory_bytes(), 0u);
+  tree.configure(640, 480, TritreeParams{});
+  const double per_pixel = static_cast<double>(tree.working_memory_bytes()) / (640.0 * 480.0);
+  EXPECT_GT(per_pixel, 20.0);  // need + vertex ids + sort buckets, the leaves
+  EXPECT_LT(per_pixel, 34.0);
 }
 
 // ------------------------------------------------------------ bad input
@@ -652,7 +610,7 @@ TEST(Tritree, RejectsBadImagesWithoutTouchingTheMesh) {
   bad.stride_bytes = 7;
   expect_rejected(bad);
   tree.build(v, mesh);  // still usable afterwards
-  EXPECT_EQ(mesh.vertices.size(), 4u);  // constant 8x8, roots of 24.5 px^2: no split
+  EXPECT_EQ(mesh, build_mesh(img, TritreeParams{}));
 }
 
 }  // namespace

@@ -103,6 +103,15 @@ def scene_arrays(tmp_path, w=96, h=64, ndisp=16):
     return tristereo.read_image(tmp_path / "left.png"), tristereo.read_image(tmp_path / "right.png")
 
 
+def test_working_memory_is_the_programs(tmp_path):
+    # The same library call as `tristereo info` for the same configuration.
+    p = tristereo.Pipeline(320, 240, ndisp=32, threads=1)
+    text = cli("info", "--max-size", "320x240", "--ndisp", 32, "--threads", 1)
+    line = next(l for l in text.splitlines() if l.startswith("working memory: "))
+    assert p.working_memory_bytes == int(line.split()[2]), line
+    assert p.working_memory_bytes > 320 * 240  # tens of bytes per configured pixel
+
+
 def test_strides_and_colour_give_the_same_frame(tmp_path):
     left, right = scene_arrays(tmp_path)
     h, w = left.shape

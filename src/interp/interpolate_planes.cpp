@@ -1,5 +1,6 @@
 #include "src/interp/interpolate_planes.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "src/tritree/fill_rule.hpp"
@@ -34,6 +35,56 @@ void fill_span(std::int16_t* out, int x_begin, int x_end, std::int64_t num, std:
   }
 }
 
+// Triangles up to this area2 take the shift path in int32: inside a triangle
+// N / area2 lies between its vertex disparities (|d| < 2^15), so
+// |2 N + area2| < 2^29 and one more step (|2 n_x| < 2^25) still fits.
+constexpr std::int64_t kMaxShiftArea2 = 4096;
+
+// [x_begin, x_end) of one row with num(x) >> shift, num(x_begin) = num,
+// num(x + 1) = num(x) + step: floor(num / 2^shift), exact. No carry, so
+// the compiler vectorises it across x.
+void fill_span_shift(std::int16_t* out, int x_begin, int x_end, std::int32_t num, std::int32_t step,
+                     int shift) {
+  for (int x = x_begin; x < x_end; ++x) {
+    out[x] = static_cast<std::int16_t>(num >> shift);
+    num += step;
+  }
+}
+
+// Pixels owned by a small triangle, for triangles whose corners B and C lie
+// within 2 pixels of A and that do not reach the image's last row or column
+// (where the fill rule's tie breaks the other way): most of a fine mesh. Bit
+// (dy + 2) * 5 + (dx + 2) is pixel A + (dx, dy); indexed by small_key().
+struct SmallTriangleMasks {
+  std::uint32_t mask[625];
+};
+
+int small_key(int ux, int uy, int vx, int vy) {
+  return (((ux + 2) * 5 + (uy + 2)) * 5 + (vx + 2)) * 5 + (vy + 2);
+}
+
+// Built once from the fill rule itself (owns_pixel, far from any border).
+const SmallTriangleMasks& small_triangle_masks() {
+  static const SmallTriangleMasks table = [] {
+    SmallTriangleMasks t{};
+    const int kFar = 64, kSize = 128;
+    for (int ux = -2; ux <= 2; ++ux)
+      for (int uy = -2; uy <= 2; ++uy)
+        for (int vx = -2; vx <= 2; ++vx)
+          for (int vy = -2; vy <= 2; ++vy) {
+            if (ux * vy - uy * vx <= 0) continue;
+            const Vertex a{kFar, kFar}, b{kFar + ux, kFar + uy}, c{kFar + vx, kFar + vy};
+            std::uint32_t m = 0;
+            for (int dy = -2; dy <= 2; ++dy)
+              for (int dx = -2; dx <= 2; ++dx)
+                if (owns_pixel(a, b, c, kFar + dx, kFar + dy, kSize, kSize)) m |= 1u << ((dy + 2) * 5 + dx + 2);
+            t.mask[small_key(ux, uy, vx, vy)] = m;
+          }
+    return t;
+  }();
+  return table;
+}
+
 }  // namespace
 
 void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
@@ -56,6 +107,7 @@ void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                 "triangle range [" + std::to_string(tri_begin) + ", " + std::to_string(tri_end) +
                     ") is not inside [0, " + std::to_string(n_tri) + "]");
 
+  const SmallTriangleMasks& masks = small_triangle_masks();
   for (int t = tri_begin; t < tri_end; ++t) {
     const Triangle& tri = mesh.triangles[static_cast<std::size_t>(t)];
     const Vertex a = mesh.vertices[static_cast<std::size_t>(tri[0])];
@@ -78,6 +130,34 @@ void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
     }
     const std::int64_t nx = uy * vd - ud * vy;
     const std::int64_t ny = ud * vx - ux * vd;
+    const bool small = ux >= -2 && ux <= 2 && uy >= -2 && uy <= 2 && vx >= -2 && vx <= 2 &&
+                       vy >= -2 && vy <= 2 && std::max({a.x, b.x, c.x}) < w - 1 &&
+                       std::max({a.y, b.y, c.y}) < h - 1;
+    if (small && (area2 & (area2 - 1)) == 0) {
+      // Few pixels, known from the table: evaluate each one directly.
+      std::uint32_t m = masks.mask[small_key(static_cast<int>(ux), static_cast<int>(uy),
+                                             static_cast<int>(vx), static_cast<int>(vy))];
+      const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
+      const std::int64_t base = 2 * area2 * da + area2;
+      while (m != 0) {
+        const int bit = __builtin_ctz(m);
+        m &= m - 1;
+        const int dy = bit / 5 - 2, dx = bit % 5 - 2;
+        disp_q4.row(a.y + dy)[a.x + dx] = static_cast<std::int16_t>((base - 2 * (nx * dx + ny * dy)) >> shift);
+      }
+      continue;
+    }
+    if (area2 <= kMaxShiftArea2 && (area2 & (area2 - 1)) == 0) {
+      // The tritree's triangles (all but the stretched ones on the image's
+      // last row and column) have area2 = 2^k: the rounded quotient is a shift.
+      const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
+      const std::int32_t step = static_cast<std::int32_t>(-2 * nx);
+      for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
+        const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
+        fill_span_shift(disp_q4.row(y), x0, x1, static_cast<std::int32_t>(2 * n0 + area2), step, shift);
+      });
+      continue;
+    }
     // Rounded value = floor(num / den) with num = 2 N + area2, den = 2 area2;
     // N falls by n_x per pixel to the right.
     const std::int64_t den = 2 * area2;

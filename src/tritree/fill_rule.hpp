@@ -113,8 +113,16 @@ class EdgeRows {
     const std::int32_t num = dy > 0 ? c : -c;
     const std::int32_t step = dy > 0 ? dx : -dx;
     den_ = dy > 0 ? dy : -dy;
-    if (den_ == 1) {
-      // Most edges of a fine mesh rise one row per step: no division.
+    if (den_ == 1 || dx == 0) {
+      // Edges at 45 degrees (den 1) and vertical ones (num = den * ux, step
+      // 0): the quotient is exact without a division.
+      if (dx == 0) {
+        t_ = u.x;
+        rem_ = 0;
+        q_step_ = 0;
+        r_step_ = 0;
+        return;
+      }
       t_ = num;
       rem_ = 0;
       q_step_ = step;

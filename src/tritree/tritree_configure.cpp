@@ -1,6 +1,7 @@
 // Tritree configuration: parameter validation and the one-time allocation of
 // every buffer a build can need.
 #include <algorithm>
+#include <memory>
 #include <string>
 
 #include "src/model/psnr_threshold.hpp"
@@ -19,11 +20,20 @@ void check_range(const char* what, long long value, long long lo, long long hi) 
   }
 }
 
-// Every leaf but the two roots of a 2x2 image has area2 >= 2, and the leaves
-// tile the (W-1) x (H-1) rectangle, so there are at most (W-1)(H-1) of them.
+// Every leaf has area >= 1 px^2 (its area is at least its virtual area) and
+// the leaves tile the (W-1) x (H-1) rectangle; an image with a side of 2
+// pixels has its two triangles.
 std::size_t max_leaves(int w, int h) {
   const std::size_t cells = static_cast<std::size_t>(w - 1) * static_cast<std::size_t>(h - 1);
   return cells < 2 ? 2 : cells;
+}
+
+// Uninitialised storage: new T[n] of a trivial type touches no page, so a
+// frame smaller than the configured maximum never faults the rest in.
+// PixelMoments has default member initialisers, so the block is raw words.
+template <class T>
+std::unique_ptr<T[]> reserve_array(std::size_t n) {
+  return std::unique_ptr<T[]>(new T[n]);
 }
 
 }  // namespace
@@ -37,22 +47,36 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
 
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
-  // An eighth more node slots than leaves: the spare that partition() shares
-  // out among the regions.
-  const std::size_t slots = leaves + leaves / 8 + kMaxRegions;
-  nodes_.assign(slots, Node{});
-  spare_limit_ = slots;
-  regions_.assign(kMaxRegions, Region{});
-  // Per round, each bisection adds one slot of its region and creates two
-  // entries there; the region lists are carved from these (see partition()).
-  pending_.assign(2 * slots, Pending{});
-  created_.assign(2 * slots, Pending{});
-  vertex_id_.assign(pixels, -1);
-  bucket_.assign(pixels + 1, 0);
-  tri_banded_.assign(leaves, Triangle{});
-  new_vertices_.assign(slots, Vertex{});
-  band_of_row_.assign(static_cast<std::size_t>(max_height), 0);
-  band_fill_.assign(static_cast<std::size_t>(kMaxRegions) * kMaxRegions, 0);
+  tile_ = tile_side_for(params.max_area_px2);
+  // One block, carved in order of alignment: the moments of one tile (level l
+  // holds the halves of the squares of side 2^(l+1), then one level's side
+  // triangles), the leaves, the row-of-tiles starts, the vertex ids and sort
+  // buckets, the need grid (the virtual grid has at most W x H points).
+  std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
+  for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+  const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
+  const std::size_t bytes = moments * sizeof(PixelMoments) + leaves * sizeof(Triangle) +
+                            bands * sizeof(std::size_t) + (2 * pixels + 1) * sizeof(std::int32_t) + pixels;
+  arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
+  arena_bytes_ = (bytes + 7) / 8 * 8;
+  char* next = reinterpret_cast<char*>(arena_.get());
+  const auto take = [&next](std::size_t n) {
+    char* p = next;
+    next += n;
+    return p;
+  };
+  PixelMoments* m = reinterpret_cast<PixelMoments*>(take(moments * sizeof(PixelMoments)));
+  std::size_t level = 0;
+  for (int s = 2; s <= tile_; s *= 2) {
+    half_moments_[level++] = m;
+    m += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+  }
+  side_moments_ = m;
+  tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
+  band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
+  vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
+  bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + 1) * sizeof(std::int32_t)));
+  need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
 
   params_ = params;
   mse_q8_ = mse_threshold_q8(params.psnr_deci_db);

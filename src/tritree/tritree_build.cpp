@@ -1,0 +1,604 @@
+// Tritree build: need bottom-up per tile, carried across tile borders, then
+// the leaves top-down (docs/tritree.md).
+#include <algorithm>
+#include <cstring>
+
+#include "platform/clock.hpp"
+#include "src/tritree/fill_rule.hpp"
+#include "src/tritree/tritree.hpp"
+
+namespace tristereo {
+
+namespace {
+
+constexpr std::uint8_t kNeed = 1;
+
+int trailing_zeros(int v, int none) { return v == 0 ? none : __builtin_ctz(static_cast<unsigned>(v)); }
+
+std::int32_t twice_area(const int* x, const int* y) {
+  return (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- geometry
+
+void Tritree::corners(const Tri& t, int* x, int* y) const {
+  const int x0 = t.x0, y0 = t.y0, s = t.s, x1 = t.x0 + s, y1 = t.y0 + s;
+  if (t.half) {
+    if (RtinLayout::backslash(x0, y0, s)) {
+      if (t.part == 0) {  // upper right
+        x[0] = x0, y[0] = y0, x[1] = x1, y[1] = y0, x[2] = x1, y[2] = y1;
+      } else {            // lower left
+        x[0] = x0, y[0] = y0, x[1] = x1, y[1] = y1, x[2] = x0, y[2] = y1;
+      }
+    } else {
+      if (t.part == 0) {  // upper left
+        x[0] = x0, y[0] = y0, x[1] = x1, y[1] = y0, x[2] = x0, y[2] = y1;
+      } else {            // lower right
+        x[0] = x1, y[0] = y0, x[1] = x1, y[1] = y1, x[2] = x0, y[2] = y1;
+      }
+    }
+    return;
+  }
+  // Side triangle: the side's two corners in clockwise order, then the centre.
+  static constexpr int kCx[5] = {0, 1, 1, 0, 0};
+  static constexpr int kCy[5] = {0, 0, 1, 1, 0};
+  x[0] = kCx[t.part] ? x1 : x0, y[0] = kCy[t.part] ? y1 : y0;
+  x[1] = kCx[t.part + 1] ? x1 : x0, y[1] = kCy[t.part + 1] ? y1 : y0;
+  x[2] = x0 + s / 2, y[2] = y0 + s / 2;
+}
+
+Tritree::Where Tritree::where(const int* x, const int* y) const {
+  const int min_x = std::min({x[0], x[1], x[2]}), max_x = std::max({x[0], x[1], x[2]});
+  const int min_y = std::min({y[0], y[1], y[2]}), max_y = std::max({y[0], y[1], y[2]});
+  if (min_x >= layout_.vw || min_y >= layout_.vh) return Where::kOutside;
+  if (max_x <= layout_.vw && max_y <= layout_.vh) return Where::kInside;
+  return Where::kCrossing;
+}
+
+void Tritree::midpoint(const Tri& t, int* mx, int* my) {
+  const int h = t.s / 2;
+  if (t.half) {
+    *mx = t.x0 + h, *my = t.y0 + h;
+    return;
+  }
+  static constexpr int kMx[4] = {1, 2, 1, 0};  // in half sides, per side
+  static constexpr int kMy[4] = {0, 1, 2, 1};
+  *mx = t.x0 + kMx[t.part] * h, *my = t.y0 + kMy[t.part] * h;
+}
+
+bool Tritree::parent(const Tri& t, Tri* p) const {
+  if (!t.half) {
+    // The square's half that contains side t.part.
+    const bool bs = RtinLayout::backslash(t.x0, t.y0, t.s);
+    static constexpr int kHalfBs[4] = {0, 0, 1, 1}, kHalfSlash[4] = {0, 1, 1, 0};
+    *p = Tri{true, t.s, t.x0, t.y0, bs ? kHalfBs[t.part] : kHalfSlash[t.part]};
+    return true;
+  }
+  if (t.s == tile_) return false;
+  const int qx = (t.x0 / t.s) & 1, qy = (t.y0 / t.s) & 1;
+  // Side of the parent square that quadrant (qx, qy)'s half t.part lies on.
+  static constexpr int kSide[2][2][2] = {{{0, 3}, {3, 2}}, {{0, 1}, {1, 2}}};  // [qx][qy][part]
+  *p = Tri{false, 2 * t.s, t.x0 - qx * t.s, t.y0 - qy * t.s, kSide[qx][qy][t.part]};
+  return true;
+}
+
+// Bit 1 (value 2) for the triangle whose apex lies after its midpoint in
+// raster order (below it, or right of it on the same row), bit 2 for the other.
+int Tritree::need_bit(const Tri& t) const {
+  if (t.half) return t.part == 1 ? 2 : 4;
+  return (t.part == 0 || t.part == 3) ? 2 : 4;  // top / left: the apex (centre) after the midpoint
+}
+
+int Tritree::find_tris(int mx, int my, Tri* out) const {
+  const int none = 30;
+  const int zx = trailing_zeros(mx, none), zy = trailing_zeros(my, none);
+  const int k = std::min(zx, zy);
+  const int s = 2 << k;
+  if (s > tile_) return 0;  // a tile corner
+  const int h = s / 2;
+  const int ext_x = layout_.tiles_x * tile_, ext_y = layout_.tiles_y * tile_;
+  int n = 0;
+  if (zx == zy) {
+    out[n++] = Tri{true, s, mx - h, my - h, 0};
+    out[n++] = Tri{true, s, mx - h, my - h, 1};
+  } else if (zx < zy) {  // on a horizontal side
+    if (my - s >= 0) out[n++] = Tri{false, s, mx - h, my - s, 2};
+    if (my < ext_y) out[n++] = Tri{false, s, mx - h, my, 0};
+  } else {               // on a vertical side
+    if (mx - s >= 0) out[n++] = Tri{false, s, mx - s, my - h, 1};
+    if (mx < ext_x) out[n++] = Tri{false, s, mx, my - h, 3};
+  }
+  return n;
+}
+
+// ---------------------------------------------------------------- the test
+
+PixelMoments Tritree::moments_by_spans(const int* rx, const int* ry, int ox, int oy) const {
+  PixelMoments m;
+  for_each_owned_span(Vertex{rx[0], ry[0]}, Vertex{rx[1], ry[1]}, Vertex{rx[2], ry[2]}, gray_.width,
+                      gray_.height, [&](int y, int x0, int x1) {
+                        const std::uint8_t* row = gray_.row(y);
+                        for (int x = x0; x < x1; ++x) m.add_pixel(x - ox, y - oy, row[x]);
+                      });
+  return m;
+}
+
+bool Tritree::wants_split(const int* rx, const int* ry, const PixelMoments* m, int ox, int oy) const {
+  const std::int32_t area2 = twice_area(rx, ry);
+  if (area2 > 2 * params_.max_area_px2) return true;
+  PlaneCorner c[3];
+  for (int i = 0; i < 3; ++i) c[i] = PlaneCorner{rx[i] - ox, ry[i] - oy, gray_.row(ry[i])[rx[i]]};
+  return plane_fit_fails(plane_sse(*m, c[0], c[1], c[2]), m->n, area2, mse_q8_);
+}
+
+// ---------------------------------------------------------------- pass 1
+
+// kPlain: the tile lies inside the virtual grid away from its last row and
+// column, so every triangle is inside, unstretched, and its 2 x 2 squares own
+// their top-left 2 x 2 pixels (no pixel of the image's last row or column).
+template <bool kPlain>
+void Tritree::tile_bottom_up(int tx0, int ty0) {
+  const int S = tile_;
+  const int two_amax = 2 * params_.max_area_px2;
+  const int stride = layout_.vw + 1;
+  auto in_grid = [&](int x, int y) { return x <= layout_.vw && y <= layout_.vh; };
+
+  // Level side 2: the halves of 2 x 2 squares.
+  {
+    const int n = S / 2;
+    PixelMoments* out = half_moments_[0];
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i, out += 2) {
+        const int x0 = tx0 + 2 * i, y0 = ty0 + 2 * j;
+        if (!kPlain && (x0 >= layout_.vw || y0 >= layout_.vh)) continue;  // outside
+        const bool bs = RtinLayout::backslash(x0, y0, 2);
+        PixelMoments a, b;
+        int rx[2][3], ry[2][3];
+        for (int part = 0; part < 2; ++part) {
+          int vx[3], vy[3];
+          corners(Tri{true, 2, x0, y0, part}, vx, vy);
+          for (int c = 0; c < 3; ++c) rx[part][c] = layout_.real_x(vx[c]), ry[part][c] = layout_.real_y(vy[c]);
+        }
+        if (kPlain || (x0 + 2 < layout_.vw && y0 + 2 < layout_.vh)) {
+          const std::uint8_t* r0 = gray_.row(y0) + x0;
+          const std::uint8_t* r1 = gray_.row(y0 + 1) + x0;
+          const int lx = 2 * i, ly = 2 * j;
+          a.add_pixel(lx, ly, r0[0]);
+          a.add_pixel(lx + 1, ly, r0[1]);
+          if (bs) {
+            a.add_pixel(lx + 1, ly + 1, r1[1]);
+            b.add_pixel(lx, ly + 1, r1[0]);
+          } else {
+            a.add_pixel(lx, ly + 1, r1[0]);
+            b.add_pixel(lx + 1, ly + 1, r1[1]);
+          }
+        } else {
+          a = moments_by_spans(rx[0], ry[0], tx0, ty0);
+          b = moments_by_spans(rx[1], ry[1], tx0, ty0);
+        }
+        out[0] = a;
+        out[1] = b;
+        const bool wa = wants_split(rx[0], ry[0], &a, tx0, ty0);
+        const bool wb = wants_split(rx[1], ry[1], &b, tx0, ty0);
+        need_[static_cast<std::size_t>(y0 + 1) * stride + x0 + 1] |=
+            static_cast<std::uint8_t>((wa || wb ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
+      }
+    }
+  }
+
+  // Levels side 4 .. S: side triangles (from quadrant halves), then halves.
+  for (int l = 1; (2 << l) <= S; ++l) {
+    const int s = 2 << l, h = s / 2, n = S / s;
+    const bool moments_needed = s * s / 2 <= two_amax;  // side triangles: area2 = s^2 / 2
+    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)];
+    const int qn = 2 * n;  // quadrants per row
+    // Side triangle k of square (i, j) = the halves of two of its quadrants:
+    // {quadrant dx, dy, half} x 2, per side.
+    static constexpr int kQuad[4][2][3] = {{{0, 0, 0}, {1, 0, 0}},   // top: TL.A + TR.A
+                                           {{1, 0, 1}, {1, 1, 0}},   // right: TR.B + BR.A
+                                           {{1, 1, 1}, {0, 1, 1}},   // bottom: BR.B + BL.B
+                                           {{0, 1, 0}, {0, 0, 1}}};  // left: BL.A + TL.B
+    PixelMoments* sides = side_moments_;
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int x0 = tx0 + i * s, y0 = ty0 + j * s;
+        for (int k = 0; k < 4; ++k) {
+          const Tri t{false, s, x0, y0, k};
+          int vx[3], vy[3];
+          corners(t, vx, vy);
+          int mx, my;
+          midpoint(t, &mx, &my);
+          if (!kPlain) {
+            const Where w = where(vx, vy);
+            if (w == Where::kOutside) continue;
+            if (w == Where::kCrossing) {
+              if (in_grid(mx, my)) cell(mx, my) |= kNeed;
+              continue;
+            }
+          }
+          int rx[3], ry[3];
+          for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
+          PixelMoments& m = sides[(j * n + i) * 4 + k];
+          bool wants;
+          if (!kPlain && layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
+            if (twice_area(rx, ry) > two_amax) {
+              wants = true;
+            } else {
+              m = moments_by_spans(rx, ry, tx0, ty0);
+              wants = wants_split(rx, ry, &m, tx0, ty0);
+            }
+          } else if (!moments_needed) {
+            wants = true;
+          } else {
+            const auto& q0 = kQuad[k][0];
+            const auto& q1 = kQuad[k][1];
+            m = quads[((2 * j + q0[1]) * qn + 2 * i + q0[0]) * 2 + q0[2]] +
+                quads[((2 * j + q1[1]) * qn + 2 * i + q1[0]) * 2 + q1[2]];
+            wants = wants_split(rx, ry, &m, tx0, ty0);
+          }
+          // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
+          const int cx0 = x0 + kQuad[k][0][0] * h + h / 2, cy0 = y0 + kQuad[k][0][1] * h + h / 2;
+          const int cx1 = x0 + kQuad[k][1][0] * h + h / 2, cy1 = y0 + kQuad[k][1][1] * h + h / 2;
+          const bool own = wants || (cell(cx0, cy0) & kNeed) || (cell(cx1, cy1) & kNeed);
+          cell(mx, my) |= static_cast<std::uint8_t>((own ? kNeed : 0) | (wants ? need_bit(t) : 0));
+        }
+      }
+    }
+    const bool half_moments_needed = s * s <= two_amax;
+    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)];
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int x0 = tx0 + i * s, y0 = ty0 + j * s;
+        const bool bs = RtinLayout::backslash(x0, y0, s);
+        for (int part = 0; part < 2; ++part) {
+          const Tri t{true, s, x0, y0, part};
+          int vx[3], vy[3];
+          corners(t, vx, vy);
+          const int mx = x0 + h, my = y0 + h;
+          if (!kPlain) {
+            const Where w = where(vx, vy);
+            if (w == Where::kOutside) continue;
+            if (w == Where::kCrossing) {
+              if (in_grid(mx, my)) cell(mx, my) |= kNeed;
+              continue;
+            }
+          }
+          // The half's two side triangles: '\' part 0 = top + right, part 1 =
+          // bottom + left; '/' part 0 = top + left, part 1 = right + bottom.
+          const int k0 = part == 0 ? 0 : (bs ? 2 : 1);
+          const int k1 = part == 0 ? (bs ? 1 : 3) : (bs ? 3 : 2);
+          int rx[3], ry[3];
+          for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
+          PixelMoments& m = halves[(j * n + i) * 2 + part];
+          bool wants;
+          if (!kPlain && layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
+            if (twice_area(rx, ry) > two_amax) {
+              wants = true;
+            } else {
+              m = moments_by_spans(rx, ry, tx0, ty0);
+              wants = wants_split(rx, ry, &m, tx0, ty0);
+            }
+          } else if (!half_moments_needed) {
+            wants = true;
+          } else {
+            m = sides[(j * n + i) * 4 + k0] + sides[(j * n + i) * 4 + k1];
+            wants = wants_split(rx, ry, &m, tx0, ty0);
+          }
+          int ax, ay, bx, by;
+          midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
+          midpoint(Tri{false, s, x0, y0, k1}, &bx, &by);
+          const bool own = wants || (cell(ax, ay) & kNeed) || (cell(bx, by) & kNeed);
+          cell(mx, my) |= static_cast<std::uint8_t>((own ? kNeed : 0) | (wants ? need_bit(t) : 0));
+        }
+      }
+    }
+  }
+}
+
+// A plain tile (inside the virtual grid, away from its last row and column:
+// nothing crossing, stretched or on the image border): the same as
+// tile_bottom_up<true>, written out for speed. Its 2 x 2 squares own their
+// top-left 2 x 2 pixels; a half of area 2 px^2 owns a corner and edge or
+// hypotenuse midpoints only, whose residuals are closed forms.
+void Tritree::tile_plain(int tx0, int ty0) {
+  const int S = tile_;
+  const int two_amax = 2 * params_.max_area_px2;
+  const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
+  std::uint8_t* need = need_;
+  const std::uint8_t* img = gray_.data;
+  const std::ptrdiff_t istride = gray_.stride_bytes;
+  const auto pix = [&](int x, int y) -> std::int32_t { return img[y * istride + x]; };
+  const std::uint64_t mse = mse_q8_;
+  const auto fails = [&](const PixelMoments& m, int xa, int ya, int xb, int yb, int xc, int yc,
+                         std::int32_t area2) {
+    const PlaneCorner a{xa - tx0, ya - ty0, pix(xa, ya)}, b{xb - tx0, yb - ty0, pix(xb, yb)},
+        c{xc - tx0, yc - ty0, pix(xc, yc)};
+    return plane_fit_fails(plane_sse(m, a, b, c), m.n, area2, mse);
+  };
+
+  // Side 2.
+  {
+    const bool test = 4 <= two_amax;
+    const bool keep_moments = 8 <= two_amax;  // the side triangles of side 4 are tested
+    const int n = S / 2;
+    PixelMoments* out = half_moments_[0];
+    for (int j = 0; j < n; ++j) {
+      const int y = ty0 + 2 * j;
+      const std::uint8_t* r0 = img + y * istride;
+      const std::uint8_t* r1 = r0 + istride;
+      const std::uint8_t* r2 = r1 + istride;
+      std::uint8_t* need_row = need + (static_cast<std::size_t>(y) + 1) * stride;
+      for (int i = 0; i < n; ++i, out += 2) {
+        const int x = tx0 + 2 * i;
+        const std::int32_t i00 = r0[x], i10 = r0[x + 1], i20 = r0[x + 2];
+        const std::int32_t i01 = r1[x], i11 = r1[x + 1];
+        const std::int32_t i02 = r2[x], i22 = r2[x + 2];
+        const bool bs = (((x >> 1) + (y >> 1)) & 1) == 0;
+        bool wa = true, wb = true;
+        const std::int32_t e_top = 2 * i10 - i00 - i20, e_left = 2 * i01 - i00 - i02;
+        if (test) {
+          // Residuals are area2 (= 4) times the error against the mean of the
+          // two corners the pixel lies between: 2 e.
+          std::uint64_t sse_a, sse_b;
+          if (bs) {  // A = upper right owns (0,0) (1,0) (1,1); B = lower left owns (0,1)
+            const std::int32_t e_diag = 2 * i11 - i00 - i22;
+            sse_a = 4u * static_cast<std::uint64_t>(e_top * e_top + e_diag * e_diag);
+            sse_b = 4u * static_cast<std::uint64_t>(e_left * e_left);
+          } else {   // A = upper left owns (0,0) (1,0) (0,1); B = lower right owns (1,1)
+            const std::int32_t e_diag = 2 * i11 - i20 - i02;
+            sse_a = 4u * static_cast<std::uint64_t>(e_top * e_top + e_left * e_left);
+            sse_b = 4u * static_cast<std::uint64_t>(e_diag * e_diag);
+          }
+          wa = plane_fit_fails(sse_a, 3, 4, mse);
+          wb = plane_fit_fails(sse_b, 1, 4, mse);
+        }
+        need_row[x + 1] = static_cast<std::uint8_t>((wa || wb ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
+        if (keep_moments) {
+          const int lx = 2 * i, ly = 2 * j;
+          PixelMoments a, b;
+          a.add_pixel(lx, ly, i00);
+          a.add_pixel(lx + 1, ly, i10);
+          if (bs) {
+            a.add_pixel(lx + 1, ly + 1, i11);
+            b.add_pixel(lx, ly + 1, i01);
+          } else {
+            a.add_pixel(lx, ly + 1, i01);
+            b.add_pixel(lx + 1, ly + 1, i11);
+          }
+          out[0] = a;
+          out[1] = b;
+        }
+      }
+    }
+  }
+
+  // Sides 4 .. S.
+  for (int l = 1; (2 << l) <= S; ++l) {
+    const int s = 2 << l, h = s / 2, n = S / s, qn = 2 * n;
+    const std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
+    const bool test_sides = side_area2 <= two_amax;
+    const bool test_halves = half_area2 <= two_amax;
+    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)];
+    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)];
+    const auto q = [&](int i, int j, int dx, int dy, int part) -> const PixelMoments& {
+      return quads[((2 * j + dy) * qn + 2 * i + dx) * 2 + part];
+    };
+    const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
+    // Side triangles: need at the side midpoints.
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
+        const int qx0 = x0 + h / 2, qx1 = cx + h / 2, qy0 = y0 + h / 2, qy1 = cy + h / 2;  // quadrant centres
+        const bool nq00 = at(qx0, qy0) & kNeed, nq10 = at(qx1, qy0) & kNeed;
+        const bool nq01 = at(qx0, qy1) & kNeed, nq11 = at(qx1, qy1) & kNeed;
+        bool w[4] = {true, true, true, true};
+        if (test_sides) {
+          w[0] = fails(q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0), x0, y0, x1, y0, cx, cy, side_area2);
+          w[1] = fails(q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0), x1, y0, x1, y1, cx, cy, side_area2);
+          w[2] = fails(q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1), x1, y1, x0, y1, cx, cy, side_area2);
+          w[3] = fails(q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1), x0, y1, x0, y0, cx, cy, side_area2);
+        }
+        at(cx, y0) |= static_cast<std::uint8_t>((w[0] || nq00 || nq10 ? kNeed : 0) | (w[0] ? 2 : 0));
+        at(x1, cy) |= static_cast<std::uint8_t>((w[1] || nq10 || nq11 ? kNeed : 0) | (w[1] ? 4 : 0));
+        at(cx, y1) |= static_cast<std::uint8_t>((w[2] || nq11 || nq01 ? kNeed : 0) | (w[2] ? 4 : 0));
+        at(x0, cy) |= static_cast<std::uint8_t>((w[3] || nq01 || nq00 ? kNeed : 0) | (w[3] ? 2 : 0));
+      }
+    }
+    // Halves: need at the centres.
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
+        const bool bs = RtinLayout::backslash(x0, y0, s);
+        const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
+        const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
+        bool wa = true, wb = true;
+        PixelMoments ma, mb;
+        if (test_halves) {
+          const PixelMoments top = q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0);
+          const PixelMoments right = q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0);
+          const PixelMoments bottom = q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1);
+          const PixelMoments left = q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1);
+          if (bs) {
+            ma = top + right;
+            mb = bottom + left;
+            wa = fails(ma, x0, y0, x1, y0, x1, y1, half_area2);
+            wb = fails(mb, x0, y0, x1, y1, x0, y1, half_area2);
+          } else {
+            ma = top + left;
+            mb = right + bottom;
+            wa = fails(ma, x0, y0, x1, y0, x0, y1, half_area2);
+            wb = fails(mb, x1, y0, x1, y1, x0, y1, half_area2);
+          }
+          halves[(j * n + i) * 2] = ma;
+          halves[(j * n + i) * 2 + 1] = mb;
+        }
+        const bool own_a = wa || n_top || (bs ? n_right : n_left);
+        const bool own_b = wb || n_bottom || (bs ? n_left : n_right);
+        at(cx, cy) |= static_cast<std::uint8_t>((own_a || own_b ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------- pass 2
+
+// need(m) of a midpoint on a tile border holds both tiles' parts only once
+// both tiles are done; whatever it adds is carried up to the parents.
+void Tritree::carry_across_tile_borders() {
+  const int S = tile_;
+  for (int y = 0; y <= layout_.vh; ++y) {
+    const bool row_on_border = (y % S) == 0;
+    for (int x = 0; x <= layout_.vw; x += row_on_border ? 1 : S) {
+      if (cell(x, y) & kNeed) carry_up(x, y);
+    }
+  }
+}
+
+void Tritree::carry_up(int x, int y) {
+  Tri tris[2];
+  const int n = find_tris(x, y, tris);
+  for (int i = 0; i < n; ++i) {
+    Tri p;
+    if (!parent(tris[i], &p)) continue;
+    int px, py;
+    midpoint(p, &px, &py);
+    // Mostly the parent's need is already set (by its own tile): test that first.
+    if (px > layout_.vw || py > layout_.vh || (cell(px, py) & kNeed)) continue;
+    int vx[3], vy[3];
+    corners(tris[i], vx, vy);
+    if (where(vx, vy) != Where::kInside) continue;
+    corners(p, vx, vy);
+    if (where(vx, vy) != Where::kInside) continue;  // crossing parents need anyway
+    cell(px, py) |= kNeed;
+    carry_up(px, py);
+  }
+}
+
+// ---------------------------------------------------------------- pass 3
+
+// Triangle (a, b, c) with hypotenuse a-b (virtual corners): split when it is
+// crossing, or when it can (virtual area2 >= 4) and need(midpoint); the
+// children are (c, a, m) and (b, c, m). kPlain: a plain tile (all inside).
+template <bool kPlain>
+void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
+  if (!kPlain) {
+    const int xs[3] = {ax, bx, cx}, ys[3] = {ay, by, cy};
+    const Where w = where(xs, ys);
+    if (w == Where::kOutside) return;
+    if (w == Where::kCrossing) {
+      const int mx = (ax + bx) / 2, my = (ay + by) / 2;
+      emit<false>(cx, cy, ax, ay, mx, my);
+      emit<false>(bx, by, cx, cy, mx, my);
+      return;
+    }
+  }
+  const int dx = bx - ax, dy = by - ay;
+  if (dx * dx + dy * dy >= 8) {
+    const int mx = (ax + bx) / 2, my = (ay + by) / 2;
+    const std::uint8_t c = cell(mx, my);
+    if (c & kNeed) {
+      const bool apex_after = cy > my || (cy == my && cx > mx);
+      (c & (apex_after ? 2 : 4) ? criterion_splits_ : forced_splits_) += 1;
+      if (kPlain && dx * dx + dy * dy == 8) {  // children of area 1: leaves
+        emit_leaf<true>(cx, cy, ax, ay, mx, my);
+        emit_leaf<true>(bx, by, cx, cy, mx, my);
+        return;
+      }
+      // Once a tile is known plain, so are its parts; a general tile's parts may be.
+      emit<kPlain>(cx, cy, ax, ay, mx, my);
+      emit<kPlain>(bx, by, cx, cy, mx, my);
+      return;
+    }
+  }
+  emit_leaf<kPlain>(ax, ay, bx, by, cx, cy);
+}
+
+// A leaf: its corners' vertex ids (numbered before this pass), rotated to
+// start at the smallest (orientation kept).
+template <bool kPlain>
+void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
+  const int w = gray_.width;
+  const auto id = [&](int x, int y) {
+    return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
+                  : vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
+  };
+  const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
+  Triangle& t = tri_scratch_[leaf_count_++];
+  if (ia < ib && ia < ic) {
+    t = Triangle{ia, ib, ic};
+  } else if (ib < ic) {
+    t = Triangle{ib, ic, ia};
+  } else {
+    t = Triangle{ic, ia, ib};
+  }
+}
+
+void Tritree::emit_tile(int tx0, int ty0, bool plain) {
+  const int S = tile_;
+  const int x1 = tx0 + S, y1 = ty0 + S;
+  // Hypotenuse first; (a, b, c) keeps the positive orientation of the halves.
+  if (RtinLayout::backslash(tx0, ty0, S)) {
+    if (plain) {
+      emit<true>(x1, y1, tx0, ty0, x1, ty0);   // upper right
+      emit<true>(tx0, ty0, x1, y1, tx0, y1);   // lower left
+    } else {
+      emit<false>(x1, y1, tx0, ty0, x1, ty0);
+      emit<false>(tx0, ty0, x1, y1, tx0, y1);
+    }
+  } else {
+    if (plain) {
+      emit<true>(x1, ty0, tx0, y1, tx0, ty0);  // upper left
+      emit<true>(tx0, y1, x1, ty0, x1, y1);    // lower right
+    } else {
+      emit<false>(x1, ty0, tx0, y1, tx0, ty0);
+      emit<false>(tx0, y1, x1, ty0, x1, y1);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- build
+
+void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* /*pool*/) {
+  validate_image(gray);
+  const std::int64_t t0 = monotonic_ns();
+  gray_ = gray;
+  layout_ = RtinLayout(gray.width, gray.height, params_.max_area_px2);
+  criterion_splits_ = forced_splits_ = 0;
+  leaf_count_ = 0;
+
+  if (layout_.strip()) {
+    times_.criterion_ns = 0;
+  } else {
+    std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1));
+    const int S = tile_;
+    for (int ty = 0; ty < layout_.tiles_y; ++ty) {
+      for (int tx = 0; tx < layout_.tiles_x; ++tx) {
+        const int x0 = tx * S, y0 = ty * S;
+        if (x0 + S < layout_.vw && y0 + S < layout_.vh) {
+          tile_plain(x0, y0);
+        } else {
+          tile_bottom_up<false>(x0, y0);
+        }
+      }
+    }
+    carry_across_tile_borders();
+    const std::int64_t t1 = monotonic_ns();
+    times_.criterion_ns = t1 - t0;
+    begin_mesh(mesh);
+    number_vertices(mesh);
+    for (int ty = 0; ty < layout_.tiles_y; ++ty) {
+      band_start_[static_cast<std::size_t>(ty)] = leaf_count_;
+      for (int tx = 0; tx < layout_.tiles_x; ++tx) {
+        const int x0 = tx * S, y0 = ty * S;
+        emit_tile(x0, y0, x0 + S < layout_.vw && y0 + S < layout_.vh);
+      }
+    }
+    band_start_[static_cast<std::size_t>(layout_.tiles_y)] = leaf_count_;
+  }
+  finish(mesh);
+  times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
+}
+
+}  // namespace tristereo
