@@ -42,8 +42,9 @@ CameraParams parse_camera(const std::string& text) {
   }
   if (n < 4) throw UsageError("--camera needs F,B,CX,CY[,DOFFS]");
   if (!(v[0] > 0) || !(v[1] > 0)) throw UsageError("--camera: focal length and baseline must be > 0");
-  // Far beyond any real camera, and small enough that no 3D point overflows
-  // (|X|, |Y|, Z <= 1e6 * 1e6 * 16 for any Q4 disparity).
+  // Far beyond any real camera, and refused now rather than after computing; a
+  // combination that still overflows (a doffs cancelling a disparity to 1e-300)
+  // is refused by the writers, which never write inf/nan.
   for (int i = 0; i < 5; ++i)
     if (!(std::fabs(v[i]) <= 1e6)) {
       char num[32];

@@ -30,7 +30,7 @@ std::string threads_warning(int threads, int allowed_cpus, bool cpus_given) {
 SwapVotes swap_votes(ImageView<const std::uint8_t> l, ImageView<const std::uint8_t> r, int d_max) {
   constexpr int kHalf = 4, kSide = 2 * kHalf + 1, kN = kSide * kSide;
   SwapVotes votes;
-  if (d_max < 1) return votes;
+  if (d_max < 1 || l.width != r.width || l.height != r.height || l.channels != 1 || r.channels != 1) return votes;
   // About 400 blocks on the grid whatever the size (28 px apart on VGA), so the
   // check costs about 400 x 2 d_max block comparisons; at least 4 px apart.
   const int step = std::max(4, static_cast<int>(std::sqrt(l.width * 1.0 * l.height / 400)));

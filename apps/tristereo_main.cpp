@@ -19,7 +19,7 @@ Commands:
   match LEFT RIGHT --ndisp D    disparity map, 2.5D mesh and stats for one rectified pair
   verify LEFT RIGHT --ndisp D   float reference vs every kernel set: prints 'bit-exact'
   synth OUTDIR                  write a synthetic pair with exact ground truth
-  eval DISP GT                  Middlebury-style bad-pixel rates
+  eval DISP GT                  bad 0.5/1/2/3 px and KITTI D1 against ground truth
   profile                       per-frame latency distribution (stages, percentiles)
   info                          build and machine: kernel sets, CPUs, GPIO
 )";

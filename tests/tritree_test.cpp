@@ -493,20 +493,26 @@ TEST(Tritree, BuildDoesNotAllocate) {
 }
 
 TEST(Tritree, IdenticalForAnyThreadCount) {
-  // The pool is accepted and unused: any pool gives the serial mesh.
+  // Pass 1 runs rows of tiles on the pool (even rows, then odd ones): any
+  // pool gives the serial mesh, on partial tiles and stretched borders too.
   Rng rng(31);
-  const ImageU8 img = mixed_image(rng, 150, 101);
-  const TritreeParams params;
-  const Mesh serial = build_mesh(img, params);
-  for (int workers : {1, 2, 3}) {
-    ThreadPool pool;
-    pool.start(workers, {}, /*pin=*/false);
-    Tritree tree;
-    tree.configure(img.width, img.height, params);
-    Mesh mesh;
-    tree.reserve(mesh);
-    tree.build(cview(img), mesh, &pool);
-    EXPECT_EQ(mesh, serial) << workers << " workers";
+  for (const auto& size : {std::pair<int, int>{150, 101}, std::pair<int, int>{451, 376}}) {
+    const ImageU8 img = mixed_image(rng, size.first, size.second);
+    for (int area : {4, 100}) {
+      TritreeParams params;
+      params.max_area_px2 = area;
+      const Mesh serial = build_mesh(img, params);
+      for (int workers : {1, 2, 3}) {
+        ThreadPool pool;
+        pool.start(workers, {}, /*pin=*/false);
+        Tritree tree;
+        tree.configure(img.width, img.height, params);
+        Mesh mesh;
+        tree.reserve(mesh);
+        tree.build(cview(img), mesh, &pool);
+        EXPECT_EQ(mesh, serial) << workers << " workers, " << size.first << "x" << size.second << " A_max " << area;
+      }
+    }
   }
 }
 

@@ -53,8 +53,10 @@ std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck che
       throw Error(ErrorCode::kUnsupportedFormat,
                   "'" + path + "' is larger than the reader limit of " + std::to_string(kMaxReadFileBytes) + " bytes");
     }
-    if (head_checked && regular && bytes.capacity() < static_cast<std::size_t>(st.st_size) + 1) {
-      bytes.reserve(static_cast<std::size_t>(st.st_size) + 1);  // the size is known and bounded
+    if (head_checked && regular && bytes.capacity() < static_cast<std::size_t>(st.st_size) + kChunk) {
+      // The size is known and bounded: one allocation, with room for the last
+      // (short) chunk's read and for a file that grew since fstat.
+      bytes.reserve(static_cast<std::size_t>(st.st_size) + kChunk);
     }
     bytes.resize(old + kChunk);
     const std::size_t got = std::fread(bytes.data() + old, 1, kChunk, f.get());

@@ -54,9 +54,13 @@ class Tritree {
 
   // Builds the mesh of `gray` (1 channel, 2 .. max size, stride >= width).
   // Throws Error on bad input, leaving `mesh` untouched. No heap allocation
-  // once `mesh` has been reserve()d. `pool` is accepted for the pipeline's
-  // call and unused: the whole build is one pass of a few milliseconds.
+  // once `mesh` has been reserve()d. With a started `pool` (called from its
+  // owner thread), pass 1 runs on its workers, one row of tiles each at a time
+  // (even rows, then odd ones: rows that run together share no grid point);
+  // the mesh is identical for every pool size.
   void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr);
+  // Pass 1 runs on at most this many pool workers (each has its tile scratch).
+  static constexpr int kMaxTileWorkers = 8;
 
   // Wall time of the last build's parts (monotonic clock), for benchmarks.
   struct BuildTimes {
@@ -76,16 +80,23 @@ class Tritree {
     int s, x0, y0, part;
   };
   enum class Where { kInside, kCrossing, kOutside };
+  // Pass 1's per-tile moments (see the members below).
+  struct TileScratch {
+    std::array<PixelMoments*, 6> half{};  // S <= 64: sides 2 .. 64
+    PixelMoments* side = nullptr;
+  };
 
   void validate_image(ImageView<const std::uint8_t> gray) const;
   template <bool kPlain>
-  void tile_bottom_up(int tx0, int ty0);
-  void tile_plain(int tx0, int ty0);
+  void tile_bottom_up(int tx0, int ty0, const TileScratch& sc);
+  void tile_plain(int tx0, int ty0, const TileScratch& sc);
   void carry_across_tile_borders();
   void carry_up(int x, int y);
   void emit_tile(int tx0, int ty0, bool plain);
   template <bool kPlain>
   void emit(int ax, int ay, int bx, int by, int cx, int cy);
+  template <bool kPlain>
+  void emit_leaf(int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
   void number_vertices(Mesh& mesh);
@@ -122,8 +133,8 @@ class Tritree {
   std::uint8_t* need_ = nullptr;
   // Per-tile scratch of pass 1: moments of the square halves of each level
   // (level l: side 2^(l+1)), and of one level's side triangles.
-  std::array<PixelMoments*, 6> half_moments_{};  // S <= 64: sides 2 .. 64
-  PixelMoments* side_moments_ = nullptr;
+  // (one per pass-1 worker, at most kMaxTileWorkers).
+  std::array<TileScratch, kMaxTileWorkers> scratch_{};
   // Pass 3: vertex ids, the leaves as rotated triangles, the sort by first id.
   std::size_t leaf_count_ = 0;
   std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "platform/clock.hpp"
+#include "platform/thread_pool.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "src/tritree/tritree.hpp"
 
@@ -139,7 +140,7 @@ bool Tritree::wants_split(const int* rx, const int* ry, const PixelMoments* m, i
 // column, so every triangle is inside, unstretched, and its 2 x 2 squares own
 // their top-left 2 x 2 pixels (no pixel of the image's last row or column).
 template <bool kPlain>
-void Tritree::tile_bottom_up(int tx0, int ty0) {
+void Tritree::tile_bottom_up(int tx0, int ty0, const TileScratch& sc) {
   const int S = tile_;
   const int two_amax = 2 * params_.max_area_px2;
   const int stride = layout_.vw + 1;
@@ -148,7 +149,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
   // Level side 2: the halves of 2 x 2 squares.
   {
     const int n = S / 2;
-    PixelMoments* out = half_moments_[0];
+    PixelMoments* out = sc.half[0];
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i, out += 2) {
         const int x0 = tx0 + 2 * i, y0 = ty0 + 2 * j;
@@ -192,7 +193,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
   for (int l = 1; (2 << l) <= S; ++l) {
     const int s = 2 << l, h = s / 2, n = S / s;
     const bool moments_needed = s * s / 2 <= two_amax;  // side triangles: area2 = s^2 / 2
-    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)];
+    const PixelMoments* quads = sc.half[static_cast<std::size_t>(l - 1)];
     const int qn = 2 * n;  // quadrants per row
     // Side triangle k of square (i, j) = the halves of two of its quadrants:
     // {quadrant dx, dy, half} x 2, per side.
@@ -200,7 +201,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
                                            {{1, 0, 1}, {1, 1, 0}},   // right: TR.B + BR.A
                                            {{1, 1, 1}, {0, 1, 1}},   // bottom: BR.B + BL.B
                                            {{0, 1, 0}, {0, 0, 1}}};  // left: BL.A + TL.B
-    PixelMoments* sides = side_moments_;
+    PixelMoments* sides = sc.side;
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
         const int x0 = tx0 + i * s, y0 = ty0 + j * s;
@@ -247,7 +248,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
       }
     }
     const bool half_moments_needed = s * s <= two_amax;
-    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)];
+    PixelMoments* halves = sc.half[static_cast<std::size_t>(l)];
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
         const int x0 = tx0 + i * s, y0 = ty0 + j * s;
@@ -302,7 +303,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0) {
 // tile_bottom_up<true>, written out for speed. Its 2 x 2 squares own their
 // top-left 2 x 2 pixels; a half of area 2 px^2 owns a corner and edge or
 // hypotenuse midpoints only, whose residuals are closed forms.
-void Tritree::tile_plain(int tx0, int ty0) {
+void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
   const int S = tile_;
   const int two_amax = 2 * params_.max_area_px2;
   const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
@@ -323,7 +324,7 @@ void Tritree::tile_plain(int tx0, int ty0) {
     const bool test = 4 <= two_amax;
     const bool keep_moments = 8 <= two_amax;  // the side triangles of side 4 are tested
     const int n = S / 2;
-    PixelMoments* out = half_moments_[0];
+    PixelMoments* out = sc.half[0];
     for (int j = 0; j < n; ++j) {
       const int y = ty0 + 2 * j;
       const std::uint8_t* r0 = img + y * istride;
@@ -380,8 +381,8 @@ void Tritree::tile_plain(int tx0, int ty0) {
     const std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
     const bool test_sides = side_area2 <= two_amax;
     const bool test_halves = half_area2 <= two_amax;
-    const PixelMoments* quads = half_moments_[static_cast<std::size_t>(l - 1)];
-    PixelMoments* halves = half_moments_[static_cast<std::size_t>(l)];
+    const PixelMoments* quads = sc.half[static_cast<std::size_t>(l - 1)];
+    PixelMoments* halves = sc.half[static_cast<std::size_t>(l)];
     const auto q = [&](int i, int j, int dx, int dy, int part) -> const PixelMoments& {
       return quads[((2 * j + dy) * qn + 2 * i + dx) * 2 + part];
     };
@@ -460,16 +461,17 @@ void Tritree::carry_up(int x, int y) {
   Tri tris[2];
   const int n = find_tris(x, y, tris);
   for (int i = 0; i < n; ++i) {
+    Tri p;
+    if (!parent(tris[i], &p)) continue;
+    int px, py;
+    midpoint(p, &px, &py);
+    // Mostly the parent's need is already set (by its own tile): test that first.
+    if (px > layout_.vw || py > layout_.vh || (cell(px, py) & kNeed)) continue;
     int vx[3], vy[3];
     corners(tris[i], vx, vy);
     if (where(vx, vy) != Where::kInside) continue;
-    Tri p;
-    if (!parent(tris[i], &p)) continue;
     corners(p, vx, vy);
     if (where(vx, vy) != Where::kInside) continue;  // crossing parents need anyway
-    int px, py;
-    midpoint(p, &px, &py);
-    if (cell(px, py) & kNeed) continue;
     cell(px, py) |= kNeed;
     carry_up(px, py);
   }
@@ -500,14 +502,24 @@ void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
     if (c & kNeed) {
       const bool apex_after = cy > my || (cy == my && cx > mx);
       (c & (apex_after ? 2 : 4) ? criterion_splits_ : forced_splits_) += 1;
+      if (kPlain && dx * dx + dy * dy == 8) {  // children of area 1: leaves
+        emit_leaf<true>(cx, cy, ax, ay, mx, my);
+        emit_leaf<true>(bx, by, cx, cy, mx, my);
+        return;
+      }
       // Once a tile is known plain, so are its parts; a general tile's parts may be.
       emit<kPlain>(cx, cy, ax, ay, mx, my);
       emit<kPlain>(bx, by, cx, cy, mx, my);
       return;
     }
   }
-  // A leaf: its corners' vertex ids (numbered before this pass), rotated to
-  // start at the smallest (orientation kept).
+  emit_leaf<kPlain>(ax, ay, bx, by, cx, cy);
+}
+
+// A leaf: its corners' vertex ids (numbered before this pass), rotated to
+// start at the smallest (orientation kept).
+template <bool kPlain>
+void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
   const int w = gray_.width;
   const auto id = [&](int x, int y) {
     return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
@@ -549,7 +561,7 @@ void Tritree::emit_tile(int tx0, int ty0, bool plain) {
 
 // ---------------------------------------------------------------- build
 
-void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* /*pool*/) {
+void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
   validate_image(gray);
   const std::int64_t t0 = monotonic_ns();
   gray_ = gray;
@@ -562,15 +574,28 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
   } else {
     std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1));
     const int S = tile_;
-    for (int ty = 0; ty < layout_.tiles_y; ++ty) {
+    const auto tile_row = [&](int ty, const TileScratch& sc) {
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         if (x0 + S < layout_.vw && y0 + S < layout_.vh) {
-          tile_plain(x0, y0);
+          tile_plain(x0, y0, sc);
         } else {
-          tile_bottom_up<false>(x0, y0);
+          tile_bottom_up<false>(x0, y0, sc);
         }
       }
+    };
+    // A tile reads and writes only the grid points of its own closed square,
+    // so rows of tiles two apart never touch the same byte.
+    const int workers = pool != nullptr ? std::min(pool->size(), kMaxTileWorkers) : 1;
+    if (workers > 1 && layout_.tiles_y > 2) {
+      for (int parity = 0; parity < 2; ++parity) {
+        pool->run([&](int w) {
+          if (w >= workers) return;
+          for (int ty = parity + 2 * w; ty < layout_.tiles_y; ty += 2 * workers) tile_row(ty, scratch_[w]);
+        });
+      }
+    } else {
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) tile_row(ty, scratch_[0]);
     }
     carry_across_tile_borders();
     const std::int64_t t1 = monotonic_ns();

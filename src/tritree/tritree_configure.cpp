@@ -48,14 +48,14 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
   tile_ = tile_side_for(params.max_area_px2);
-  // One block, carved in order of alignment: the moments of one tile (level l
-  // holds the halves of the squares of side 2^(l+1), then one level's side
-  // triangles), the leaves, the row-of-tiles starts, the vertex ids and sort
+  // One block, carved in order of alignment: the moments of one tile per
+  // pass-1 worker (level l holds the halves of the squares of side 2^(l+1),
+  // then one level's side triangles), the leaves, the row-of-tiles starts, the vertex ids and sort
   // buckets, the need grid (the virtual grid has at most W x H points).
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
   for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
   const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
-  const std::size_t bytes = moments * sizeof(PixelMoments) + leaves * sizeof(Triangle) +
+  const std::size_t bytes = kMaxTileWorkers * moments * sizeof(PixelMoments) + leaves * sizeof(Triangle) +
                             bands * sizeof(std::size_t) + (2 * pixels + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
   arena_bytes_ = (bytes + 7) / 8 * 8;
@@ -65,13 +65,15 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     next += n;
     return p;
   };
-  PixelMoments* m = reinterpret_cast<PixelMoments*>(take(moments * sizeof(PixelMoments)));
-  std::size_t level = 0;
-  for (int s = 2; s <= tile_; s *= 2) {
-    half_moments_[level++] = m;
-    m += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+  for (TileScratch& sc : scratch_) {
+    PixelMoments* m = reinterpret_cast<PixelMoments*>(take(moments * sizeof(PixelMoments)));
+    std::size_t level = 0;
+    for (int s = 2; s <= tile_; s *= 2) {
+      sc.half[level++] = m;
+      m += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+    }
+    sc.side = m;
   }
-  side_moments_ = m;
   tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
