@@ -33,6 +33,7 @@
 #include "platform/realtime.hpp"
 #include "src/profile/latency_stats.hpp"
 #include "src/profile/profile_report.hpp"
+#include "src/profile/rss_trace.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
@@ -70,10 +71,25 @@ Reports:
   --csv FILE           one row per measured frame (ms)
   --json FILE          the summary (config, per-stage stats, fps, memory, machine)
   --quiet              no progress line and no table on stdout
-(For profile, --ndisp is optional and defaults to 64.)
+Memory: resident memory is sampled (outside the timed frames) before the first
+measured frame, every frames/100 frames and after the last; the JSON's "rss"
+has start, end, max and the trace, "drift" the first and last 1000 frames.
 )";
 
 constexpr int kDefaultNumDisp = 64;
+constexpr std::int64_t kRssSamples = 100;  // resident-memory samples per run (about)
+
+// The model options' help, with --ndisp's "(required)" (true for match and
+// verify) replaced by the profiler's default.
+std::string profile_model_help() {
+  std::string text = stereo_options_help();
+  const std::size_t line = text.find("--ndisp");
+  const std::size_t required = text.find("(required)", line);
+  const std::size_t eol = text.find('\n', line);
+  if (line != std::string::npos && required != std::string::npos && required < eol)
+    text.replace(required, 10, "(default " + std::to_string(kDefaultNumDisp) + ")");
+  return text;
+}
 constexpr int kDefaultRealtimePriority = 80;
 constexpr int kMaxWarmup = 100000;
 // Synthetic frames are generated into a ring this long, then cycled: enough
@@ -316,7 +332,7 @@ int cmd_profile(int argc, char** argv) {
   add_stereo_options(values, flags);
   const Args args(static_cast<int>(nargv.size()), nargv.data(), values, flags);
   if (args.flag("help")) {
-    std::cout << kProfileHelp << stereo_options_help();
+    std::cout << kProfileHelp << profile_model_help();
     return 0;
   }
   if (!args.positional().empty())
@@ -429,6 +445,7 @@ int cmd_profile(int argc, char** argv) {
   pipeline.configure(config);
   if (markers.enabled()) pipeline.set_stage_listener(&listener);
   FrameLog log(static_cast<std::size_t>(frames));
+  RssTrace rss(frames, RssTrace::interval_for(frames, kRssSamples));
   ProgressLine progress(quiet);
   constexpr int kMeshStage = static_cast<int>(ProfileStage::kMeshOutput);
 
@@ -442,7 +459,10 @@ int cmd_profile(int argc, char** argv) {
   std::int64_t loop_start_ns = 0;
   for (int i = 0; i < run_frames; ++i) {
     const bool measured = i >= warmup;
-    if (i == warmup) loop_start_ns = monotonic_ns();
+    if (i == warmup) {
+      rss.push(0, current_rss_bytes());
+      loop_start_ns = monotonic_ns();
+    }
     const std::size_t slot = static_cast<std::size_t>(i) % ring.size();
     const std::int64_t cpu0 = process_cpu_ns();
     const std::int64_t t0 = monotonic_ns();
@@ -471,7 +491,9 @@ int cmd_profile(int argc, char** argv) {
       s.total_ns = t1 - t0;
       s.cpu_ns = cpu1 - cpu0;
       log.push(s);
-      progress.update("frame", i - warmup + 1, frames, s.total_ns);
+      const int done = i - warmup + 1;
+      if (rss.due(done)) rss.push(done, current_rss_bytes());  // outside the timed frame
+      progress.update("frame", done, frames, s.total_ns);
     } else {
       progress.update("warm-up", i + 1, warmup, t1 - t0);
     }
@@ -503,7 +525,7 @@ int cmd_profile(int argc, char** argv) {
   rc.frames = frames;
   rc.working_memory_bytes = static_cast<std::int64_t>(pipeline.working_memory_bytes());
   const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
-  const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine);
+  const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss);
 
   write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, mesh_output); });
   write_report(json_path, [&](std::ostream& os) { write_profile_json(os, report); });

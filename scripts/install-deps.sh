@@ -9,7 +9,11 @@
 #          g++, make, CMake, pkg-config, Eigen, xsimd, libpng, zlib, libgpiod
 #   test   main + what scripts/test.sh builds and runs: GoogleTest, Google
 #          Benchmark (the benchmarks are built so they cannot rot), shellcheck,
-#          pybind11, NumPy and pytest (the Python bindings and their tests)
+#          pybind11, NumPy and pytest (the Python bindings and their tests),
+#          and everything of the profile fuzz
+#   fuzz   main + clang 14 with its sanitizer and libFuzzer runtimes
+#          (libclang-rt-14-dev) and llvm-symbolizer: the clang, asan and fuzz
+#          stages of scripts/test.sh, and scripts/fuzz.sh
 #   cross  test + the ARM cross compilers, qemu-user and the arm64/armhf target
 #          libraries (scripts/install-cross-deps.sh all)
 #   plot   python3 with matplotlib and NumPy (scripts/plot_latency.py and the
@@ -23,17 +27,18 @@ deps_name="install-deps"
 # shellcheck source=scripts/deps-lib.sh
 . "$here/deps-lib.sh"
 
-main=0 test=0 cross=0 plot=0 peers=0
+main=0 test=0 fuzz=0 cross=0 plot=0 peers=0
 [ $# -eq 0 ] && main=1
 for arg in "$@"; do
   case "$arg" in
     main) main=1 ;;
-    test) main=1 test=1 ;;
-    cross|--cross) main=1 test=1 cross=1 ;;
+    test) main=1 test=1 fuzz=1 ;;
+    fuzz) main=1 fuzz=1 ;;
+    cross|--cross) main=1 test=1 fuzz=1 cross=1 ;;
     plot) plot=1 ;;
     peers) main=1 peers=1 ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
-    *) echo "install-deps: unknown profile '$arg' (expected main, test, cross, plot or peers)" >&2; exit 2 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    *) echo "install-deps: unknown profile '$arg' (expected main, test, fuzz, cross, plot or peers)" >&2; exit 2 ;;
   esac
 done
 
@@ -49,6 +54,13 @@ if [ "$test" -eq 1 ]; then
   # The Python bindings and their tests (Debian's Python only).
   pkgs="$pkgs python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest"
   profiles="$profiles test"
+fi
+if [ "$fuzz" -eq 1 ]; then
+  # clang-14 brings libclang-common-14-dev (headers such as fuzzer/), but the
+  # ASan/UBSan/libFuzzer runtimes are libclang-rt-14-dev; llvm-14 has the
+  # symbolizer that turns sanitizer reports into file:line.
+  pkgs="$pkgs clang-14 libclang-rt-14-dev llvm-14"
+  profiles="$profiles fuzz"
 fi
 if [ "$plot" -eq 1 ]; then
   pkgs="$pkgs python3 python3-matplotlib python3-numpy"
@@ -83,6 +95,14 @@ if [ "$test" -eq 1 ]; then
   if ! /usr/bin/python3 -c 'import numpy, pytest, pybind11' 2>/dev/null; then
     deps_problem "python3 modules numpy, pytest and pybind11 for /usr/bin/python3"
   fi
+fi
+if [ "$fuzz" -eq 1 ]; then
+  deps_need_cmd clang++-14 "clang C++ compiler"
+  deps_need_cmd llvm-symbolizer-14 "sanitizer report symbolizer"
+  for _rt in asan ubsan_standalone fuzzer fuzzer_no_main; do
+    deps_need_file "$(clang-14 -print-resource-dir 2>/dev/null)/lib/linux/libclang_rt.$_rt-$(uname -m).a" \
+      "clang's $_rt runtime (libclang-rt-14-dev)"
+  done
 fi
 if [ "$plot" -eq 1 ]; then
   deps_need_cmd python3 "Python"

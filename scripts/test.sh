@@ -15,6 +15,11 @@
 #                (scripts/consumer-test.sh native)
 #   tsan         the thread-pool, tritree and pipeline thread tests under
 #                ThreadSanitizer (scripts/tsan-test.sh)
+#   clang        the whole suite built with clang++ (warnings as errors) and
+#                run (scripts/sanitize-test.sh clang)
+#   fuzz         every libFuzzer harness of tests/fuzz: its corpus and
+#                regression inputs replayed, then fuzzed 20 s
+#                (TRISTEREO_FUZZ_SECONDS) under ASan + UBSan (scripts/fuzz-test.sh)
 #   aarch64, armhf  the whole suite cross-built (warnings as errors) and run
 #                under qemu-user (scripts/cross-test.sh)
 #   consumer-aarch64  the consumer against the installed aarch64 build, run
@@ -190,6 +195,17 @@ if [ "$subset" = "all" ]; then
   status=passed
   [ "$rc" -eq 0 ] || status=FAILED
   record tsan "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/tsan.log")"
+
+  # -------------------------------------------------------------- clang, ASan + UBSan, fuzzing
+  for mode in clang; do
+    t0=$(date +%s)
+    echo "==== test: $mode: scripts/sanitize-test.sh $mode"
+    run_logged "$log_dir/$mode.log" scripts/sanitize-test.sh "$mode"
+    status=passed
+    [ "$rc" -eq 0 ] || status=FAILED
+    record "$mode" "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/$mode.log")"
+  done
+  run_stage fuzz scripts/fuzz-test.sh
 fi
 
 # ---------------------------------------------------------------- ARM under qemu

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "support/keep_alive.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -390,6 +391,115 @@ TEST(ProfileTable, ListsEveryStageAndFps) {
   EXPECT_NE(t.find("3.00 wall"), std::string::npos) << t;  // 3 frames in 1 s
   EXPECT_NE(t.find("peak RSS 10.0 MiB"), std::string::npos) << t;
   EXPECT_NE(t.find("640x480, D=64"), std::string::npos) << t;
+}
+
+// ---- The soak's figures: resident-memory trace and latency drift.
+
+TEST(RssTrace, SamplesAtStartEveryIntervalAndEnd) {
+  EXPECT_EQ(RssTrace::interval_for(10000, 100), 100);
+  EXPECT_EQ(RssTrace::interval_for(10001, 100), 101);
+  EXPECT_EQ(RssTrace::interval_for(5, 100), 1);
+  RssTrace t(10, 3);  // due after 0, 3, 6, 9 and 10 frames
+  std::vector<int> due;
+  for (int done = 0; done <= 10; ++done)
+    if (t.due(done)) due.push_back(done);
+  EXPECT_EQ(due, (std::vector<int>{0, 3, 6, 9, 10}));
+  const std::int64_t rss[] = {100, 400, 250, 300, 200};
+  for (std::size_t i = 0; i < due.size(); ++i) EXPECT_TRUE(t.push(due[i], rss[i] << 10));
+  EXPECT_FALSE(t.push(11, 1));  // full: 10 / 3 + 2 = 5 samples
+  ASSERT_EQ(t.size(), 5u);
+  EXPECT_EQ(t[4].frame, 10);
+  const RssSummary s = t.summary();
+  EXPECT_EQ(s.samples, 5u);
+  EXPECT_EQ(s.start_bytes, 100 << 10);
+  EXPECT_EQ(s.end_bytes, 200 << 10);
+  EXPECT_EQ(s.max_bytes, 400 << 10);
+
+  RssTrace once(4, 4);  // 0 and 4: the last frame is also a multiple
+  EXPECT_TRUE(once.push(0, 7));
+  EXPECT_FALSE(once.push(0, 8));  // the same frame twice is recorded once
+  EXPECT_TRUE(once.push(4, 9));
+  EXPECT_EQ(once.summary().end_bytes, 9);
+  EXPECT_THROW(RssTrace(0, 1), Error);
+  EXPECT_THROW(RssTrace(5, 0), Error);
+  EXPECT_THROW(RssTrace(5, 1).summary(), Error);
+}
+
+TEST(RssTrace, CurrentRssSeesTouchedAndFreedMemory) {
+  const std::int64_t before = current_rss_bytes();
+  ASSERT_GT(before, 0);
+  constexpr std::size_t kBytes = 64u << 20;
+  auto block = std::make_unique<char[]>(kBytes);
+  for (std::size_t i = 0; i < kBytes; i += 4096) block[i] = static_cast<char>(i >> 12);
+  test::keep_alive(block.get());  // else clang drops the unobserved block
+  const std::int64_t touched = current_rss_bytes();
+  EXPECT_GE(touched - before, static_cast<std::int64_t>(kBytes) - (4 << 20));
+  block.reset();  // a 64 MiB block is its own mapping: free() returns it at once
+  EXPECT_LT(current_rss_bytes(), touched - (32 << 20));
+}
+
+// A log whose first 1000 frames take 1 ms and the rest 1.5 ms.
+FrameLog drifting_log(int frames) {
+  FrameLog log(static_cast<std::size_t>(frames));
+  for (int f = 0; f < frames; ++f) {
+    FrameSample s;
+    s.total_ns = f < 1000 ? 1000000 : 1500000;
+    s.cpu_ns = s.total_ns;
+    log.push(s);
+  }
+  return log;
+}
+
+TEST(ProfileReport, DriftComparesFirstAndLastThousandFrames) {
+  const ProfileReport r = make_profile_report(make_config(false, 2500), drifting_log(2500), 1000, 0, kMachine);
+  EXPECT_EQ(r.drift_window_frames, 1000u);
+  EXPECT_EQ(r.first_window.count, 1000u);
+  EXPECT_DOUBLE_EQ(r.first_window.p50_ms, 1.0);
+  EXPECT_DOUBLE_EQ(r.last_window.p50_ms, 1.5);
+  EXPECT_DOUBLE_EQ(r.p50_change_pct, 50.0);
+  EXPECT_FALSE(r.has_rss);
+  // Fewer than 2000 frames: each window is half the run.
+  const ProfileReport half = make_profile_report(make_config(false, 1200), drifting_log(1200), 1000, 0, kMachine);
+  EXPECT_EQ(half.drift_window_frames, 600u);
+  EXPECT_DOUBLE_EQ(half.first_window.p50_ms, 1.0);
+  EXPECT_DOUBLE_EQ(half.last_window.max_ms, 1.5);
+  EXPECT_DOUBLE_EQ(half.last_window.min_ms, 1.0);  // frames 600..1199 span the step
+  EXPECT_EQ(make_profile_report(make_config(false, 1), drifting_log(1), 1000, 0, kMachine).drift_window_frames, 0u);
+}
+
+TEST(ProfileJson, RssAndDriftParseBack) {
+  RssTrace trace(2500, 1000);
+  trace.push(0, 10 << 20);
+  trace.push(1000, 12 << 20);
+  trace.push(2000, 11 << 20);
+  trace.push(2500, (10 << 20) + (300 << 10));
+  const ProfileReport r =
+      make_profile_report(make_config(false, 2500), drifting_log(2500), 1000, 0, kMachine, &trace);
+  ASSERT_TRUE(r.has_rss);
+  std::ostringstream os;
+  write_profile_json(os, r);
+  const Json j = parse_json_or_fail(os.str());
+  const Json& rss = j["rss"];
+  EXPECT_EQ(rss["samples"].number, 4);
+  EXPECT_EQ(rss["every_frames"].number, 1000);
+  EXPECT_NEAR(rss["start_mb"].number, 10.0, 1e-9);
+  EXPECT_NEAR(rss["max_mb"].number, 12.0, 1e-9);
+  EXPECT_NEAR(rss["end_mb"].number, 10.293, 1e-9);  // 10 MiB + 300 KiB, 3 decimals
+  EXPECT_EQ(rss["end_minus_start_kib"].number, 300);
+  ASSERT_EQ(rss["trace_kib"].items.size(), 4u);
+  EXPECT_EQ(rss["trace_kib"].items[1].items[0].number, 1000);
+  EXPECT_EQ(rss["trace_kib"].items[1].items[1].number, 12 * 1024);
+  const Json& drift = j["drift"];
+  EXPECT_EQ(drift["window_frames"].number, 1000);
+  EXPECT_NEAR(drift["first"]["p50_ms"].number, 1.0, 1e-9);
+  EXPECT_NEAR(drift["last"]["p99_ms"].number, 1.5, 1e-9);
+  EXPECT_NEAR(drift["p50_change_pct"].number, 50.0, 1e-9);
+  std::ostringstream table;
+  write_profile_table(table, r);
+  EXPECT_NE(table.str().find("RSS over the loop: start 10.00 MiB, end 10.29 MiB (+300 KiB), max 12.00 MiB (4 samples)"),
+            std::string::npos)
+      << table.str();
+  EXPECT_NE(table.str().find("(+50.0 %)"), std::string::npos) << table.str();
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "platform/realtime.hpp"
 #include "platform/thread_pool.hpp"
 #include "support/alloc_counter.hpp"
+#include "support/keep_alive.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -389,9 +390,17 @@ TEST(ThreadPool, NestedRunIsRejected) {
 TEST(ThreadPool, AllocationCounterSeesAllocations) {
   // Positive control, so that the zero below means something.
   test::start_counting_allocations();
+  // keep_alive: clang elides a new/delete pair nobody observes.
   auto* p = new int(7);
+  test::keep_alive(p);
   auto* q = new std::vector<int>(100);
-  std::thread([] { delete[] new char[3]; }).join();
+  test::keep_alive(q);
+  test::keep_alive(q->data());
+  std::thread([] {
+    char* c = new char[3];
+    test::keep_alive(c);
+    delete[] c;
+  }).join();
   const std::int64_t n = test::stop_counting_allocations();
   delete q;
   delete p;

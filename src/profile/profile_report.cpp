@@ -1,5 +1,6 @@
 #include "src/profile/profile_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ostream>
@@ -32,6 +33,8 @@ std::string ns_as_ms(std::int64_t ns) {
   return buf;
 }
 
+double mib(std::int64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
+
 bool mesh_stage_enabled(ProfileStage s, bool mesh_output) {
   return s != ProfileStage::kMeshOutput || mesh_output;
 }
@@ -63,7 +66,7 @@ std::string cpu_list_text(const std::vector<int>& cpus) {
 
 ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog& log,
                                   std::int64_t wall_ns, std::int64_t peak_rss_bytes,
-                                  const ProfileMachine& machine) {
+                                  const ProfileMachine& machine, const RssTrace* rss) {
   if (log.size() == 0) {
     throw Error(ErrorCode::kInvalidArgument, "profile report of 0 measured frames (need >= 1)");
   }
@@ -85,6 +88,22 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
   r.wall_fps = static_cast<double>(log.size()) / r.wall_s;
   r.peak_rss_mb = static_cast<double>(peak_rss_bytes) / (1024.0 * 1024.0);
   r.machine = machine;
+  if (rss && rss->size() > 0) {
+    r.has_rss = true;
+    r.rss = rss->summary();
+    r.rss_every_frames = rss->every_frames();
+    for (std::size_t i = 0; i < rss->size(); ++i) r.rss_samples.push_back((*rss)[i]);
+  }
+  r.drift_window_frames = std::min(kDriftWindowFrames, log.size() / 2);
+  if (r.drift_window_frames > 0) {
+    const std::vector<std::int64_t> total = log.total_column();
+    const auto n = static_cast<std::ptrdiff_t>(r.drift_window_frames);
+    r.first_window = compute_latency_stats({total.begin(), total.begin() + n});
+    r.last_window = compute_latency_stats({total.end() - n, total.end()});
+    r.p50_change_pct = r.first_window.p50_ms > 0
+                           ? 100.0 * (r.last_window.p50_ms - r.first_window.p50_ms) / r.first_window.p50_ms
+                           : 0.0;
+  }
   return r;
 }
 
@@ -194,8 +213,25 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
   os << "  \"working_memory_bytes\": " << c.working_memory_bytes << ",\n";
   os << "  \"working_memory_bytes_per_px\": "
      << fixed(pixels > 0 ? static_cast<double>(c.working_memory_bytes) / pixels : 0.0, 3) << ",\n";
-  os << "  \"peak_rss_mb\": " << fixed(r.peak_rss_mb, 3) << "\n";
-  os << "}\n";
+  os << "  \"peak_rss_mb\": " << fixed(r.peak_rss_mb, 3);
+  if (r.has_rss) {
+    os << ",\n  \"rss\": {\"samples\": " << r.rss.samples << ", \"every_frames\": " << r.rss_every_frames
+       << ", \"start_mb\": " << fixed(mib(r.rss.start_bytes), 3) << ", \"end_mb\": " << fixed(mib(r.rss.end_bytes), 3)
+       << ", \"max_mb\": " << fixed(mib(r.rss.max_bytes), 3)
+       << ", \"end_minus_start_kib\": " << (r.rss.end_bytes - r.rss.start_bytes) / 1024
+       << ",\n          \"trace_kib\": [";
+    for (std::size_t i = 0; i < r.rss_samples.size(); ++i)
+      os << (i ? ", " : "") << "[" << r.rss_samples[i].frame << ", " << r.rss_samples[i].rss_bytes / 1024 << "]";
+    os << "]}";
+  }
+  if (r.drift_window_frames > 0) {
+    os << ",\n  \"drift\": {\"window_frames\": " << r.drift_window_frames << ",\n    \"first\": ";
+    write_stats_json(os, r.first_window);
+    os << ",\n    \"last\": ";
+    write_stats_json(os, r.last_window);
+    os << ",\n    \"p50_change_pct\": " << fixed(r.p50_change_pct, 3) << "}";
+  }
+  os << "\n}\n";
 }
 
 void write_profile_table(std::ostream& os, const ProfileReport& r) {
@@ -222,6 +258,24 @@ void write_profile_table(std::ostream& os, const ProfileReport& r) {
                 r.fps_from_mean, r.wall_fps, r.wall_s, r.peak_rss_mb,
                 static_cast<double>(c.working_memory_bytes) / (1024.0 * 1024.0));
   os << tail;
+  if (r.has_rss) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "RSS over the loop: start %.2f MiB, end %.2f MiB (%+lld KiB), max %.2f MiB "
+                  "(%zu samples)\n",
+                  mib(r.rss.start_bytes), mib(r.rss.end_bytes),
+                  static_cast<long long>((r.rss.end_bytes - r.rss.start_bytes) / 1024),
+                  mib(r.rss.max_bytes), r.rss.samples);
+    os << line;
+  }
+  if (r.drift_window_frames > 0) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "drift: p50 of the first %zu frames %.3f ms, of the last %zu %.3f ms (%+.1f %%)\n",
+                  r.drift_window_frames, r.first_window.p50_ms, r.drift_window_frames,
+                  r.last_window.p50_ms, r.p50_change_pct);
+    os << line;
+  }
 }
 
 }  // namespace tristereo

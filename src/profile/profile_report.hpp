@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "src/profile/latency_stats.hpp"
+#include "src/profile/rss_trace.hpp"
 
 namespace tristereo {
 
@@ -62,15 +63,30 @@ struct ProfileReport {
   double wall_s = 0;                        // wall time of the measured loop
   double peak_rss_mb = 0;                   // peak resident set size of the process
   ProfileMachine machine;
+  // Resident memory sampled over the measured loop (when a trace was given):
+  // the first sample is taken after warm-up, before the first measured frame.
+  bool has_rss = false;
+  RssSummary rss;                        // bytes
+  std::int64_t rss_every_frames = 0;     // sampling interval
+  std::vector<RssSample> rss_samples;    // the whole trace
+  // Drift: total latency of the first and of the last drift_window_frames
+  // measured frames (min(kDriftWindowFrames, frames / 2); 0 below 2 frames).
+  std::size_t drift_window_frames = 0;
+  LatencyStats first_window;
+  LatencyStats last_window;
+  double p50_change_pct = 0;  // 100 * (last p50 - first p50) / first p50
 };
+
+constexpr std::size_t kDriftWindowFrames = 1000;
 
 // Summarises a finished log: the four pipeline stages, plus mesh_output when
 // config.mesh_output, the total and the CPU time; fps from the mean and from
 // wall_ns (the measured loop's wall time). Pure: queries nothing itself.
 // Throws Error(kInvalidArgument) if the log is empty or wall_ns <= 0.
+// rss: the resident-memory trace of the loop, or nullptr (no "rss" section).
 ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog& log,
                                   std::int64_t wall_ns, std::int64_t peak_rss_bytes,
-                                  const ProfileMachine& machine);
+                                  const ProfileMachine& machine, const RssTrace* rss = nullptr);
 
 // Column names of the per-frame CSV, in order: frame, <stage>_ms...,
 // total_ms, cpu_ms (mesh_output_ms only when mesh_output).
