@@ -41,8 +41,8 @@ def every_set_section(exe, data, w):
     program has it) beside the peers, ms per frame, and a summary line."""
     help_text = run([exe, "match", "--help"])
     modes = [("sparse", []), ("dense", ["--dense"])]
-    if "--optimizer" in help_text and "--cost" in help_text:
-        modes.append(("paper mode", ["--cost", "ad", "--optimizer", "dp"]))
+    if "--mode default|paper" in help_text:
+        modes.append(("paper mode", ["--mode", "paper"]))
     peers = datasets.read_readme_peers(data)
     runs = {}
     for label, extra in modes:

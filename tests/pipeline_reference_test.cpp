@@ -45,7 +45,12 @@ TEST_P(MiddleburyBitExact, SparseAndDenseBoxAndAdaptive) {
     for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
       // Box: the defaults (census, paths, left-right check, fill) sparse, the
       // paper's model dense; adaptive weights: the paper's model.
-      StereoParams p = (dense || w == Weights::kAdaptive) ? paper_params() : StereoParams{};
+      // The defaults against the reference on Tsukuba and Venus (and on the
+      // synthetic scene and 1000 random cases below); Teddy and Cones run the
+      // paper's model here: the plain reference of the paths on a full 450x375
+      // frame takes minutes under qemu, where this suite also runs.
+      const bool defaults = !dense && w == Weights::kBox && m.ndisp <= 20;
+      StereoParams p = defaults ? StereoParams{} : paper_params();
       p.num_disp = m.ndisp;
       p.dense = dense;
       p.cost.weights = w;

@@ -6,10 +6,14 @@
 
 namespace tristereo {
 
+// Bits set in v, counted in pairs, nibbles, then bytes (the SIMD twins count
+// each lane the same way).
 int census_popcount_u16(std::uint16_t v) {
-  int c = 0;
-  for (; v != 0; v = static_cast<std::uint16_t>(v & (v - 1))) ++c;
-  return c;
+  unsigned x = v;
+  x = x - ((x >> 1) & 0x5555u);
+  x = (x & 0x3333u) + ((x >> 2) & 0x3333u);
+  x = (x + (x >> 4)) & 0x0F0Fu;
+  return static_cast<int>((x + (x >> 8)) & 0x1Fu);
 }
 
 void census_row_u16_scalar(const std::uint16_t* const* rows, int win_w, int win_h, int width,
