@@ -164,9 +164,13 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 "  \"forced_splits\": %lld,\n  \"criterion_splits\": %lld,\n"
                 "  \"params\": {\"psnr_db\": %.1f, \"max_area_px2\": %d, \"window\": \"%dx%d\", "
                 "\"weights\": \"%s\", \"truncation\": %d, \"lambda_q4\": %d, \"gap\": \"%s\", "
-                "\"subpixel\": %s},\n"
+                "\"subpixel\": %s, \"cost\": \"%s\", \"census\": \"%dx%d\", \"optimizer\": \"%s\", "
+                "\"paths\": %d, \"p1_q4\": %d, \"p2_q4\": %d, \"p2_edge\": %d, \"lr_max_diff_q4\": %d, "
+                "\"uniqueness_pct\": %d, \"fill\": \"%s\"},\n"
+                "  \"validity\": {\"samples\": %d, \"uniqueness_rejected\": %d, \"lr_rejected\": %d, "
+                "\"invalid_fraction\": %.6f, \"filled\": %d},\n"
                 "  \"ms\": {\"tritree\": %.3f, \"cost_aggregation\": %.3f, \"dp\": %.3f, "
-                "\"interpolation\": %.3f, \"total\": %.3f}\n"
+                "\"right_pass\": %.3f, \"fill\": %.3f, \"interpolation\": %.3f, \"total\": %.3f}\n"
                 "}\n",
                 run.implementation.c_str(), run.threads, o.mesh.width, o.mesh.height, p.num_disp,
                 p.d_min, p.dense ? "true" : "false", o.mesh.vertices.size(), o.mesh.triangles.size(),
@@ -175,8 +179,18 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 static_cast<long long>(o.mesh.criterion_splits), p.tritree.psnr_deci_db / 10.0,
                 p.tritree.max_area_px2, p.cost.window_w, p.cost.window_h, to_string(p.cost.weights),
                 p.cost.truncation, p.dp.lambda_q4, to_string(p.dp.gap),
-                p.dp.subpixel ? "true" : "false", ms(run.timings.tritree_ns),
+                p.dp.subpixel ? "true" : "false", to_string(p.cost.kind), p.cost.census_w,
+                p.cost.census_h, to_string(p.optimizer), p.paths.directions, p.paths.p1_q4,
+                p.paths.p2_q4, p.paths.p2_edge_scale, p.validity.lr_max_diff_q4,
+                p.validity.uniqueness_pct, to_string(p.validity.fill), o.validity.samples,
+                o.validity.uniqueness_rejected, o.validity.lr_rejected,
+                o.validity.samples > 0
+                    ? static_cast<double>(o.validity.uniqueness_rejected + o.validity.lr_rejected) /
+                          o.validity.samples
+                    : 0.0,
+                o.validity.filled, ms(run.timings.tritree_ns),
                 ms(run.timings.cost_aggregation_ns), ms(run.timings.dp_ns),
+                ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns));
   std::string text = buf;
   if (run.camera) {
@@ -259,18 +273,23 @@ void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& 
 void print_match_summary(std::ostream& os, const MatchRun& run) {
   const StereoOutput& o = run.output;
   const double pixels = static_cast<double>(o.mesh.width) * o.mesh.height;
-  char buf[512];
+  char buf[1024];
   std::snprintf(buf, sizeof buf,
                 "%dx%d, D=%d (%s, %s): %zu vertices (%.2f%% of pixels), %zu triangles, "
                 "%lld forced splits\n"
-                "time: tritree %.2f ms, cost aggregation %.2f ms, dp %.2f ms, interpolation %.2f "
-                "ms, total %.2f ms\n",
+                "time: tritree %.2f ms, cost aggregation %.2f ms, %s %.2f ms, right view %.2f ms, "
+                "fill %.2f ms, interpolation %.2f ms, total %.2f ms\n"
+                "invalid samples: %d by uniqueness, %d by the left-right check (of %d); %d filled\n",
                 o.mesh.width, o.mesh.height, run.config.params.num_disp, run.implementation.c_str(),
                 run.config.params.dense ? "dense DP" : "sparse DP", o.mesh.vertices.size(),
                 100.0 * static_cast<double>(o.mesh.vertices.size()) / pixels,
                 o.mesh.triangles.size(), static_cast<long long>(o.mesh.forced_splits),
-                ms(run.timings.tritree_ns), ms(run.timings.cost_aggregation_ns), ms(run.timings.dp_ns),
-                ms(run.timings.interpolation_ns), ms(run.timings.total_ns));
+                ms(run.timings.tritree_ns), ms(run.timings.cost_aggregation_ns),
+                run.config.params.optimizer == Optimizer::kPaths ? "paths" : "dp", ms(run.timings.dp_ns),
+                ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
+                ms(run.timings.interpolation_ns), ms(run.timings.total_ns),
+                o.validity.uniqueness_rejected, o.validity.lr_rejected, o.validity.samples,
+                o.validity.filled);
   os << buf;
 }
 

@@ -23,6 +23,16 @@ constexpr FieldOption kFieldOptions[] = {
     {"cost.asw_gamma_color", "--gamma-color"},
     {"cost.asw_gamma_proximity", "--gamma-proximity"},
     {"dp.lambda_q4", "--lambda"},
+    {"cost.weights", "--weights"},
+    {"cost.census_w", "--census width"},
+    {"cost.census_h", "--census height"},
+    {"cost.ad_weight_q4", "--ad-weight"},
+    {"paths.directions", "--paths"},
+    {"paths.p1_q4", "--p1"},
+    {"paths.p2_q4", "--p2"},
+    {"paths.p2_edge_scale", "--p2-edge"},
+    {"validity.lr_max_diff_q4", "--lr-max-diff"},
+    {"validity.uniqueness_pct", "--uniqueness"},
 };
 
 }  // namespace

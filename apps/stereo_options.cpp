@@ -10,7 +10,9 @@ namespace tristereo::cli {
 
 void add_stereo_options(std::set<std::string>& v, std::set<std::string>& f) {
   for (const char* o : {"ndisp", "dmin", "psnr", "max-area", "window", "weights", "lambda", "gap",
-                        "truncation", "gamma-color", "gamma-proximity", "kernels", "threads", "cpus"})
+                        "truncation", "gamma-color", "gamma-proximity", "kernels", "threads", "cpus",
+                        "cost", "census", "ad-weight", "optimizer", "paths", "p1", "p2", "p2-edge",
+                        "path-gap", "lr-max-diff", "uniqueness", "fill", "mode"})
     v.insert(o);
   for (const char* o : {"dense", "no-subpixel", "no-pin"}) f.insert(o);
 }
@@ -21,6 +23,11 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   c.max_height = height;
   StereoParams& p = c.params;
   if (!a.has("ndisp")) throw UsageError("--ndisp D is required (number of disparities, 1..256)");
+  if (a.has("mode")) {
+    const std::string mode = a.get("mode", "");
+    if (mode == "paper") p = paper_params();
+    else if (mode != "default") throw UsageError("--mode must be default or paper, not '" + mode + "'");
+  }
   p.num_disp = a.get_int("ndisp", 64);
   p.d_min = a.get_int("dmin", 0);
   p.dense = a.flag("dense");
@@ -42,6 +49,24 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   p.dp.lambda_q4 = a.get_int("lambda", p.dp.lambda_q4);
   if (a.has("gap")) as_usage_error("--gap", [&] { p.dp.gap = parse_gap_policy(a.get("gap", "")); });
   p.dp.subpixel = !a.flag("no-subpixel");
+  if (a.has("cost")) as_usage_error("--cost", [&] { p.cost.kind = parse_cost_kind(a.get("cost", "")); });
+  if (a.has("census")) {
+    auto [w, h] = parse_size("--census", a.get("census", ""));
+    p.cost.census_w = w;
+    p.cost.census_h = h;
+  }
+  p.cost.ad_weight_q4 = a.get_int("ad-weight", p.cost.ad_weight_q4);
+  if (a.has("optimizer"))
+    as_usage_error("--optimizer", [&] { p.optimizer = parse_optimizer(a.get("optimizer", "")); });
+  p.paths.directions = a.get_int("paths", p.paths.directions);
+  p.paths.p1_q4 = a.get_int("p1", p.paths.p1_q4);
+  p.paths.p2_q4 = a.get_int("p2", p.paths.p2_q4);
+  p.paths.p2_edge_scale = a.get_int("p2-edge", p.paths.p2_edge_scale);
+  if (a.has("path-gap"))
+    as_usage_error("--path-gap", [&] { p.paths.gap = parse_gap_policy(a.get("path-gap", "")); });
+  p.validity.lr_max_diff_q4 = a.get_int("lr-max-diff", p.validity.lr_max_diff_q4);
+  p.validity.uniqueness_pct = a.get_int("uniqueness", p.validity.uniqueness_pct);
+  if (a.has("fill")) as_usage_error("--fill", [&] { p.validity.fill = parse_fill_mode(a.get("fill", "")); });
   as_usage_error(nullptr, [&] { validate_params(p); });
   as_usage_error("--kernels", [&] { c.kernels = parse_kernel_choice(a.get("kernels", "auto")); });
   c.threads = a.get_int("threads", 0);
@@ -53,17 +78,32 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
 
 const char* stereo_options_help() {
   return R"(Model options (docs/model.md):
+  --mode default|paper the starting point of the options below: this project's
+                       defaults, or the paper's model (--cost ad --optimizer dp
+                       --window 5x5 --truncation 30 --lr-max-diff -1)
   --ndisp D            number of disparities searched, 1..256 (required)
   --dmin N             smallest disparity (default 0)
   --psnr DB            tritree split threshold, 10..70 dB in 0.1 steps (default 40)
   --max-area PX        tritree maximum triangle area, 1..1024 px^2 (default 100)
-  --window WxH         support window, odd sides 1..31 (default 5x5)
+  --window WxH         support window, odd sides 1..31 (default 3x3; paper 5x5)
   --weights box|adaptive   support weights (default box)
   --gamma-color G      adaptive weights: colour scale (default 10)
   --gamma-proximity G  adaptive weights: distance^2 scale (default 50)
   --truncation T       cost truncation T_c, 1..255 (default 30; 255 = none)
   --lambda L           smoothness weight in Q4 cost units, 0..32000 (default 40)
   --gap inv_sq|inv|const   gap policy tau(g) of the smoothness penalty (default const)
+  --cost ad|census|ad_census   matching cost (default census)
+  --census WxH         census transform window, odd sides 3..9, W*H <= 65 (default 7x7)
+  --ad-weight W        ad_census: AD share in Q4 (16 = equal), 0..64 (default 8)
+  --optimizer paths|dp path aggregation on the mesh (default) or the paper's row DP
+  --paths 4|8          path directions (default 4)
+  --p1 P --p2 P        path penalties in Q4 cost units (defaults 160, 640)
+  --p2-edge T          P2 shrinks across intensity edges by T/(T+|dI|); 0 = off
+                       (default 30)
+  --path-gap inv_sq|inv|const  penalties scaled by tau(edge length) (default const)
+  --lr-max-diff Q4     left-right check tolerance in 1/16 px; -1 = no check (default 16)
+  --uniqueness PCT     uniqueness margin in percent; 0 = off (default 0)
+  --fill background|none   invalid samples: filled from the background side, or left invalid
   --no-subpixel        integer disparities only
   --dense              every pixel a DP sample (the paper's dense baseline)
 Run options:

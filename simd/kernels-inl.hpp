@@ -727,5 +727,134 @@ int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, i
   return detail::horizontal_min_u16(first);
 }
 
+
+// ------------------------------------------------------------------ census
+// Pixels are compared as int16 lanes (values 0..255), where every target has a
+// native signed compare; each neighbour ORs its bit into its plane's lanes.
+// The last width % lanes pixels go to the scalar twin.
+template <class Arch>
+void CensusRowU16<Arch>::call(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+                              std::uint16_t* const* planes) {
+  using bs = xsimd::batch<std::int16_t, Arch>;
+  constexpr int lanes = static_cast<int>(bs::size);
+  const int rx = win_w / 2, ry = win_h / 2;
+  const int n_planes = (win_w * win_h - 1 + 15) / 16;
+  const bs zero(static_cast<std::int16_t>(0));
+  int x = 0;
+  for (; x + lanes <= width; x += lanes) {
+    const bs centre = bs::load_unaligned(reinterpret_cast<const std::int16_t*>(rows[ry] + x));
+    bs acc[4] = {zero, zero, zero, zero};
+    int b = 0;
+    for (int dy = 0; dy < win_h; ++dy) {
+      const auto* row = reinterpret_cast<const std::int16_t*>(rows[dy] + x);
+      for (int dx = -rx; dx <= rx; ++dx) {
+        if (dy == ry && dx == 0) continue;
+        const bs v = bs::load_unaligned(row + dx);
+        const bs bit(static_cast<std::int16_t>(static_cast<std::uint16_t>(1u << (b & 15))));
+        acc[b >> 4] = acc[b >> 4] | xsimd::select(v < centre, bit, zero);
+        ++b;
+      }
+    }
+    for (int p = 0; p < n_planes; ++p)
+      acc[p].store_unaligned(reinterpret_cast<std::int16_t*>(planes[p] + x));
+  }
+  if (x < width) {
+    const std::uint16_t* tail_rows[9];
+    std::uint16_t* tail_planes[4];
+    for (int j = 0; j < win_h; ++j) tail_rows[j] = rows[j] + x;
+    for (int p = 0; p < n_planes; ++p) tail_planes[p] = planes[p] + x;
+    census_row_u16_scalar(tail_rows, win_w, win_h, width - x, tail_planes);
+  }
+}
+
+namespace detail {
+// Bit count of each u16 lane (SWAR: pairs, nibbles, bytes, then the two bytes).
+template <class A>
+batch<std::uint16_t, A> popcount_u16(batch<std::uint16_t, A> v) {
+  using b16 = batch<std::uint16_t, A>;
+  v = v - ((v >> 1) & b16(std::uint16_t{0x5555}));
+  v = (v & b16(std::uint16_t{0x3333})) + ((v >> 2) & b16(std::uint16_t{0x3333}));
+  v = (v + (v >> 4)) & b16(std::uint16_t{0x0F0F});
+  return (v + (v >> 8)) & b16(std::uint16_t{0x001F});
+}
+}  // namespace detail
+
+// The D sums stay in a register per block while the window's entries are
+// walked. The last block reads the rows' slack and stores only n % lanes sums.
+template <class Arch>
+void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* left,
+                                 int count, int n, std::uint16_t* sum) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  for (int k = 0; k < n; k += lanes) {
+    b16 acc(std::uint16_t{0});
+    for (int i = 0; i < count; ++i)
+      acc = acc + detail::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
+    if (k + lanes <= n) {
+      acc.store_unaligned(sum + k);
+    } else {
+      alignas(64) std::uint16_t tmp[lanes];
+      acc.store_aligned(tmp);
+      std::memcpy(sum + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
+    }
+  }
+}
+
+// ------------------------------------------------------------------ paths
+template <class Arch>
+std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint16_t* prev,
+                                      std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
+                                      int n, std::uint16_t* out, std::uint16_t* sum,
+                                      int accumulate) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  const b16 vp1(p1), vmin_prev(prev_min);
+  const b16 jump(static_cast<std::uint16_t>(std::uint32_t{prev_min} + p2));
+  b16 low(detail::kU16Max);
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) {
+    b16 best = escape::min_u16(b16::load_unaligned(prev + k),
+                               xsimd::sadd(b16::load_unaligned(prev + k - 1), vp1));
+    best = escape::min_u16(best, xsimd::sadd(b16::load_unaligned(prev + k + 1), vp1));
+    best = escape::min_u16(best, jump);
+    const b16 v = b16::load_unaligned(cost + k) + best - vmin_prev;
+    v.store_unaligned(out + k);
+    (accumulate ? b16::load_unaligned(sum + k) + v : v).store_unaligned(sum + k);
+    low = escape::min_u16(low, v);
+  }
+  std::uint16_t m = detail::horizontal_min_u16(low);
+  if (k < n) {
+    const std::uint16_t t = path_step_u16_scalar(cost + k, prev + k, prev_min, p1, p2, n - k,
+                                                 out + k, sum + k, accumulate);
+    if (t < m) m = t;
+  }
+  return m;
+}
+
+template <class Arch>
+int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n,
+                             std::uint16_t* total) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  b16 low(detail::kU16Max);
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) {
+    b16 acc = b16::load_unaligned(terms[0] + k);
+    for (int i = 1; i < count; ++i) acc = acc + b16::load_unaligned(terms[i] + k);
+    acc.store_unaligned(total + k);
+    low = escape::min_u16(low, acc);
+  }
+  std::uint16_t m = detail::horizontal_min_u16(low);
+  for (int j = k; j < n; ++j) {
+    std::uint32_t s = 0;
+    for (int i = 0; i < count; ++i) s += terms[i][j];
+    total[j] = static_cast<std::uint16_t>(s);
+    if (total[j] < m) m = total[j];
+  }
+  int best = 0;
+  while (total[best] != m) ++best;
+  return best;
+}
+
 }  // namespace simd
 }  // namespace tristereo

@@ -69,6 +69,30 @@ struct DpPointerU16 {
   static int call(const std::uint16_t* prev, std::uint32_t penalty, int n, int k);
 };
 
+template <class Arch>
+struct CensusRowU16 {
+  static void call(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+                   std::uint16_t* const* planes);
+};
+
+template <class Arch>
+struct CensusWindowU16 {
+  static void call(const std::uint16_t* const* right_rev, const std::uint16_t* left, int count,
+                   int n, std::uint16_t* sum);
+};
+
+template <class Arch>
+struct PathStepU16 {
+  static std::uint16_t call(const std::uint16_t* cost, const std::uint16_t* prev,
+                            std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2, int n,
+                            std::uint16_t* out, std::uint16_t* sum, int accumulate);
+};
+
+template <class Arch>
+struct SumArgminU16 {
+  static int call(const std::uint16_t* const* terms, int count, int n, std::uint16_t* total);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -79,7 +103,11 @@ struct DpPointerU16 {
   KEYWORD template struct NormalizeCostsU32<ARCH>;            \
   KEYWORD template struct DpStep<ARCH>;                       \
   KEYWORD template struct DpStepU16<ARCH>;                    \
-  KEYWORD template struct DpPointerU16<ARCH>;
+  KEYWORD template struct DpPointerU16<ARCH>;                 \
+  KEYWORD template struct CensusRowU16<ARCH>;                 \
+  KEYWORD template struct CensusWindowU16<ARCH>;              \
+  KEYWORD template struct PathStepU16<ARCH>;                  \
+  KEYWORD template struct SumArgminU16<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

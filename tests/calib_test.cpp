@@ -312,5 +312,18 @@ TEST_F(Calib, PointCloudHasOnePointPerValidPixel) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
 }
 
+TEST_F(Calib, PointCloudRefusesPointsBeyondFloat) {
+  const Image<std::int16_t> disp(5, 4, 1, 32);
+  const ImageU8 left(5, 4, 3, 100);
+  CameraParams huge{1e30, 1e30, 2.0, 1.5, 0.0};  // Z = 1e60 / 2: finite in double, not in float
+  const std::string p = (dir_ / "huge.ply").string();
+  ErrorCode code{};
+  const std::string m = message_of([&] { write_points_ply(p, disp.view(), left.view(), huge, true); }, &code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(m.find("beyond float range"), std::string::npos) << m;
+  EXPECT_FALSE(fs::exists(p));
+  EXPECT_TRUE(fs::is_empty(dir_)) << "a temporary was left behind";
+}
+
 }  // namespace
 }  // namespace tristereo

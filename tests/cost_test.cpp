@@ -145,7 +145,7 @@ TEST(CostKernelsScalar, NormalizeIsTheRoundedMean) {
 // ---------------------------------------------------------------- MatchContext
 
 StereoParams small_params(int d_min, int num_disp) {
-  StereoParams p;
+  StereoParams p = paper_params();  // the AD cost these tests are about
   p.d_min = d_min;
   p.num_disp = num_disp;
   p.cost.truncation = 255;  // tests below state their own truncation

@@ -313,7 +313,7 @@ TEST(RowMatcher, FrontoParallelPlaneGivesTheExactDisparity) {
                                                               : static_cast<std::uint8_t>(byte(rng));
     for (Weights wts : {Weights::kBox, Weights::kAdaptive}) {
       for (int step : {1, 3, 7}) {
-        StereoParams p;
+        StereoParams p = paper_params();
         p.d_min = -4;
         p.num_disp = 20;
         p.cost.weights = wts;
@@ -346,7 +346,7 @@ TEST(RowMatcher, FrontoParallelPlaneGivesTheExactDisparity) {
 }
 
 TEST(RowMatcher, RejectsBadSamplesWithoutWriting) {
-  StereoParams p;
+  StereoParams p = paper_params();
   p.num_disp = 8;
   const ImageU8 img(20, 6, 1, 7);
   MatchContext ctx(32, 8, p, scalar_kernel_set());

@@ -30,8 +30,10 @@ std::vector<std::vector<std::int16_t>> integer_rows(const ImageU8& left, const I
   MatchContext ctx(left.width, left.height, p, kernels);
   ctx.begin_frame(left.view(), right.view());
   // Two bands, as two workers would prepare them.
-  ctx.prepare_right_rows(0, left.height / 2);
-  ctx.prepare_right_rows(left.height / 2, left.height);
+  CensusScratch census;
+  census.resize(left.width);
+  ctx.prepare_right_rows(0, left.height / 2, &census);
+  ctx.prepare_right_rows(left.height / 2, left.height, &census);
   RowMatcher matcher(left.width, p);
   const std::vector<std::int32_t> xs32(xs.begin(), xs.end());
   std::vector<std::vector<std::int16_t>> rows;
@@ -107,7 +109,7 @@ TEST_P(MatchReference, MiddleburyRowsAreBitExact) {
       if (x % 3 == 0) every3.push_back(x);
     }
 
-    StereoParams box;  // the library defaults (5x5 box, sub-pixel on)
+    StereoParams box = paper_params();  // AD, 5x5 box, sub-pixel on
     box.num_disp = scene.ndisp;
     StereoParams adaptive = box;
     adaptive.cost.weights = Weights::kAdaptive;
@@ -127,7 +129,16 @@ TEST_P(MatchReference, MiddleburyRowsAreBitExact) {
     random_box.dp.gap = GapPolicy::kConstant;
     random_box.dp.subpixel = false;
 
-    for (const StereoParams& p : {box, adaptive, random, random_box}) {
+    StereoParams census = random_box;  // the census costs through the same row DP
+    census.cost.kind = CostKind::kCensus;
+    census.cost.census_w = 9;
+    census.cost.census_h = 7;
+    StereoParams ad_census = random_box;
+    ad_census.cost.kind = CostKind::kAdCensus;
+    ad_census.cost.census_w = 5;
+    ad_census.cost.census_h = 3;
+    ad_census.cost.ad_weight_q4 = std::uniform_int_distribution<int>(0, kMaxAdWeightQ4)(rng);
+    for (const StereoParams& p : {box, adaptive, random, random_box, census, ad_census}) {
       expect_bit_exact(GetParam(), left, right, p, ys, every3, scene.name + " every 3rd pixel");
       expect_bit_exact(GetParam(), left, right, p, ys, all, scene.name + " dense");
     }
@@ -141,7 +152,7 @@ TEST_P(MatchReference, RandomImagesAndParametersAreBitExact) {
   auto uni = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
   for (int trial = 0; trial < 1200; ++trial) {
     const int w = uni(2, 28), h = uni(2, 10);
-    StereoParams p;
+    StereoParams p = paper_params();
     p.d_min = uni(-5, 5);
     p.num_disp = uni(1, 40);
     p.cost.window_w = 2 * uni(0, 15) + 1;
@@ -154,6 +165,14 @@ TEST_P(MatchReference, RandomImagesAndParametersAreBitExact) {
     const GapPolicy gaps[3] = {GapPolicy::kInvSquare, GapPolicy::kInverse, GapPolicy::kConstant};
     p.dp.gap = gaps[uni(0, 2)];
     p.dp.subpixel = uni(0, 1) == 1;
+    if (trial % 3 != 0) {  // the census costs (box-aggregated)
+      p.cost.kind = trial % 3 == 1 ? CostKind::kCensus : CostKind::kAdCensus;
+      p.cost.weights = Weights::kBox;
+      p.cost.census_w = 2 * uni(1, 4) + 1;
+      p.cost.census_h = 2 * uni(1, 4) + 1;
+      if (p.cost.census_w * p.cost.census_h > 65) p.cost.census_h = 7;
+      p.cost.ad_weight_q4 = uni(0, kMaxAdWeightQ4);
+    }
 
     // Textures from flat to noisy, with right = shifted left plus noise
     // sometimes, so both well-matched and ambiguous rows occur.

@@ -34,6 +34,9 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
         c.params.num_disp = 32;
         c.params.dense = dense;
         c.params.cost.weights = w;
+        // Adaptive weights run the paper's AD cost; box runs the defaults
+        // (census, paths, left-right check, fill).
+        if (w == Weights::kAdaptive) c.params.cost.kind = CostKind::kAd;
         c.threads = threads;
         c.pin_threads = false;
         Pipeline pipe;

@@ -43,7 +43,9 @@ TEST_P(MiddleburyBitExact, SparseAndDenseBoxAndAdaptive) {
   const test::MiddleburyPair m = test::load_middlebury(GetParam());
   for (bool dense : {false, true}) {
     for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
-      StereoParams p;
+      // Box: the defaults (census, paths, left-right check, fill) sparse, the
+      // paper's model dense; adaptive weights: the paper's model.
+      StereoParams p = (dense || w == Weights::kAdaptive) ? paper_params() : StereoParams{};
       p.num_disp = m.ndisp;
       p.dense = dense;
       p.cost.weights = w;
@@ -53,10 +55,12 @@ TEST_P(MiddleburyBitExact, SparseAndDenseBoxAndAdaptive) {
   }
 }
 
+// Other tritree thresholds and the paper DP's policies (the paper's model; the
+// defaults' stages are covered above and by RandomBitExact's parameters).
 TEST_P(MiddleburyBitExact, OtherThresholdsAndPolicies) {
   TRISTEREO_REQUIRE_MIDDLEBURY();
   const test::MiddleburyPair m = test::load_middlebury(GetParam());
-  StereoParams p;
+  StereoParams p = paper_params();
   p.num_disp = m.ndisp;
   p.tritree.psnr_deci_db = 300;
   p.tritree.max_area_px2 = 400;

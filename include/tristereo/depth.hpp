@@ -41,6 +41,8 @@ TRISTEREO_API DepthWriteReport write_depth(const std::string& path, ImageView<co
 // The dense map as a coloured point cloud: one PLY vertex (float x, y, z in
 // metres + uchar red, green, blue from the left image) per valid pixel, no
 // faces; binary little endian or ASCII. Returns the number of points.
+// kInvalidArgument (and no file) when the camera puts a point beyond float
+// range: inf/nan coordinates are never written.
 TRISTEREO_API std::int64_t write_points_ply(const std::string& path, ImageView<const std::int16_t> disp_q4,
                                            ImageView<const std::uint8_t> left_gray_or_rgb,
                                            const CameraParams& camera, bool binary);

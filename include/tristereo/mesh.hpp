@@ -41,11 +41,25 @@ struct Mesh {
   }
 };
 
+// What the validity stage (docs/model.md section 6) did to the samples:
+// samples are the mesh vertices (sparse) or the pixels (dense mode).
+struct SampleValidity {
+  std::int32_t samples = 0;               // samples matched
+  std::int32_t uniqueness_rejected = 0;   // failed the uniqueness test
+  std::int32_t lr_rejected = 0;           // failed the left-right check
+  std::int32_t filled = 0;                // invalid samples given a neighbour's disparity
+  bool operator==(const SampleValidity& o) const {
+    return samples == o.samples && uniqueness_rejected == o.uniqueness_rejected &&
+           lr_rejected == o.lr_rejected && filled == o.filled;
+  }
+};
+
 // Everything one frame produces.
 struct StereoOutput {
   Mesh mesh;
-  std::vector<std::int16_t> vertex_disp_q4;  // one per mesh vertex
+  std::vector<std::int16_t> vertex_disp_q4;  // one per mesh vertex, kInvalidDispQ4 = invalid
   ImageS16 disp_q4;                          // dense map, kInvalidDispQ4 = invalid
+  SampleValidity validity;
 };
 
 }  // namespace tristereo

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "tristereo/export.hpp"
+#include "tristereo/fixed_point.hpp"
 
 #include <cstdint>
 #include <string>
@@ -23,8 +24,21 @@ constexpr int kMaxAreaLimitPx2 = 1024;
 constexpr int kMinPsnrDeciDb = 100;   // 10.0 dB
 constexpr int kMaxPsnrDeciDb = 700;   // 70.0 dB
 constexpr int kMaxLambdaQ4 = 32000;
+constexpr int kMaxCensusBits = 64;    // census window w * h - 1 (descriptor bits)
+constexpr int kMaxAdWeightQ4 = 64;    // AD share of the ad_census cost, Q4 (4.0)
+constexpr int kMaxPathPenaltyQ4 = 16000;
 
 enum class Weights { kBox, kAdaptive };
+// Per-pixel matching cost (docs/model.md section 2): the paper's truncated
+// absolute difference, the census transform's Hamming distance (robust to gain,
+// offset and gamma differences between the cameras), or both added.
+enum class CostKind { kAd, kCensus, kAdCensus };
+// How sample disparities are chosen from the costs (docs/model.md section 3):
+// the paper's exact DP along each row, or path costs summed over several
+// directions on the mesh (semi-global style).
+enum class Optimizer { kRowDp, kPaths };
+// What becomes of samples that the validity checks reject (docs/model.md section 6).
+enum class FillMode { kNone, kBackground };
 // Gap policy tau(g) of the smoothness term P(g) = round(lambda * tau(g)).
 enum class GapPolicy { kInvSquare, kInverse, kConstant };
 
@@ -34,8 +48,12 @@ struct TritreeParams {
 };
 
 struct CostParams {
-  int window_w = 5;                 // odd, 1..kMaxWindowSide
-  int window_h = 5;                 // odd, 1..kMaxWindowSide
+  CostKind kind = CostKind::kCensus;
+  int census_w = 7;                 // census transform window, odd, 3..9, census_w * census_h - 1 <= 64
+  int census_h = 7;
+  int ad_weight_q4 = 8;             // ad_census: cost = census + ad_weight_q4 * ad / 16 (0..64)
+  int window_w = 3;                 // support window (aggregation), odd, 1..kMaxWindowSide
+  int window_h = 3;                 // odd, 1..kMaxWindowSide (the paper's model: 5x5)
   Weights weights = Weights::kBox;
   int truncation = 30;              // T_c: |L-R| is clamped to this (1..255; 255 = none)
   int asw_gamma_color = 10;         // adaptive weights: exp(-|dI| / gamma_color)
@@ -48,14 +66,50 @@ struct DpParams {
   bool subpixel = true;             // parabola refinement to Q4
 };
 
+// Path aggregation on the samples (docs/model.md section 3b): P1 for a
+// one-step disparity change along a path, P2 for larger jumps, in Q4 cost
+// units. Each sample's predecessor along a direction is its mesh neighbour
+// that best follows the direction (the same-row sample for horizontal ones).
+struct PathParams {
+  int directions = 4;               // 4 (horizontal, vertical) or 8 (+ diagonals)
+  int p1_q4 = 160;
+  int p2_q4 = 640;                  // >= p1_q4
+  // P2 shrinks across intensity edges: P2' = P1 + (P2 - P1) * T / (T + |I(p) - I(q)|);
+  // 0 = off (P2 everywhere).
+  int p2_edge_scale = 30;
+  GapPolicy gap = GapPolicy::kConstant;  // P1, P2 scaled by tau(edge length)
+};
+
+// Validity of sample disparities (docs/model.md section 6).
+struct ValidityParams {
+  // Left-right check: a second matching pass with the right image as the
+  // reference; a sample is kept when the right map at its match agrees within
+  // lr_max_diff_q4 (Q4). -1 = no check.
+  int lr_max_diff_q4 = 16;
+  // Uniqueness: the best summed cost times (100 + margin) must stay below 100 times
+  // every cost two or more disparities away. 0 = off.
+  int uniqueness_pct = 0;
+  FillMode fill = FillMode::kBackground;
+};
+
 struct StereoParams {
   int d_min = 0;                    // smallest disparity searched
   int num_disp = 64;                // D: disparities d_min .. d_min + D - 1
   bool dense = false;               // every pixel a DP sample (paper's baseline)
+  Optimizer optimizer = Optimizer::kPaths;
   TritreeParams tritree;
   CostParams cost;
-  DpParams dp;
+  DpParams dp;                      // optimizer = kRowDp
+  PathParams paths;                 // optimizer = kPaths
+  ValidityParams validity;
 };
+
+// The paper's model (Sarkis & Diepold 2008): AD cost, one DP per row, no
+// validity checks. Every improvement is measured against it.
+TRISTEREO_API StereoParams paper_params();
+
+// Largest matching cost (Q4) the cost kind can produce with these parameters.
+TRISTEREO_API int max_cost_q4(const CostParams& cost);
 
 // Throws tristereo::Error(kInvalidArgument) naming the first bad field.
 TRISTEREO_API void validate_params(const StereoParams& params);
@@ -64,5 +118,11 @@ TRISTEREO_API const char* to_string(Weights w);
 TRISTEREO_API const char* to_string(GapPolicy g);
 TRISTEREO_API Weights parse_weights(const std::string& s);    // "box" | "adaptive"
 TRISTEREO_API GapPolicy parse_gap_policy(const std::string& s);  // "inv_sq" | "inv" | "const"
+TRISTEREO_API const char* to_string(CostKind k);
+TRISTEREO_API const char* to_string(Optimizer o);
+TRISTEREO_API const char* to_string(FillMode f);
+TRISTEREO_API CostKind parse_cost_kind(const std::string& s);   // "ad" | "census" | "ad_census"
+TRISTEREO_API Optimizer parse_optimizer(const std::string& s);  // "dp" | "paths"
+TRISTEREO_API FillMode parse_fill_mode(const std::string& s);   // "none" | "background"
 
 }  // namespace tristereo

@@ -33,11 +33,15 @@ struct PipelineConfig {
 };
 
 // Wall-clock nanoseconds of one frame's stages (filled by every process()).
+// tritree .. interpolation are the left (reference) view's; the right view's
+// pass of the left-right check is right_pass_ns in one piece.
 struct FrameTimings {
   std::int64_t tritree_ns = 0;
   std::int64_t cost_aggregation_ns = 0;
   std::int64_t dp_ns = 0;
   std::int64_t interpolation_ns = 0;
+  std::int64_t right_pass_ns = 0;    // left-right check: the whole right-view pass
+  std::int64_t fill_ns = 0;          // validity checks and the fill of invalid samples
   std::int64_t total_ns = 0;
 };
 

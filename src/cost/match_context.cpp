@@ -71,7 +71,17 @@ void validate_match_params(const StereoParams& p) {
     fail("dp.gap = " + std::to_string(static_cast<int>(p.dp.gap)) + " is not a GapPolicy value");
 }
 
+void CensusScratch::resize(int max_width) {
+  max_width_ = max_width;
+  const std::size_t row = static_cast<std::size_t>(max_width) + 8 + kKernelSlack;
+  rows_.assign(9 * row, 0);
+  planes_.assign(4 * (static_cast<std::size_t>(max_width) + kKernelSlack), 0);
+}
+
 void CostScratch::resize(int num_disp) {
+  census_right_.assign(std::size_t{kMaxWindowSide} * kMaxWindowSide * 4, nullptr);
+  census_left_.assign(std::size_t{kMaxWindowSide} * kMaxWindowSide * 4, 0);
+  census_q4_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
   sum_u16_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
   sum_u32_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
   constexpr std::size_t kMaxWindowPixels = std::size_t{kMaxWindowSide} * kMaxWindowSide;
@@ -82,11 +92,17 @@ void CostScratch::resize(int num_disp) {
 
 std::size_t CostScratch::working_memory_bytes() const {
   return capacity_bytes(sum_u16_) + capacity_bytes(sum_u32_) + capacity_bytes(window_right_) +
-         capacity_bytes(window_left_) + capacity_bytes(window_weight_);
+         capacity_bytes(window_left_) + capacity_bytes(window_weight_) + capacity_bytes(census_right_) +
+         capacity_bytes(census_left_) + capacity_bytes(census_q4_);
 }
 
 std::size_t MatchContext::working_memory_bytes() const {
-  return capacity_bytes(right_rev_) + capacity_bytes(wp_);
+  return capacity_bytes(right_rev_) + capacity_bytes(wp_) + capacity_bytes(left_census_) +
+         capacity_bytes(right_census_rev_);
+}
+
+std::size_t CensusScratch::working_memory_bytes() const {
+  return capacity_bytes(rows_) + capacity_bytes(planes_);
 }
 
 MatchContext::MatchContext(int max_width, int max_height, const StereoParams& params,
@@ -101,7 +117,8 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   validate_match_params(params);
   if (!kernels.accumulate_abs_diff_u16 || !kernels.accumulate_abs_diff_weighted_u32 ||
       !kernels.aggregate_window_box_u16 || !kernels.aggregate_window_weighted_u32 ||
-      !kernels.normalize_costs_u16 || !kernels.normalize_costs_u32 || !kernels.dp_step)
+      !kernels.normalize_costs_u16 || !kernels.normalize_costs_u32 || !kernels.dp_step ||
+      !kernels.census_row_u16 || !kernels.census_window_u16)
     fail(std::string("kernel set '") + (kernels.name ? kernels.name : "?") + "' is incomplete");
 
   const CostParams& c = params.cost;
@@ -112,6 +129,10 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   const std::size_t stride =
       static_cast<std::size_t>(max_width + 2 * pad + kKernelSlack + 63) / 64 * 64;
   UntouchedVector<std::uint8_t> rev(stride * static_cast<std::size_t>(max_height));
+  const int planes = c.kind == CostKind::kAd ? 0 : (c.census_w * c.census_h - 1 + 15) / 16;
+  const std::size_t census_stride = static_cast<std::size_t>(max_width + 63) / 64 * 64;
+  UntouchedVector<std::uint16_t> left_census(static_cast<std::size_t>(planes) * max_height * census_stride);
+  UntouchedVector<std::uint16_t> right_census(static_cast<std::size_t>(planes) * max_height * stride);
 
   // Nothing below throws (except bad_alloc above): commit.
   max_width_ = max_width;
@@ -124,6 +145,10 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   rev_pad_ = pad;
   rev_stride_ = stride;
   right_rev_ = std::move(rev);
+  census_planes_ = planes;
+  census_stride_ = census_stride;
+  left_census_ = std::move(left_census);
+  right_census_rev_ = std::move(right_census);
   exp_decay_table_u8(c.asw_gamma_color, 256, ws_);
   wp_ = std::move(wp);
   width_ = height_ = 0;
@@ -146,7 +171,30 @@ void MatchContext::begin_frame(ImageView<const std::uint8_t> left_gray,
   height_ = left_gray.height;
 }
 
-void MatchContext::prepare_right_rows(int y_begin, int y_end) {
+// Census of row y of img into scratch.planes_: the window's rows widened to
+// u16 with the border replicated (clamped coordinates, docs/model.md section 2).
+void MatchContext::census_rows(ImageView<const std::uint8_t> img, int y,
+                               CensusScratch& scratch) const {
+  const CostParams& c = params_.cost;
+  const int rx = c.census_w / 2, ry = c.census_h / 2;
+  const int w = width_;
+  const std::size_t row_len = static_cast<std::size_t>(scratch.max_width_) + 8 + kKernelSlack;
+  const std::uint16_t* rows[9];
+  for (int j = 0; j < c.census_h; ++j) {
+    const std::uint8_t* src = img.row(std::clamp(y - ry + j, 0, height_ - 1));
+    std::uint16_t* dst = scratch.rows_.data() + static_cast<std::size_t>(j) * row_len + 4;
+    for (int x = -rx; x < 0; ++x) dst[x] = src[0];
+    for (int x = 0; x < w; ++x) dst[x] = src[x];
+    for (int x = w; x < w + rx; ++x) dst[x] = src[w - 1];
+    rows[j] = dst;
+  }
+  std::uint16_t* planes[4];
+  const std::size_t plane_len = static_cast<std::size_t>(scratch.max_width_) + kKernelSlack;
+  for (int p = 0; p < 4; ++p) planes[p] = scratch.planes_.data() + static_cast<std::size_t>(p) * plane_len;
+  kernels_->census_row_u16(rows, c.census_w, c.census_h, w, planes);
+}
+
+void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* census) {
   if (width_ == 0) throw Error(ErrorCode::kNotConfigured, "prepare_right_rows before begin_frame()");
   if (y_begin < 0 || y_end > height_ || y_begin > y_end)
     fail("row band [" + std::to_string(y_begin) + ", " + std::to_string(y_end) +
@@ -162,6 +210,53 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end) {
     for (int i = 0; i < w; ++i) dst[rev_pad_ + i] = src[w - 1 - i];
     std::fill(dst + rev_pad_ + w, dst + len, src[0]);
   }
+  if (census_planes_ == 0) return;
+  if (census == nullptr || census->max_width_ < w)
+    fail("prepare_right_rows: the census cost needs a CensusScratch sized for the frame width");
+  const std::size_t plane_len = static_cast<std::size_t>(census->max_width_) + kKernelSlack;
+  for (int y = y_begin; y < y_end; ++y) {
+    census_rows(left_, y, *census);
+    for (int p = 0; p < census_planes_; ++p) {
+      const std::uint16_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
+      std::copy(src, src + w,
+                left_census_.begin() + static_cast<std::ptrdiff_t>(
+                                           (static_cast<std::size_t>(p) * max_height_ + y) * census_stride_));
+    }
+    census_rows(right_, y, *census);
+    for (int p = 0; p < census_planes_; ++p) {
+      const std::uint16_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
+      std::uint16_t* dst = right_census_rev_.data() +
+                           (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_;
+      std::fill(dst, dst + rev_pad_, src[w - 1]);
+      for (int i = 0; i < w; ++i) dst[rev_pad_ + i] = src[w - 1 - i];
+      std::fill(dst + rev_pad_ + w, dst + len, src[0]);
+    }
+  }
+}
+
+// Mean Hamming distance over the clipped window, in Q4 (0 .. 16 * bits).
+void MatchContext::aggregate_census(int x0, int x1, int y0, int y1, std::uint16_t* cost_q4,
+                                    CostScratch& scratch) const {
+  const int n = params_.num_disp;
+  const std::uint16_t** right = scratch.census_right_.data();
+  std::uint16_t* left = scratch.census_left_.data();
+  int count = 0;
+  for (int p = 0; p < census_planes_; ++p)
+    for (int py = y0; py <= y1; ++py) {
+      const std::uint16_t* rrow = right_census_rev_.data() +
+                                  (static_cast<std::size_t>(p) * max_height_ + py) * rev_stride_;
+      const std::uint16_t* lrow = left_census_.data() +
+                                  (static_cast<std::size_t>(p) * max_height_ + py) * census_stride_;
+      for (int px = x0; px <= x1; ++px) {
+        right[count] = rrow + rev_offset(px);
+        left[count] = lrow[px];
+        ++count;
+      }
+    }
+  const auto pixels = static_cast<std::uint64_t>((x1 - x0 + 1) * (y1 - y0 + 1));
+  std::uint16_t* acc = scratch.sum_u16_.data();
+  kernels_->census_window_u16(right, left, count, n, acc);
+  kernels_->normalize_costs_u16(acc, (std::uint64_t{1} << kInvShift) / pixels, n, cost_q4);
 }
 
 void MatchContext::aggregate_sample(int x, int y, std::uint16_t* cost_q4,
@@ -171,6 +266,7 @@ void MatchContext::aggregate_sample(int x, int y, std::uint16_t* cost_q4,
   const int rx = c.window_w / 2, ry = c.window_h / 2;
   const int x0 = std::max(0, x - rx), x1 = std::min(width_ - 1, x + rx);
   const int y0 = std::max(0, y - ry), y1 = std::min(height_ - 1, y + ry);
+  if (c.kind == CostKind::kCensus) return aggregate_census(x0, x1, y0, y1, cost_q4, scratch);
   const auto trunc = static_cast<std::uint8_t>(c.truncation);
   const KernelSet& ks = *kernels_;
   const std::uint8_t** right = scratch.window_right_.data();
@@ -229,6 +325,16 @@ void MatchContext::aggregate_sample(int x, int y, std::uint16_t* cost_q4,
     std::uint32_t* acc = scratch.sum_u32_.data();
     ks.aggregate_window_weighted_u32(right, left, weight, count, trunc, n, acc);
     ks.normalize_costs_u32(acc, inv_q32, n, cost_q4);
+  }
+  if (c.kind == CostKind::kAdCensus) {
+    // cost = min(4080, census + (ad_weight * ad + 8) >> 4), both in Q4.
+    std::uint16_t* census = scratch.census_q4_.data();
+    aggregate_census(x0, x1, y0, y1, census, scratch);
+    const std::uint32_t wq4 = static_cast<std::uint32_t>(c.ad_weight_q4);
+    for (int k = 0; k < n; ++k) {
+      const std::uint32_t v = census[k] + ((wq4 * cost_q4[k] + 8) >> 4);
+      cost_q4[k] = static_cast<std::uint16_t>(v < std::uint32_t{kMaxCostQ4} ? v : std::uint32_t{kMaxCostQ4});
+    }
   }
 }
 

@@ -53,11 +53,28 @@ class CostScratch {
 
  private:
   friend class MatchContext;
+  std::vector<const std::uint16_t*> census_right_;  // window pixels x planes
+  std::vector<std::uint16_t> census_left_;
+  std::vector<std::uint16_t> census_q4_;            // ad_census: the census part
   std::vector<std::uint16_t> sum_u16_;
   std::vector<std::uint32_t> sum_u32_;
   std::vector<const std::uint8_t*> window_right_;
   std::vector<std::uint8_t> window_left_;
   std::vector<std::uint16_t> window_weight_;
+};
+
+// One worker's buffers for the census transform of a row band: the window's
+// rows widened to u16 with the border replicated, and one row of planes.
+class CensusScratch {
+ public:
+  void resize(int max_width);
+  std::size_t working_memory_bytes() const;
+
+ private:
+  friend class MatchContext;
+  int max_width_ = 0;
+  std::vector<std::uint16_t> rows_;    // 9 padded rows
+  std::vector<std::uint16_t> planes_;  // 4 rows of descriptor planes
 };
 
 class MatchContext {
@@ -80,9 +97,18 @@ class MatchContext {
   void begin_frame(ImageView<const std::uint8_t> left_gray,
                    ImageView<const std::uint8_t> right_gray);
 
-  // Builds the reversed right rows [y_begin, y_end) of the current frame.
-  // Bands of different workers may run concurrently (disjoint rows).
-  void prepare_right_rows(int y_begin, int y_end);
+  // Builds the reversed right rows [y_begin, y_end) of the current frame and,
+  // for the census costs, both images' descriptors of those rows (then
+  // `census` must be given, sized for max_width()). Bands of different
+  // workers may run concurrently (disjoint rows, one scratch each).
+  void prepare_right_rows(int y_begin, int y_end, CensusScratch* census = nullptr);
+
+  bool uses_census() const { return census_planes_ > 0; }
+  int census_planes() const { return census_planes_; }
+  // Census descriptor plane p of left pixel (x, y) of the current frame.
+  std::uint16_t left_census(int p, int x, int y) const {
+    return left_census_[(static_cast<std::size_t>(p) * max_height_ + y) * census_stride_ + x];
+  }
 
   // cost_q4[k] = Ca_q4(x, y, d_min + k) for k in [0, D): the weighted mean of the
   // truncated absolute differences over the clipped window, in Q4 (0..4080),
@@ -124,6 +150,16 @@ class MatchContext {
   // Rows a frame does not reach stay untouched (src/memory/untouched_vector.hpp):
   // prepare_right_rows writes every byte the kernels read before they read it.
   UntouchedVector<std::uint8_t> right_rev_;
+  // Census (cost kinds census, ad_census): left descriptors by plane, row and x;
+  // right descriptors as reversed padded rows like right_rev_, by plane and row.
+  // Untouched until a frame's prepare_right_rows writes them, like right_rev_.
+  int census_planes_ = 0;
+  std::size_t census_stride_ = 0;
+  UntouchedVector<std::uint16_t> left_census_;
+  UntouchedVector<std::uint16_t> right_census_rev_;
+  void census_rows(ImageView<const std::uint8_t> img, int y, CensusScratch& scratch) const;
+  void aggregate_census(int x0, int x1, int y0, int y1, std::uint16_t* cost_q4,
+                        CostScratch& scratch) const;
   std::uint8_t ws_[256] = {};              // similarity weight by |L(p) - L(c)|
   std::vector<std::uint8_t> wp_;           // proximity weight by dx^2 + dy^2
 

@@ -124,6 +124,12 @@ std::int64_t write_points_ply(const std::string& path, ImageView<const std::int1
       if (!std::isfinite(z)) continue;
       const float xyz[3] = {static_cast<float>((x - camera.cx) * z / camera.focal_px),
                             static_cast<float>((y - camera.cy) * z / camera.focal_px), static_cast<float>(z)};
+      // A point finite in double can still overflow float: refused (before the
+      // rename, so nothing appears under the path) rather than written as inf.
+      if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+        throw Error(ErrorCode::kInvalidArgument,
+                    "write_points_ply: the camera puts pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                        ") at a point beyond float range; check the camera's values and units");
       const std::uint8_t* px = left.row(y) + static_cast<std::ptrdiff_t>(x) * left.channels;
       const std::uint8_t rgb[3] = {px[0], px[left.channels == 3 ? 1 : 0], px[left.channels == 3 ? 2 : 0]};
       if (binary) {

@@ -80,6 +80,39 @@ struct KernelSet {
   // Back-pointer of disparity k (0 <= k < n): the smallest j in [0, n)
   // minimising prev[j] + penalty * |k - j| (exact for any u16 prev, penalty).
   int (*dp_pointer_u16)(const std::uint16_t* prev, std::uint32_t penalty, int n, int k) = nullptr;
+
+  // Census transform of one row (docs/model.md section 2): bit b of pixel x's
+  // descriptor is 1 when the b-th neighbour of its win_w x win_h window (raster
+  // order, centre skipped) is below the centre; bits 16p .. 16p + 15 go to
+  // planes[p][x], p < ceil((win_w win_h - 1) / 16). rows[j], j < win_h, point at
+  // x = 0 of the window's rows as u16 (values 0..255), readable from -win_w/2 to
+  // width - 1 + win_w/2 (the caller replicates the border). width >= 1.
+  void (*census_row_u16)(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+                         std::uint16_t* const* planes) = nullptr;
+
+  // Hamming cost over a support window, one descriptor plane per entry:
+  //   sum[k] = sum_{i < count} popcount(left[i] ^ right_rev[i][k]), k in [0, n).
+  // Bound: count * 16 <= 65535 (31 x 31 window x 4 planes = 3844 entries).
+  // right_rev[i] may be read up to 64 elements past n (the rows' slack).
+  void (*census_window_u16)(const std::uint16_t* const* right_rev, const std::uint16_t* left,
+                            int count, int n, std::uint16_t* sum) = nullptr;
+
+  // One step of a path (docs/model.md section 3b), for k in [0, n):
+  //   out[k] = cost[k] + min(prev[k], prev[k-1] + p1, prev[k+1] + p1, prev_min + p2) - prev_min
+  // with prev[-1] = prev[n] = 0xFFFF guards read by the kernel (the sums
+  // saturate), sum[k] = out[k] (accumulate == 0) or sum[k] + out[k]; returns
+  // min_k out[k]. Bounds (validate_params): prev[k] <= max cost + p2,
+  // prev_min + p2 <= 65535, sums <= 65535. cost and prev may be read up to 64
+  // elements past n.
+  std::uint16_t (*path_step_u16)(const std::uint16_t* cost, const std::uint16_t* prev,
+                                 std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
+                                 int n, std::uint16_t* out, std::uint16_t* sum,
+                                 int accumulate) = nullptr;
+
+  // total[k] = sum_{i < count} terms[i][k] (bounded by the caller to 65535),
+  // returns the smallest k minimising total. count >= 1, n >= 1.
+  int (*sum_argmin_u16)(const std::uint16_t* const* terms, int count, int n,
+                        std::uint16_t* total) = nullptr;
 };
 
 // The portable reference set (always available).

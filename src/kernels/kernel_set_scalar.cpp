@@ -16,6 +16,10 @@ const KernelSet& scalar_kernel_set() {
     s.dp_step = dp_step_scalar;
     s.dp_step_u16 = dp_step_u16_scalar;
     s.dp_pointer_u16 = dp_pointer_u16_scalar;
+    s.census_row_u16 = census_row_u16_scalar;
+    s.census_window_u16 = census_window_u16_scalar;
+    s.path_step_u16 = path_step_u16_scalar;
+    s.sum_argmin_u16 = sum_argmin_u16_scalar;
     return s;
   }();
   return set;

@@ -31,4 +31,16 @@ void dp_step_u16_scalar(const std::uint16_t* cost_q4, const std::uint16_t* prev,
                         std::uint32_t penalty, int n, std::uint16_t* out);
 int dp_pointer_u16_scalar(const std::uint16_t* prev, std::uint32_t penalty, int n, int k);
 
+int census_popcount_u16(std::uint16_t v);
+void census_row_u16_scalar(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+                           std::uint16_t* const* planes);
+void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* left,
+                              int count, int n, std::uint16_t* sum);
+std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_t* prev,
+                                   std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
+                                   int n, std::uint16_t* out, std::uint16_t* sum,
+                                   int accumulate);
+int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
+                          std::uint16_t* total);
+
 }  // namespace tristereo

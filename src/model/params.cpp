@@ -1,4 +1,5 @@
 // Parameter validation: every bound of docs/model.md section 5 in one place.
+#include <algorithm>
 #include <string>
 
 #include "tristereo/params.hpp"
@@ -34,6 +35,98 @@ void validate_params(const StereoParams& p) {
   check_range("cost.asw_gamma_color", p.cost.asw_gamma_color, 1, 1000);
   check_range("cost.asw_gamma_proximity", p.cost.asw_gamma_proximity, 1, 100000);
   check_range("dp.lambda_q4", p.dp.lambda_q4, 0, kMaxLambdaQ4);
+  if (p.cost.kind != CostKind::kAd) {
+    check_range("cost.census_w", p.cost.census_w, 3, 9);
+    check_range("cost.census_h", p.cost.census_h, 3, 9);
+    if (p.cost.census_w % 2 == 0)
+      bad("cost.census_w = " + std::to_string(p.cost.census_w) + " must be odd (the window is centred)");
+    if (p.cost.census_h % 2 == 0)
+      bad("cost.census_h = " + std::to_string(p.cost.census_h) + " must be odd (the window is centred)");
+    if (p.cost.census_w * p.cost.census_h - 1 > kMaxCensusBits)
+      bad("cost.census_h = " + std::to_string(p.cost.census_h) + " with a width of " +
+          std::to_string(p.cost.census_w) + " gives " + std::to_string(p.cost.census_w * p.cost.census_h - 1) +
+          " neighbours; the census descriptor holds at most " + std::to_string(kMaxCensusBits));
+    if (p.cost.weights != Weights::kBox)
+      bad("cost.weights = adaptive works with the ad cost only (census costs are box-aggregated)");
+    check_range("cost.ad_weight_q4", p.cost.ad_weight_q4, 0, kMaxAdWeightQ4);
+  }
+  if (p.optimizer == Optimizer::kPaths) {
+    if (p.paths.directions != 4 && p.paths.directions != 8)
+      bad("paths.directions = " + std::to_string(p.paths.directions) + " must be 4 or 8");
+    check_range("paths.p1_q4", p.paths.p1_q4, 0, kMaxPathPenaltyQ4);
+    check_range("paths.p2_q4", p.paths.p2_q4, p.paths.p1_q4, kMaxPathPenaltyQ4);
+    check_range("paths.p2_edge_scale", p.paths.p2_edge_scale, 0, 255);
+    // Every path cost is <= max cost + P2, and the winner adds `directions`
+    // of them in u16 lanes.
+    const long long worst = static_cast<long long>(p.paths.directions) *
+                            (max_cost_q4(p.cost) + p.paths.p2_q4);
+    if (worst > 65535)
+      bad("paths.p2_q4 = " + std::to_string(p.paths.p2_q4) + " is too large: " +
+          std::to_string(p.paths.directions) + " directions x (largest cost " +
+          std::to_string(max_cost_q4(p.cost)) + " + P2) = " + std::to_string(worst) +
+          " exceeds 65535 (the summed path costs are 16-bit); lower P2 or the directions");
+  }
+  check_range("validity.lr_max_diff_q4", p.validity.lr_max_diff_q4, -1, 16 * kMaxNumDisp);
+  check_range("validity.uniqueness_pct", p.validity.uniqueness_pct, 0, 100);
+  if (p.validity.fill != FillMode::kNone && p.validity.fill != FillMode::kBackground)
+    bad("validity.fill is not a FillMode value");
+}
+
+int max_cost_q4(const CostParams& c) {
+  const int ad = 16 * c.truncation;
+  const int census = 16 * (c.census_w * c.census_h - 1);
+  switch (c.kind) {
+    case CostKind::kAd: return ad;
+    case CostKind::kCensus: return census;
+    case CostKind::kAdCensus: return std::min(kMaxCostQ4, census + ((c.ad_weight_q4 * ad + 8) >> 4));
+  }
+  return kMaxCostQ4;
+}
+
+StereoParams paper_params() {
+  StereoParams p;
+  p.optimizer = Optimizer::kRowDp;
+  p.cost.kind = CostKind::kAd;
+  p.cost.window_w = 5;
+  p.cost.window_h = 5;
+  p.cost.weights = Weights::kBox;
+  p.cost.truncation = 30;
+  p.dp = DpParams{};
+  p.validity.lr_max_diff_q4 = -1;
+  p.validity.uniqueness_pct = 0;
+  p.validity.fill = FillMode::kBackground;
+  return p;
+}
+
+const char* to_string(CostKind k) {
+  switch (k) {
+    case CostKind::kAd: return "ad";
+    case CostKind::kCensus: return "census";
+    case CostKind::kAdCensus: return "ad_census";
+  }
+  return "?";
+}
+
+const char* to_string(Optimizer o) { return o == Optimizer::kRowDp ? "dp" : "paths"; }
+const char* to_string(FillMode f) { return f == FillMode::kNone ? "none" : "background"; }
+
+CostKind parse_cost_kind(const std::string& s) {
+  if (s == "ad") return CostKind::kAd;
+  if (s == "census") return CostKind::kCensus;
+  if (s == "ad_census") return CostKind::kAdCensus;
+  bad("unknown cost '" + s + "' (expected ad, census or ad_census)");
+}
+
+Optimizer parse_optimizer(const std::string& s) {
+  if (s == "dp") return Optimizer::kRowDp;
+  if (s == "paths") return Optimizer::kPaths;
+  bad("unknown optimizer '" + s + "' (expected dp or paths)");
+}
+
+FillMode parse_fill_mode(const std::string& s) {
+  if (s == "none") return FillMode::kNone;
+  if (s == "background") return FillMode::kBackground;
+  bad("unknown fill '" + s + "' (expected none or background)");
 }
 
 const char* to_string(Weights w) { return w == Weights::kBox ? "box" : "adaptive"; }

@@ -15,7 +15,10 @@
 #include "platform/cpu_features.hpp"
 #include "platform/thread_pool.hpp"
 #include "platform/work_chunks.hpp"
+#include "src/aggregate/path_matcher.hpp"
 #include "src/cost/match_context.hpp"
+#include "src/fill/sample_fill.hpp"
+#include "src/select/lr_check.hpp"
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/kernels/dispatch.hpp"
@@ -37,9 +40,12 @@ struct Pipeline::Impl {
 
   Tritree tritree;
   MatchContext match;
+  PathMatcher paths;
+  SampleFill fill;
   ThreadPool pool;
   struct Worker {
     RowMatcher matcher;
+    CensusScratch census;
     UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
@@ -49,6 +55,12 @@ struct Pipeline::Impl {
   WorkChunks triangles;  // interpolation: triangles handed out on demand
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
   ImageU8 left_gray, right_gray;     // used when the input is RGB (reserved, sized per frame)
+  // Left-right check: the right view is matched as the left view of the
+  // mirrored pair (mirror(R), mirror(L)). Reserved, sized per frame.
+  ImageU8 mirror_left, mirror_right;
+  Mesh right_mesh;
+  std::vector<std::int16_t> right_vdisp;
+  ImageS16 right_disp;
   StereoOutput out;
   FrameTimings timings;
   StageListener* listener = nullptr;
@@ -56,6 +68,10 @@ struct Pipeline::Impl {
   void mark(PipelineStage s, bool begin) const {
     if (listener) listener->on_stage(s, begin);
   }
+  int match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
+                 const SampleLayout& samples, std::int16_t* sample_disp, std::int64_t* cost_ns,
+                 std::int64_t* dp_ns);
+  void interpolate_all(const Mesh& mesh, const std::int16_t* vertex_disp, ImageView<std::int16_t> out);
 };
 
 Pipeline::Pipeline() : impl_(new Impl) {}
@@ -77,7 +93,13 @@ std::size_t Pipeline::working_memory_bytes() const {
                       capacity_bytes(m.out.mesh.vertices) + capacity_bytes(m.out.mesh.triangles) +
                       capacity_bytes(m.out.mesh.row_start) + capacity_bytes(m.out.vertex_disp_q4) +
                       capacity_bytes(m.out.disp_q4.pixels);
-  for (const Impl::Worker& w : m.workers) bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs);
+  for (const Impl::Worker& w : m.workers)
+    bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes();
+  bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
+           capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
+           capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
+           capacity_bytes(m.right_mesh.row_start) + capacity_bytes(m.right_vdisp) +
+           capacity_bytes(m.right_disp.pixels);
   return bytes;
 }
 
@@ -106,26 +128,47 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.match.configure(config.max_width, config.max_height, config.params, kernels);
   m.workers.clear();
   m.workers.resize(static_cast<std::size_t>(threads));
+  const StereoParams& sp = config.params;
+  const bool rows_dp = sp.optimizer == Optimizer::kRowDp;
   for (auto& w : m.workers) {
-    w.matcher.configure(config.max_width, config.params);
+    if (rows_dp) w.matcher.configure(config.max_width, config.params);
+    w.census.resize(config.max_width);
     w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
   }
+  const int max_px = config.max_width * config.max_height;
+  if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads);
+  else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
+  // A conforming triangulation of n points has fewer than 2n triangles.
+  m.fill.configure(max_px, 2 * max_px);
+  const bool lr = sp.validity.lr_max_diff_q4 >= 0;
+  const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
+  m.mirror_left = ImageU8{};
+  m.mirror_right = ImageU8{};
+  m.mirror_left.pixels.reserve(lr_px);
+  m.mirror_right.pixels.reserve(lr_px);
+  m.right_mesh = Mesh{};
+  if (lr) m.tritree.reserve(m.right_mesh);
+  m.right_vdisp.clear();
+  m.right_vdisp.reserve(lr_px);
+  m.right_disp = ImageS16{};
+  m.right_disp.channels = 1;
+  m.right_disp.pixels.reserve(lr_px);
   m.all_xs.resize(static_cast<std::size_t>(config.max_width));
   for (int x = 0; x < config.max_width; ++x) m.all_xs[static_cast<std::size_t>(x)] = x;
   // Reserved, not filled: a fresh block stays untouched address space until a
   // frame writes it, so a frame smaller than the maximum (or gray input, which
   // never needs the gray copies) does not fault in pages it does not use. Each
   // frame sizes them within capacity and writes every pixel it keeps.
-  const std::size_t max_px = static_cast<std::size_t>(config.max_width) * config.max_height;
+  const std::size_t max_px_size = static_cast<std::size_t>(max_px);
   m.left_gray = ImageU8{};
   m.right_gray = ImageU8{};
-  m.left_gray.pixels.reserve(max_px);
-  m.right_gray.pixels.reserve(max_px);
+  m.left_gray.pixels.reserve(max_px_size);
+  m.right_gray.pixels.reserve(max_px_size);
   m.out = StereoOutput{};
   m.tritree.reserve(m.out.mesh);
-  m.out.vertex_disp_q4.reserve(max_px);
+  m.out.vertex_disp_q4.reserve(max_px_size);
   m.out.disp_q4.channels = 1;
-  m.out.disp_q4.pixels.reserve(max_px);
+  m.out.disp_q4.pixels.reserve(max_px_size);
 
   m.pool.start(threads, cpus, config.pin_threads);
   m.config = config;
@@ -154,6 +197,80 @@ ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8&
 }
 }  // namespace
 
+// Matching of one view: costs at the samples, the configured optimizer, the
+// winner (and uniqueness, paths only). Returns the samples uniqueness rejected.
+int Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
+                               const SampleLayout& samples, std::int16_t* sample_disp,
+                               std::int64_t* cost_ns, std::int64_t* dp_ns) {
+  const std::int64_t t0 = monotonic_ns();
+  const int workers = pool.size();
+  const int height = lg.height;
+  // Right rows (and census descriptors) for the cost kernels.
+  match.begin_frame(lg, rg);
+  pool.run([&](int w) {
+    int y0, y1;
+    ThreadPool::split_range(0, height, workers, w, &y0, &y1);
+    match.prepare_right_rows(y0, y1, &this->workers[static_cast<std::size_t>(w)].census);
+  });
+  const std::int64_t t_prepared = monotonic_ns();
+  if (config.params.optimizer == Optimizer::kPaths) {
+    paths.compute_costs(match, samples, pool);
+    const std::int64_t t_costs = monotonic_ns();
+    paths.aggregate(samples, lg, pool);
+    const int rejected = paths.select(samples, pool, sample_disp);
+    *cost_ns += t_costs - t0;
+    *dp_ns += monotonic_ns() - t_costs;
+    return rejected;
+  }
+  // The paper's DP: cost aggregation + DP, row by row. Rows are independent,
+  // so workers take chunks of rows on demand (platform/work_chunks.hpp):
+  // uneven rows (sparse mode) and a worker slowed from outside both even out.
+  rows.reset(0, height, kRowsPerChunk);
+  pool.run([&](int w) {
+    Worker& wk = this->workers[static_cast<std::size_t>(w)];
+    wk.cost_ns = 0;
+    wk.dp_ns = 0;
+    RowTimes times;
+    int y0 = 0, y1 = 0;
+    while (rows.next(&y0, &y1)) {
+      for (int y = y0; y < y1; ++y) {
+        const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
+        const std::int32_t* xs = all_xs.data();
+        if (!samples.dense()) {
+          for (int i = v0; i < v1; ++i) wk.xs[static_cast<std::size_t>(i - v0)] = samples.x_of(i);
+          xs = wk.xs.data();
+        }
+        if (v1 > v0) wk.matcher.match_row(match, y, xs, v1 - v0, sample_disp + v0, &times);
+      }
+    }
+    wk.cost_ns = times.cost_ns;
+    wk.dp_ns = times.dp_ns;
+  });
+  // Cost and DP interleave per row inside each worker; the match phase's wall
+  // time is split between them in proportion to the workers' summed stage times.
+  std::int64_t cost_sum = 0, dp_sum = 0;
+  for (const auto& wk : this->workers) {
+    cost_sum += wk.cost_ns;
+    dp_sum += wk.dp_ns;
+  }
+  const std::int64_t match_wall = monotonic_ns() - t_prepared;
+  const std::int64_t both = cost_sum + dp_sum;
+  const std::int64_t cost_part =
+      both > 0 ? static_cast<std::int64_t>(static_cast<double>(match_wall) * cost_sum / both) : match_wall;
+  *cost_ns += (t_prepared - t0) + cost_part;
+  *dp_ns += match_wall - cost_part;
+  return 0;
+}
+
+void Pipeline::Impl::interpolate_all(const Mesh& mesh, const std::int16_t* vertex_disp,
+                                     ImageView<std::int16_t> out) {
+  triangles.reset(0, static_cast<int>(mesh.triangles.size()), kTrianglesPerChunk);
+  pool.run([&](int) {
+    int t0 = 0, t1 = 0;
+    while (triangles.next(&t0, &t1)) interpolate_triangles(mesh, vertex_disp, t0, t1, out);
+  });
+}
+
 const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
                                       ImageView<const std::uint8_t> right) {
   Impl& m = *impl_;
@@ -166,7 +283,6 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   const ImageView<const std::uint8_t> rg = as_gray(right, m.right_gray);
   const int width = lg.width, height = lg.height;
   const StereoParams& params = m.config.params;
-  const int workers = m.pool.size();
 
   // 1. Tritree on the left image.
   Mesh& mesh = m.out.mesh;
@@ -176,48 +292,49 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   m.mark(PipelineStage::kTritree, false);
   m.mark(PipelineStage::kMatching, true);
 
-  // 2. Right rows for the cost kernels (part of cost aggregation).
-  m.match.begin_frame(lg, rg);
-  m.pool.run([&](int w) {
-    int y0, y1;
-    ThreadPool::split_range(0, height, workers, w, &y0, &y1);
-    m.match.prepare_right_rows(y0, y1);
-  });
-  const std::int64_t t_prepared = monotonic_ns();
-
-  // 3. Cost aggregation + DP, row by row. Rows are independent, so workers
-  // take chunks of rows on demand (platform/work_chunks.hpp): uneven rows
-  // (sparse mode) and a worker slowed from outside both even out.
   ImageS16& dense = m.out.disp_q4;
   dense.width = width;
   dense.height = height;
   dense.pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
   std::vector<std::int16_t>& vdisp = m.out.vertex_disp_q4;
   vdisp.resize(mesh.vertices.size());  // within capacity
-  m.rows.reset(0, height, kRowsPerChunk);
-  m.pool.run([&](int w) {
-    Impl::Worker& wk = m.workers[static_cast<std::size_t>(w)];
-    wk.cost_ns = 0;
-    wk.dp_ns = 0;
-    RowTimes times;
-    int y0 = 0, y1 = 0;
-    while (m.rows.next(&y0, &y1)) {
-      for (int y = y0; y < y1; ++y) {
-        if (params.dense) {
-          wk.matcher.match_row(m.match, y, m.all_xs.data(), width, dense.row(y), &times);
-          continue;
-        }
-        const int v0 = mesh.row_start[static_cast<std::size_t>(y)];
-        const int v1 = mesh.row_start[static_cast<std::size_t>(y) + 1];
-        for (int i = v0; i < v1; ++i) wk.xs[static_cast<std::size_t>(i - v0)] = mesh.vertices[static_cast<std::size_t>(i)].x;
-        if (v1 > v0) wk.matcher.match_row(m.match, y, wk.xs.data(), v1 - v0, vdisp.data() + v0, &times);
-      }
-    }
-    wk.cost_ns = times.cost_ns;
-    wk.dp_ns = times.dp_ns;
-  });
+  SampleValidity& validity = m.out.validity;
+  validity = SampleValidity{};
+  const SampleLayout samples{params.dense ? nullptr : &mesh, width, height};
+  std::int16_t* sample_disp = params.dense ? dense.pixels.data() : vdisp.data();
+  validity.samples = samples.count();
+
+  std::int64_t cost_ns = 0, dp_ns = 0;
+  validity.uniqueness_rejected = m.match_view(lg, rg, samples, sample_disp, &cost_ns, &dp_ns);
   const std::int64_t t_matched = monotonic_ns();
   m.mark(PipelineStage::kMatching, false);
+
+  // Left-right check: the right view's pass, its own fill and dense map.
+  if (params.validity.lr_max_diff_q4 >= 0) {
+    mirror_gray(rg, m.mirror_left);
+    mirror_gray(lg, m.mirror_right);
+    const ImageView<const std::uint8_t> ml{m.mirror_left.pixels.data(), width, height, 1, width};
+    const ImageView<const std::uint8_t> mr{m.mirror_right.pixels.data(), width, height, 1, width};
+    ImageS16& rd = m.right_disp;
+    rd.width = width;
+    rd.height = height;
+    rd.pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
+    std::int16_t* right_samples = rd.pixels.data();
+    if (!params.dense) {
+      m.tritree.build(ml, m.right_mesh, &m.pool);
+      m.right_vdisp.resize(m.right_mesh.vertices.size());  // within capacity
+      right_samples = m.right_vdisp.data();
+    }
+    const SampleLayout rs{params.dense ? nullptr : &m.right_mesh, width, height};
+    std::int64_t unused_cost = 0, unused_dp = 0;
+    m.match_view(ml, mr, rs, right_samples, &unused_cost, &unused_dp);
+    if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples);
+    if (!params.dense) m.interpolate_all(m.right_mesh, right_samples, rd.view());
+    validity.lr_rejected = lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp);
+  }
+  const std::int64_t t_right = monotonic_ns();
+  if (params.validity.fill != FillMode::kNone) validity.filled = m.fill.fill(samples, sample_disp);
+  const std::int64_t t_filled = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, true);
 
   // 4. Dense map from the mesh (sparse mode) or sample disparities from the map (dense mode).
@@ -225,31 +342,17 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
       vdisp[i] = dense.at(mesh.vertices[i].x, mesh.vertices[i].y);
   } else {
-    ImageView<std::int16_t> dv = dense.view();
-    m.triangles.reset(0, static_cast<int>(mesh.triangles.size()), kTrianglesPerChunk);
-    m.pool.run([&](int) {
-      int t0 = 0, t1 = 0;
-      while (m.triangles.next(&t0, &t1)) interpolate_triangles(mesh, vdisp.data(), t0, t1, dv);
-    });
+    m.interpolate_all(mesh, vdisp.data(), dense.view());
   }
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);
 
-  // Cost and DP interleave per row inside each worker; the match phase's wall
-  // time is split between them in proportion to the workers' summed stage times.
-  std::int64_t cost_sum = 0, dp_sum = 0;
-  for (const auto& wk : m.workers) {
-    cost_sum += wk.cost_ns;
-    dp_sum += wk.dp_ns;
-  }
-  const std::int64_t match_wall = t_matched - t_prepared;
-  const std::int64_t both = cost_sum + dp_sum;
-  const std::int64_t cost_part =
-      both > 0 ? static_cast<std::int64_t>(static_cast<double>(match_wall) * cost_sum / both) : match_wall;
   m.timings.tritree_ns = t_tritree - t_start;
-  m.timings.cost_aggregation_ns = (t_prepared - t_tritree) + cost_part;
-  m.timings.dp_ns = match_wall - cost_part;
-  m.timings.interpolation_ns = t_end - t_matched;
+  m.timings.cost_aggregation_ns = cost_ns;
+  m.timings.dp_ns = dp_ns;
+  m.timings.right_pass_ns = t_right - t_matched;
+  m.timings.fill_ns = t_filled - t_right;
+  m.timings.interpolation_ns = t_end - t_filled;
   m.timings.total_ns = t_end - t_start;
   return m.out;
 }

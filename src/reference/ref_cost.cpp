@@ -24,6 +24,37 @@ void check_pair(const ImageU8& left, const ImageU8& right, int y) {
 
 }  // namespace
 
+std::uint64_t census_descriptor(const ImageU8& img, int x, int y, const CostParams& cost) {
+  const int rx = cost.census_w / 2, ry = cost.census_h / 2;
+  const int centre = img.at(x, y);
+  std::uint64_t bits = 0;
+  int b = 0;
+  for (int dy = -ry; dy <= ry; ++dy)
+    for (int dx = -rx; dx <= rx; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      const int v = img.at(std::clamp(x + dx, 0, img.width - 1), std::clamp(y + dy, 0, img.height - 1));
+      if (v < centre) bits |= std::uint64_t{1} << b;
+      ++b;
+    }
+  return bits;
+}
+
+namespace {
+int popcount64(std::uint64_t v) {
+  int c = 0;
+  for (int b = 0; b < 64; ++b) c += static_cast<int>((v >> b) & 1u);
+  return c;
+}
+
+// The census descriptors of rows y0..y1 of img (all columns), row-major.
+std::vector<std::uint64_t> census_rows(const ImageU8& img, int y0, int y1, const CostParams& cp) {
+  std::vector<std::uint64_t> d;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = 0; x < img.width; ++x) d.push_back(census_descriptor(img, x, y, cp));
+  return d;
+}
+}  // namespace
+
 std::vector<std::vector<int>> aggregated_costs(const ImageU8& left, const ImageU8& right, int y,
                                                const std::vector<int>& xs,
                                                const StereoParams& params) {
@@ -35,6 +66,28 @@ std::vector<std::vector<int>> aggregated_costs(const ImageU8& left, const ImageU
   std::vector<std::uint8_t> ws(256), wp(static_cast<std::size_t>(rx * rx + ry * ry + 1));
   exp_decay_table_u8(cp.asw_gamma_color, 256, ws.data());
   exp_decay_table_u8(cp.asw_gamma_proximity, static_cast<int>(wp.size()), wp.data());
+
+  // Census descriptors of the window's rows, and the mean Hamming distance over
+  // the clipped box window in Q4 by the model's Q32 rule.
+  const int wy0 = std::max(0, y - ry), wy1 = std::min(height - 1, y + ry);
+  std::vector<std::uint64_t> cl, cr;
+  if (cp.kind != CostKind::kAd) {
+    cl = census_rows(left, wy0, wy1, cp);
+    cr = census_rows(right, wy0, wy1, cp);
+  }
+  auto census_cost_q4 = [&](int x, int d) {
+    std::uint64_t s = 0, n = 0;
+    for (int py = wy0; py <= wy1; ++py)
+      for (int px = std::max(0, x - rx); px <= std::min(width - 1, x + rx); ++px) {
+        const std::size_t row = static_cast<std::size_t>(py - wy0) * static_cast<std::size_t>(width);
+        const std::uint64_t l = cl[row + static_cast<std::size_t>(px)];
+        const std::uint64_t r = cr[row + static_cast<std::size_t>(std::clamp(px - d, 0, width - 1))];
+        s += static_cast<std::uint64_t>(popcount64(l ^ r));
+        ++n;
+      }
+    const std::uint64_t inv = (std::uint64_t{1} << 32) / n;
+    return static_cast<int>((s * inv * 16 + (std::uint64_t{1} << 31)) >> 32);
+  };
 
   std::vector<std::vector<int>> result;
   for (int x : xs) {
@@ -63,8 +116,15 @@ std::vector<std::vector<int>> aggregated_costs(const ImageU8& left, const ImageU
       // division), so it is transcribed in integers: inv = floor(2^32 / W),
       // Ca = (S * inv * 16 + 2^31) >> 32.
       const std::uint64_t inv = (std::uint64_t{1} << 32) / sum_w;
-      ca[static_cast<std::size_t>(k)] =
-          static_cast<int>((s * inv * 16 + (std::uint64_t{1} << 31)) >> 32);
+      const int ad = static_cast<int>((s * inv * 16 + (std::uint64_t{1} << 31)) >> 32);
+      int cost = ad;
+      if (cp.kind == CostKind::kCensus) {
+        cost = census_cost_q4(x, d);
+      } else if (cp.kind == CostKind::kAdCensus) {
+        cost = std::min(kMaxCostQ4, census_cost_q4(x, d) +
+                                        ((cp.ad_weight_q4 * ad + 8) >> 4));
+      }
+      ca[static_cast<std::size_t>(k)] = cost;
     }
     result.push_back(std::move(ca));
   }

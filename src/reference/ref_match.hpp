@@ -24,6 +24,31 @@ std::vector<std::vector<int>> aggregated_costs(const ImageU8& left_gray,
                                                const std::vector<int>& xs,
                                                const StereoParams& params);
 
+// Census descriptor of (x, y): bit b is 1 when the b-th neighbour of the
+// census window (raster order, centre skipped, coordinates clamped) is below
+// the centre.
+std::uint64_t census_descriptor(const ImageU8& img, int x, int y, const CostParams& cost);
+
+// Samples and their neighbours (docs/model.md section 3b): the mesh vertices
+// with the mesh's edges, or (mesh == nullptr) every pixel of width x height
+// with its 8 neighbours. Samples are numbered in raster order.
+struct Samples {
+  const Mesh* mesh = nullptr;
+  int width = 0, height = 0;
+  std::vector<Vertex> points;
+  std::vector<std::vector<int>> neighbours;
+};
+Samples make_samples(const Mesh* mesh, int width, int height);
+
+// Path aggregation, winner, sub-pixel and uniqueness at every sample (Q4,
+// kInvalidDispQ4 where uniqueness rejects). *uniqueness_rejected counts those.
+std::vector<std::int16_t> match_paths(const ImageU8& left_gray, const ImageU8& right_gray,
+                                      const Samples& samples, const StereoParams& params,
+                                      int* uniqueness_rejected);
+
+// Background fill (docs/model.md section 6); returns the number of samples filled.
+int fill_background(const Samples& samples, std::vector<std::int16_t>& disp_q4);
+
 // P(g) = round(lambda * tau(g)) with halves up, via exact rational arithmetic.
 std::int64_t gap_penalty(const DpParams& dp, int gap);
 

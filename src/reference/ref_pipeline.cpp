@@ -1,4 +1,5 @@
 // The float reference, end to end: the plain transcription of docs/model.md.
+#include <cstdlib>
 #include <numeric>
 #include <vector>
 
@@ -24,36 +25,92 @@ ImageU8 gray_of(const ImageU8& in) {
 }
 }  // namespace
 
+namespace {
+ImageU8 mirrored(const ImageU8& g) {
+  ImageU8 m(g.width, g.height, 1);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) m.at(x, y) = g.at(g.width - 1 - x, y);
+  return m;
+}
+
+// Sample disparities of one view (the left image is the reference): the
+// configured optimizer, and uniqueness for the paths.
+std::vector<std::int16_t> match_view(const ImageU8& lg, const ImageU8& rg,
+                                     const reference::Samples& samples,
+                                     const StereoParams& params, int* uniqueness_rejected) {
+  *uniqueness_rejected = 0;
+  if (params.optimizer == Optimizer::kPaths)
+    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected);
+  std::vector<std::int16_t> disp;
+  for (int y = 0; y < lg.height; ++y) {
+    std::vector<int> xs;
+    for (const Vertex& v : samples.points)
+      if (v.y == y) xs.push_back(v.x);
+    if (xs.empty()) continue;
+    const std::vector<std::int16_t> row = reference::match_row(lg, rg, y, xs, params);
+    disp.insert(disp.end(), row.begin(), row.end());
+  }
+  return disp;
+}
+}  // namespace
+
 StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const StereoParams& params) {
   check_stereo_inputs(left.view(), right.view(), kMaxImageSide, kMaxImageSide);
   validate_params(params);
   const ImageU8 lg = gray_of(left);
   const ImageU8 rg = gray_of(right);
+  const int w = lg.width, h = lg.height;
 
   StereoOutput out;
   out.mesh = reference::build_tritree(lg, params.tritree);
   const Mesh& mesh = out.mesh;
-  out.vertex_disp_q4.assign(mesh.vertices.size(), kInvalidDispQ4);
-  if (params.dense) {
-    out.disp_q4 = ImageS16(lg.width, lg.height, 1, kInvalidDispQ4);
-    std::vector<int> xs(static_cast<std::size_t>(lg.width));
-    std::iota(xs.begin(), xs.end(), 0);
-    for (int y = 0; y < lg.height; ++y) {
-      const std::vector<std::int16_t> row = reference::match_row(lg, rg, y, xs, params);
-      for (int x = 0; x < lg.width; ++x) out.disp_q4.at(x, y) = row[static_cast<std::size_t>(x)];
+  const reference::Samples samples = reference::make_samples(params.dense ? nullptr : &mesh, w, h);
+  std::vector<std::int16_t> disp = match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected);
+  out.validity.samples = static_cast<std::int32_t>(disp.size());
+
+  // Left-right check: the right view is the left view of the mirrored pair.
+  if (params.validity.lr_max_diff_q4 >= 0) {
+    const ImageU8 ml = mirrored(rg), mr = mirrored(lg);
+    Mesh right_mesh;
+    if (!params.dense) right_mesh = reference::build_tritree(ml, params.tritree);
+    const reference::Samples rs = reference::make_samples(params.dense ? nullptr : &right_mesh, w, h);
+    int unused = 0;
+    std::vector<std::int16_t> rdisp = match_view(ml, mr, rs, params, &unused);
+    if (params.validity.fill != FillMode::kNone) reference::fill_background(rs, rdisp);
+    ImageS16 right_map(w, h, 1, kInvalidDispQ4);
+    if (params.dense) {
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) right_map.at(x, y) = rdisp[static_cast<std::size_t>(y * w + x)];
+    } else {
+      right_map = reference::interpolate(right_mesh, rdisp);
     }
+    for (std::size_t i = 0; i < disp.size(); ++i) {
+      if (disp[i] == kInvalidDispQ4) continue;
+      const Vertex p = samples.points[i];
+      const int xr = p.x - static_cast<int>(floor_div(disp[i] + 8, 16));
+      bool ok = xr >= 0 && xr < w;
+      if (ok) {
+        const int r = right_map.at(w - 1 - xr, p.y);
+        ok = r != kInvalidDispQ4 && std::abs(disp[i] - r) <= params.validity.lr_max_diff_q4;
+      }
+      if (!ok) {
+        disp[i] = kInvalidDispQ4;
+        ++out.validity.lr_rejected;
+      }
+    }
+  }
+  if (params.validity.fill != FillMode::kNone)
+    out.validity.filled = reference::fill_background(samples, disp);
+
+  if (params.dense) {
+    out.disp_q4 = ImageS16(w, h, 1, kInvalidDispQ4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) out.disp_q4.at(x, y) = disp[static_cast<std::size_t>(y * w + x)];
+    out.vertex_disp_q4.resize(mesh.vertices.size());
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
       out.vertex_disp_q4[i] = out.disp_q4.at(mesh.vertices[i].x, mesh.vertices[i].y);
   } else {
-    for (int y = 0; y < lg.height; ++y) {
-      std::vector<int> xs;
-      for (int i = mesh.row_start[static_cast<std::size_t>(y)]; i < mesh.row_start[static_cast<std::size_t>(y) + 1]; ++i)
-        xs.push_back(mesh.vertices[static_cast<std::size_t>(i)].x);
-      if (xs.empty()) continue;
-      const std::vector<std::int16_t> row = reference::match_row(lg, rg, y, xs, params);
-      for (std::size_t k = 0; k < xs.size(); ++k)
-        out.vertex_disp_q4[static_cast<std::size_t>(mesh.row_start[static_cast<std::size_t>(y)]) + k] = row[k];
-    }
+    out.vertex_disp_q4 = disp;
     out.disp_q4 = reference::interpolate(mesh, out.vertex_disp_q4);
   }
   return out;

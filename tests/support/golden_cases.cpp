@@ -6,8 +6,10 @@
 namespace tristereo::test {
 
 // Fixed parameters (not the defaults, so tuning the defaults does not move the digests).
+// The paper's model (AD cost, row DP) with the parameters the goldens were
+// first recorded with.
 static StereoParams golden_params(int ndisp, bool dense, Weights w) {
-  StereoParams p;
+  StereoParams p = paper_params();
   p.num_disp = ndisp;
   p.dense = dense;
   p.tritree.psnr_deci_db = 400;
@@ -24,6 +26,14 @@ static StereoParams golden_params(int ndisp, bool dense, Weights w) {
   return p;
 }
 
+// The defaults (census, 8 paths on the mesh, left-right check, background fill).
+static StereoParams golden_defaults(int ndisp, bool dense) {
+  StereoParams p;
+  p.num_disp = ndisp;
+  p.dense = dense;
+  return p;
+}
+
 std::vector<GoldenCase> golden_cases(bool with_middlebury) {
   std::vector<GoldenCase> cases;
   for (std::uint32_t seed : {1u, 2u}) {
@@ -37,12 +47,15 @@ std::vector<GoldenCase> golden_cases(bool with_middlebury) {
     cases.push_back({n + "_sparse_box", s.left, s.right, golden_params(24, false, Weights::kBox)});
     cases.push_back({n + "_dense_box", s.left, s.right, golden_params(24, true, Weights::kBox)});
     cases.push_back({n + "_sparse_adaptive", s.left, s.right, golden_params(24, false, Weights::kAdaptive)});
+    cases.push_back({n + "_sparse_default", s.left, s.right, golden_defaults(24, false)});
+    cases.push_back({n + "_dense_default", s.left, s.right, golden_defaults(24, true)});
   }
   if (with_middlebury) {
     for (const std::string& name : test::middlebury_names()) {
       const test::MiddleburyPair m = test::load_middlebury(name);
       cases.push_back({name + "_sparse_box", m.left, m.right, golden_params(m.ndisp, false, Weights::kBox)});
       cases.push_back({name + "_sparse_adaptive", m.left, m.right, golden_params(m.ndisp, false, Weights::kAdaptive)});
+      cases.push_back({name + "_sparse_default", m.left, m.right, golden_defaults(m.ndisp, false)});
     }
   }
   return cases;

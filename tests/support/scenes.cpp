@@ -72,6 +72,26 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   p.dp.lambda_q4 = rng.uniform(0, 4) == 0 ? rng.uniform(0, kMaxLambdaQ4) : rng.uniform(0, 600);
   p.dp.gap = static_cast<GapPolicy>(rng.uniform(0, 2));
   p.dp.subpixel = rng.uniform(0, 1) == 1;
+  // The matching stages beyond the paper (docs/model.md 2, 3b, 6).
+  p.cost.kind = static_cast<CostKind>(rng.uniform(0, 2));
+  if (p.cost.kind != CostKind::kAd) {
+    p.cost.weights = Weights::kBox;
+    do {
+      p.cost.census_w = 2 * rng.uniform(1, 4) + 1;
+      p.cost.census_h = 2 * rng.uniform(1, 4) + 1;
+    } while (p.cost.census_w * p.cost.census_h - 1 > kMaxCensusBits);
+    p.cost.ad_weight_q4 = rng.uniform(0, kMaxAdWeightQ4);
+  }
+  p.optimizer = rng.uniform(0, 2) == 0 ? Optimizer::kRowDp : Optimizer::kPaths;
+  p.paths.directions = rng.uniform(0, 1) ? 8 : 4;
+  const int p2_max = 65535 / p.paths.directions - max_cost_q4(p.cost);
+  p.paths.p2_q4 = rng.uniform(0, std::min(p2_max, rng.uniform(0, 3) == 0 ? kMaxPathPenaltyQ4 : 2000));
+  p.paths.p1_q4 = rng.uniform(0, p.paths.p2_q4);
+  p.paths.p2_edge_scale = rng.uniform(0, 1) ? 0 : rng.uniform(1, 255);
+  p.paths.gap = static_cast<GapPolicy>(rng.uniform(0, 2));
+  p.validity.lr_max_diff_q4 = rng.uniform(0, 2) == 0 ? -1 : rng.uniform(0, 40);
+  p.validity.uniqueness_pct = rng.uniform(0, 1) ? 0 : rng.uniform(1, 30);
+  p.validity.fill = rng.uniform(0, 3) == 0 ? FillMode::kNone : FillMode::kBackground;
   return p;
 }
 

@@ -1,7 +1,4 @@
-// Accuracy with the default parameters, scored Middlebury-v2 style (bad > 1 px,
-// invalid counts as bad). The output is deterministic (bit-exact everywhere), so
-// the thresholds are the values measured when the defaults were chosen
-// (docs/results.md, docs/tuning.md) plus 0.2 points: any regression fails.
+// Accuracy on synthetic scenes with exact ground truth.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -15,54 +12,7 @@
 namespace tristereo {
 namespace {
 
-struct Limits {
-  double sparse_nonocc, sparse_all, dense_nonocc, dense_all;
-};
-
-// Measured (sparse nonocc / all, dense nonocc / all): tsukuba 8.50 / 10.57, 9.10 / 11.13;
-// venus 4.64 / 5.68, 2.84 / 3.95; teddy 12.13 / 19.02, 11.24 / 18.11;
-// cones 9.90 / 16.62, 11.61 / 18.69.
-const std::map<std::string, Limits> kLimits = {
-    {"tsukuba", {8.7, 10.8, 9.3, 11.4}},
-    {"venus", {4.9, 5.9, 3.1, 4.2}},
-    {"teddy", {12.4, 19.3, 11.5, 18.4}},
-    {"cones", {10.1, 16.9, 11.9, 18.9}},
-};
-
-BadPixelStats score(const StereoOutput& out, const test::MiddleburyPair& m, const ImageU8& mask) {
-  const Image<float> d = disp_q4_to_float(out.disp_q4.view());
-  return evaluate_disparity(d.view(), m.gt.view(), mask.view());
-}
-
-TEST(MiddleburyAccuracy, DefaultsMeetTheMeasuredBadPixelRates) {
-  TRISTEREO_REQUIRE_MIDDLEBURY();
-  double sum_nonocc = 0;
-  for (const std::string& name : test::middlebury_names()) {
-    const test::MiddleburyPair m = test::load_middlebury(name);
-    const Limits lim = kLimits.at(name);
-    for (bool dense : {false, true}) {
-      PipelineConfig c;
-      c.max_width = m.left.width;
-      c.max_height = m.left.height;
-      c.params.num_disp = m.ndisp;
-      c.params.dense = dense;
-      c.threads = 2;
-      c.pin_threads = false;
-      Pipeline p;
-      p.configure(c);
-      const StereoOutput& out = p.process(m.left.view(), m.right.view());
-      const BadPixelStats nonocc = score(out, m, m.nonocc), all = score(out, m, m.all);
-      EXPECT_EQ(nonocc.invalid, 0) << name;
-      EXPECT_LE(nonocc.bad_1, dense ? lim.dense_nonocc : lim.sparse_nonocc) << name << (dense ? " dense" : " sparse");
-      EXPECT_LE(all.bad_1, dense ? lim.dense_all : lim.sparse_all) << name << (dense ? " dense" : " sparse");
-      // Sanity: the rates are real measurements, not an empty mask.
-      EXPECT_GT(nonocc.evaluated, m.left.width * m.left.height / 2) << name;
-      if (!dense) sum_nonocc += nonocc.bad_1;
-    }
-  }
-  // The target: mean nonocc bad > 1 px at most 11.4 % (OpenCV StereoSGBM's level).
-  EXPECT_LE(sum_nonocc / 4, 11.4);
-}
+// The defaults on every set of ../shared/data: tests/data_accuracy_test.cpp.
 
 // A fronto-parallel textured plane at integer disparity: every sample away from
 // the left border (where x - d has no match) and the window's reach gets exactly

@@ -1,0 +1,43 @@
+// Scalar path-aggregation and winner kernels (docs/model.md sections 3b, 6).
+#include <cstdint>
+
+#include "src/kernels/kernels_scalar.hpp"
+
+namespace tristereo {
+
+std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_t* prev,
+                                   std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
+                                   int n, std::uint16_t* out, std::uint16_t* sum,
+                                   int accumulate) {
+  // prev[-1] and prev[n] are 0xFFFF guards: with the saturating add they never
+  // win the minimum, so the edges of the disparity range need no branch.
+  const std::uint32_t jump = std::uint32_t{prev_min} + p2;
+  std::uint16_t m = 0xFFFF;
+  for (int k = 0; k < n; ++k) {
+    const std::uint32_t down = std::uint32_t{prev[k - 1]} + p1;
+    const std::uint32_t up = std::uint32_t{prev[k + 1]} + p1;
+    std::uint32_t best = prev[k];
+    if (down < best) best = down;
+    if (up < best) best = up;
+    if (jump < best) best = jump;
+    const auto v = static_cast<std::uint16_t>(cost[k] + best - prev_min);
+    out[k] = v;
+    sum[k] = static_cast<std::uint16_t>(accumulate ? sum[k] + v : v);
+    if (v < m) m = v;
+  }
+  return m;
+}
+
+int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
+                          std::uint16_t* total) {
+  int best = 0;
+  for (int k = 0; k < n; ++k) {
+    std::uint32_t s = 0;
+    for (int i = 0; i < count; ++i) s += terms[i][k];
+    total[k] = static_cast<std::uint16_t>(s);
+    if (total[k] < total[best]) best = k;
+  }
+  return best;
+}
+
+}  // namespace tristereo

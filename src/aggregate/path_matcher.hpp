@@ -1,0 +1,91 @@
+// Path aggregation on the samples and the winner (docs/model.md sections 3b, 6).
+//
+// Configured once for the largest frame; per frame:
+//
+//   pm.compute_costs(ctx, samples, pool);   // C(i, k) at every sample
+//   pm.aggregate(samples, left_gray, pool); // L_r along each direction, S = sum_r L_r
+//   pm.select(samples, pool, disp_q4);      // smallest argmin of S, sub-pixel, uniqueness
+//
+// Directions are handed to the workers on demand; each worker adds its paths
+// into its own S buffer and the winner adds the workers' buffers. Integer sums
+// do not depend on the order, so the output is the same for any thread count.
+// Every buffer is sized at configure for max_width x max_height samples (dense
+// mode's worst case) and allocated without being touched, so a sparse frame
+// only pays for the pages its samples use. No heap allocation per frame.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "platform/thread_pool.hpp"
+#include "platform/work_chunks.hpp"
+#include "src/aggregate/samples.hpp"
+#include "src/cost/match_context.hpp"
+#include "src/kernels/kernel_set.hpp"
+#include "tristereo/params.hpp"
+
+namespace tristereo {
+
+class PathMatcher {
+ public:
+  // Throws Error on sizes outside 2..kMaxImageSide, workers outside 1..256 or
+  // parameters validate_params rejects.
+  void configure(int max_width, int max_height, const StereoParams& params,
+                 const KernelSet& kernels, int workers);
+
+  // C(i, k) = ctx.aggregate_sample at sample i (ctx prepared for the frame).
+  void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool);
+  // Predecessors along each direction, then the path costs and their sums.
+  // left_gray: the frame's reference image (for the intensity-adaptive P2).
+  void aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
+                 ThreadPool& pool);
+  // disp_q4[i] = 16 (d_min + k) + sub-pixel offset for the smallest argmin k
+  // of S(i, .), or kInvalidDispQ4 where the uniqueness test fails. Returns the
+  // number of samples the uniqueness test rejected.
+  int select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4);
+
+  // Gives every buffer back (working_memory_bytes() becomes 0).
+  void release();
+  // Heap bytes the configured matcher holds (docs/performance.md, working memory).
+  std::size_t working_memory_bytes() const;
+
+  // Inspection (tests): C, and the summed path costs of the last select().
+  const std::uint16_t* cost_row(int i) const { return costs_.get() + row(i, cost_stride_); }
+  // S(i, k) summed over the workers (recomputed; not for the hot path).
+  void summed_costs(int i, std::uint16_t* out) const;
+  // Predecessor of sample i along direction r in the last aggregate(), -1 = none.
+  int predecessor(const SampleLayout& samples, int r, int i) const;
+
+ private:
+  static std::size_t row(int i, std::size_t stride) { return static_cast<std::size_t>(i) * stride; }
+  void find_predecessors(const SampleLayout& samples);
+  void run_direction(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, int r,
+                     int worker, bool accumulate);
+
+  StereoParams params_;
+  const KernelSet* kernels_ = nullptr;
+  int max_samples_ = 0;
+  int num_disp_ = 0;
+  int directions_ = 0;
+  std::size_t cost_stride_ = 0;   // C and S rows
+  std::size_t path_stride_ = 0;   // L rows: guard, D values, guard
+  std::vector<std::uint32_t> p1_by_gap_, p2_by_gap_;
+  std::size_t costs_len_ = 0, preds_len_ = 0;
+  std::unique_ptr<std::uint16_t[]> costs_;
+  std::unique_ptr<std::int32_t[]> preds_;  // 6 diagonal/vertical directions x samples
+  std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
+  struct Worker {
+    std::unique_ptr<std::uint16_t[]> path;  // L_r of the direction being run
+    std::unique_ptr<std::uint16_t[]> sum;   // sum of this worker's directions
+    std::unique_ptr<std::uint16_t[]> path_min;
+    bool has_sum = false;
+    CostScratch scratch;
+    std::vector<std::uint16_t> total;
+    std::vector<const std::uint16_t*> terms;
+  };
+  std::vector<Worker> workers_;
+  WorkChunks rows_, dirs_, chunks_;
+};
+
+}  // namespace tristereo

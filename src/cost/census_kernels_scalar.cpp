@@ -1,0 +1,43 @@
+// Scalar census kernels: the readable definition of the census transform and
+// of the Hamming cost over a support window (docs/model.md section 2).
+#include <cstdint>
+
+#include "src/kernels/kernels_scalar.hpp"
+
+namespace tristereo {
+
+int census_popcount_u16(std::uint16_t v) {
+  int c = 0;
+  for (; v != 0; v = static_cast<std::uint16_t>(v & (v - 1))) ++c;
+  return c;
+}
+
+void census_row_u16_scalar(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+                           std::uint16_t* const* planes) {
+  const int rx = win_w / 2, ry = win_h / 2;
+  const int n_planes = (win_w * win_h - 1 + 15) / 16;
+  for (int x = 0; x < width; ++x) {
+    const std::uint16_t centre = rows[ry][x];
+    std::uint16_t bits[4] = {0, 0, 0, 0};
+    int b = 0;
+    for (int dy = 0; dy < win_h; ++dy)
+      for (int dx = -rx; dx <= rx; ++dx) {
+        if (dy == ry && dx == 0) continue;  // the centre has no bit
+        if (rows[dy][x + dx] < centre) bits[b >> 4] = static_cast<std::uint16_t>(bits[b >> 4] | (1u << (b & 15)));
+        ++b;
+      }
+    for (int p = 0; p < n_planes; ++p) planes[p][x] = bits[p];
+  }
+}
+
+void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* left,
+                              int count, int n, std::uint16_t* sum) {
+  for (int k = 0; k < n; ++k) {
+    int s = 0;
+    for (int i = 0; i < count; ++i)
+      s += census_popcount_u16(static_cast<std::uint16_t>(left[i] ^ right_rev[i][k]));
+    sum[k] = static_cast<std::uint16_t>(s);
+  }
+}
+
+}  // namespace tristereo

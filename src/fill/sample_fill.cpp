@@ -1,0 +1,97 @@
+#include "src/fill/sample_fill.hpp"
+
+#include <algorithm>
+#include <climits>
+
+#include "tristereo/fixed_point.hpp"
+
+namespace tristereo {
+
+namespace {
+template <class T>
+std::unique_ptr<T[]> untouched(std::size_t n) {
+  return std::unique_ptr<T[]>(new T[n]);
+}
+}  // namespace
+
+void SampleFill::configure(int max_samples, int max_triangles) {
+  max_samples_ = max_samples;
+  max_triangles_ = max_triangles;
+  const auto n = static_cast<std::size_t>(max_samples);
+  offsets_ = untouched<std::int32_t>(n + 1);
+  neighbours_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles) * 6);
+  pending_ = untouched<std::int32_t>(n);
+  candidate_ = untouched<std::int32_t>(n);
+}
+
+// CSR of the mesh's undirected edges, each stored once per triangle side (an
+// interior edge twice: harmless under min).
+void SampleFill::build_adjacency(const SampleLayout& samples) {
+  const int n = samples.count();
+  std::int32_t* off = offsets_.get();
+  std::fill(off, off + n + 1, 0);
+  for (const Triangle& t : samples.mesh->triangles)
+    for (int e = 0; e < 3; ++e) off[t[static_cast<std::size_t>(e)] + 1] += 2;
+  for (int i = 0; i < n; ++i) off[i + 1] += off[i];
+  std::int32_t* fill_at = candidate_.get();  // reused as insertion cursors
+  std::copy(off, off + n, fill_at);
+  for (const Triangle& t : samples.mesh->triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[static_cast<std::size_t>(e)];
+      neighbours_[static_cast<std::size_t>(fill_at[a]++)] = t[static_cast<std::size_t>((e + 1) % 3)];
+      neighbours_[static_cast<std::size_t>(fill_at[a]++)] = t[static_cast<std::size_t>((e + 2) % 3)];
+    }
+}
+
+int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4) {
+  const int n = samples.count();
+  int pending = 0;
+  for (int i = 0; i < n; ++i)
+    if (disp_q4[i] == kInvalidDispQ4) pending_[static_cast<std::size_t>(pending++)] = i;
+  if (pending == 0) return 0;
+  if (!samples.dense()) build_adjacency(samples);
+  std::int32_t* cand = candidate_.get();
+  const int w = samples.width, h = samples.height;
+  int filled = 0;
+  for (;;) {
+    // Candidates from neighbours valid at the start of the round.
+    for (int j = 0; j < pending; ++j) {
+      const int i = pending_[static_cast<std::size_t>(j)];
+      int best = INT_MAX;
+      auto offer = [&](int q) {
+        const int v = disp_q4[q];
+        if (v != kInvalidDispQ4 && v < best) best = v;
+      };
+      if (samples.dense()) {
+        const int x = i % w, y = i / w;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if ((dx != 0 || dy != 0) && qx >= 0 && qx < w && qy >= 0 && qy < h) offer(qy * w + qx);
+          }
+      } else {
+        for (int e = offsets_[static_cast<std::size_t>(i)]; e < offsets_[static_cast<std::size_t>(i) + 1]; ++e)
+          offer(neighbours_[static_cast<std::size_t>(e)]);
+      }
+      cand[j] = best;
+    }
+    // Write after the whole scan, so a round only sees the previous round's
+    // values; then keep the samples still unfilled.
+    int kept = 0, now = 0;
+    for (int j = 0; j < pending; ++j) {
+      const int i = pending_[static_cast<std::size_t>(j)];
+      if (cand[j] != INT_MAX) {
+        disp_q4[i] = static_cast<std::int16_t>(cand[j]);
+        ++now;
+      } else {
+        pending_[static_cast<std::size_t>(kept++)] = i;
+      }
+    }
+    filled += now;
+    pending = kept;
+    if (now == 0 || pending == 0) break;
+  }
+  return filled;
+}
+
+}  // namespace tristereo

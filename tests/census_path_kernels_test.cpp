@@ -1,0 +1,170 @@
+// The census and path-aggregation kernels: every compiled SIMD set against the
+// scalar twin (src/kernels/kernels_scalar.hpp) on random and extreme inputs,
+// every D from 1 to 256, plus known answers for the scalar definitions.
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "src/kernels/dispatch.hpp"
+#include "src/kernels/kernel_set.hpp"
+#include "src/kernels/kernels_scalar.hpp"
+#include "support/kernel_param.hpp"
+
+namespace tristereo {
+namespace {
+
+constexpr int kSlack = 64;  // the rows' documented read slack
+
+class CensusPathKernels : public ::testing::TestWithParam<KernelChoice> {
+ protected:
+  void SetUp() override { TRISTEREO_SKIP_UNLESS_RUNNABLE(GetParam()); }
+  const KernelSet& simd() const { return kernel_set_for(GetParam()); }
+  const KernelSet& scalar() const { return scalar_kernel_set(); }
+};
+
+TEST(CensusScalar, KnownDescriptorAndDistance) {
+  // 3x3 window around a centre of 5: neighbours 1 9 5 / 4 . 6 / 0 5 7, so the
+  // bits (raster order, centre skipped) below 5 are 0, 3 and 5.
+  std::vector<std::uint16_t> r0 = {0, 1, 9, 5, 0}, r1 = {0, 4, 5, 6, 0}, r2 = {0, 0, 5, 7, 0};
+  const std::uint16_t* rows[3] = {r0.data() + 2, r1.data() + 2, r2.data() + 2};
+  std::uint16_t plane = 0;
+  std::uint16_t* planes[1] = {&plane};
+  census_row_u16_scalar(rows, 3, 3, 1, planes);
+  EXPECT_EQ(plane, (1u << 0) | (1u << 3) | (1u << 5));
+  std::vector<std::uint16_t> right = {0x0000, 0xFFFF, 0x0029};
+  const std::uint16_t* rr[1] = {right.data()};
+  std::uint16_t sum[3];
+  census_window_u16_scalar(rr, &plane, 1, 3, sum);
+  EXPECT_EQ(sum[0], 3);
+  EXPECT_EQ(sum[1], 13);
+  EXPECT_EQ(sum[2], 0);
+}
+
+TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
+  std::mt19937 rng(11);
+  const int windows[][2] = {{3, 3}, {5, 5}, {7, 7}, {9, 7}, {7, 9}, {5, 3}, {9, 3}};
+  for (const auto& win : windows)
+    for (int width : {1, 2, 7, 15, 16, 17, 31, 33, 64, 100, 257}) {
+      const int w = win[0], h = win[1];
+      const int rx = w / 2;
+      const int planes_n = (w * h - 1 + 15) / 16;
+      std::uniform_int_distribution<int> px(0, 255), few(0, 3);
+      std::vector<std::vector<std::uint16_t>> rows(static_cast<std::size_t>(h));
+      std::vector<const std::uint16_t*> rp;
+      const bool ties = width % 2 == 0;  // few distinct values: many equal neighbours
+      for (auto& r : rows) {
+        r.resize(static_cast<std::size_t>(width + 2 * rx));
+        for (auto& v : r) v = static_cast<std::uint16_t>(ties ? few(rng) * 85 : px(rng));
+        rp.push_back(r.data() + rx);
+      }
+      std::vector<std::uint16_t> a(static_cast<std::size_t>(4 * width), 0xAAAA), b = a;
+      std::uint16_t* pa[4];
+      std::uint16_t* pb[4];
+      for (int p = 0; p < 4; ++p) {
+        pa[p] = a.data() + p * width;
+        pb[p] = b.data() + p * width;
+      }
+      simd().census_row_u16(rp.data(), w, h, width, pa);
+      scalar().census_row_u16(rp.data(), w, h, width, pb);
+      ASSERT_EQ(a, b) << w << "x" << h << " width " << width;
+      // Planes beyond the descriptor are not written.
+      for (int p = planes_n; p < 4; ++p) EXPECT_EQ(a[static_cast<std::size_t>(p * width)], 0xAAAA);
+    }
+}
+
+TEST_P(CensusPathKernels, CensusWindowEqualsScalar) {
+  std::mt19937 rng(12);
+  std::uniform_int_distribution<int> bits(0, 0xFFFF);
+  for (int n = 1; n <= 256; n += (n < 40 ? 1 : 13)) {
+    for (int count : {1, 2, 9, 36, 100, 3844}) {
+      std::vector<std::vector<std::uint16_t>> right(static_cast<std::size_t>(count));
+      std::vector<const std::uint16_t*> rp;
+      std::vector<std::uint16_t> left(static_cast<std::size_t>(count));
+      for (int i = 0; i < count; ++i) {
+        right[static_cast<std::size_t>(i)].resize(static_cast<std::size_t>(n + kSlack));
+        const bool extreme = (i + n) % 5 == 0;
+        for (auto& v : right[static_cast<std::size_t>(i)]) v = static_cast<std::uint16_t>(extreme ? 0xFFFF : bits(rng));
+        left[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(extreme ? 0 : bits(rng));
+        rp.push_back(right[static_cast<std::size_t>(i)].data());
+      }
+      std::vector<std::uint16_t> a(static_cast<std::size_t>(n) + 8, 0x5A5A), b = a;
+      simd().census_window_u16(rp.data(), left.data(), count, n, a.data());
+      scalar().census_window_u16(rp.data(), left.data(), count, n, b.data());
+      ASSERT_EQ(a, b) << "n=" << n << " count=" << count;  // includes the untouched tail
+    }
+  }
+}
+
+TEST_P(CensusPathKernels, PathStepEqualsScalar) {
+  std::mt19937 rng(13);
+  for (int n = 1; n <= 256; ++n) {
+    for (int c = 0; c < 6; ++c) {
+      const std::uint16_t p1 = static_cast<std::uint16_t>((c * 97) % 600);
+      const std::uint16_t p2 = static_cast<std::uint16_t>(p1 + (c * 331) % 3000);
+      const int cmax = c == 5 ? 4080 : 1024;
+      std::uniform_int_distribution<int> cd(0, cmax), pd(0, cmax + p2);
+      std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack)), prev(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
+      for (int k = 0; k < n; ++k) {
+        cost[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(c == 4 ? cmax : cd(rng));
+        prev[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(c == 3 ? 0 : pd(rng));
+      }
+      const std::uint16_t prev_min = *std::min_element(prev.begin() + 1, prev.begin() + 1 + n);
+      for (int accumulate = 0; accumulate < 2; ++accumulate) {
+        std::vector<std::uint16_t> out_a(static_cast<std::size_t>(n) + 4, 0xBEEF), out_b = out_a;
+        std::vector<std::uint16_t> sum_a(static_cast<std::size_t>(n) + 4), sum_b;
+        for (auto& v : sum_a) v = static_cast<std::uint16_t>(cd(rng));
+        sum_b = sum_a;
+        const std::uint16_t ma = simd().path_step_u16(cost.data(), prev.data() + 1, prev_min, p1, p2, n,
+                                                      out_a.data(), sum_a.data(), accumulate);
+        const std::uint16_t mb = scalar().path_step_u16(cost.data(), prev.data() + 1, prev_min, p1, p2, n,
+                                                        out_b.data(), sum_b.data(), accumulate);
+        ASSERT_EQ(out_a, out_b) << "n=" << n << " case " << c;
+        ASSERT_EQ(sum_a, sum_b) << "n=" << n << " case " << c;
+        ASSERT_EQ(ma, mb) << "n=" << n << " case " << c;
+        ASSERT_EQ(mb, *std::min_element(out_b.begin(), out_b.begin() + n));
+      }
+    }
+  }
+}
+
+TEST(PathStepScalar, KnownStep) {
+  // prev = 10 0 30 (min 0), P1 = 5, P2 = 12: best = min(prev[k], neighbours + 5, 12)
+  // = 5, 0, 5 -> out = cost + best = 1+5, 2+0, 3+5.
+  std::vector<std::uint16_t> prev = {0xFFFF, 10, 0, 30, 0xFFFF}, cost = {1, 2, 3}, out(3), sum = {100, 100, 100};
+  const std::uint16_t m = path_step_u16_scalar(cost.data(), prev.data() + 1, 0, 5, 12, 3, out.data(), sum.data(), 1);
+  EXPECT_EQ(out, (std::vector<std::uint16_t>{6, 2, 8}));
+  EXPECT_EQ(sum, (std::vector<std::uint16_t>{106, 102, 108}));
+  EXPECT_EQ(m, 2);
+}
+
+TEST_P(CensusPathKernels, SumArgminEqualsScalar) {
+  std::mt19937 rng(14);
+  for (int n = 1; n <= 256; ++n)
+    for (int count : {1, 2, 3, 8}) {
+      std::uniform_int_distribution<int> v(0, 65535 / count);
+      std::uniform_int_distribution<int> small(0, 3);  // many ties
+      std::vector<std::vector<std::uint16_t>> terms(static_cast<std::size_t>(count));
+      std::vector<const std::uint16_t*> tp;
+      for (auto& t : terms) {
+        t.resize(static_cast<std::size_t>(n + kSlack));
+        for (auto& x : t) x = static_cast<std::uint16_t>(n % 3 == 0 ? small(rng) : v(rng));
+        tp.push_back(t.data());
+      }
+      std::vector<std::uint16_t> a(static_cast<std::size_t>(n) + kSlack, 7), b = a;
+      const int ka = simd().sum_argmin_u16(tp.data(), count, n, a.data());
+      const int kb = scalar().sum_argmin_u16(tp.data(), count, n, b.data());
+      ASSERT_EQ(ka, kb) << "n=" << n << " count=" << count;
+      ASSERT_TRUE(std::equal(a.begin(), a.begin() + n, b.begin())) << "n=" << n;
+      for (int k = 0; k < kb; ++k) ASSERT_GT(b[static_cast<std::size_t>(k)], b[static_cast<std::size_t>(kb)]);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sets, CensusPathKernels, ::testing::ValuesIn(test::simd_kernel_params()),
+                         test::KernelParamName());
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(CensusPathKernels);
+
+}  // namespace
+}  // namespace tristereo
