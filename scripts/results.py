@@ -177,8 +177,8 @@ def main():
         timing_rows.append((name, s_stats, d_stats))
 
     w("### Accuracy (bad > 0.5 / 1 / 2 px, %)\n")
-    w("| scene | D | sparse DP at samples (nonocc) | dense DP at the same samples (nonocc) | "
-      "sparse + interpolation, dense map (nonocc) | dense DP map (nonocc) | sparse map (all) | dense map (all) |")
+    w("| scene | D | sparse, at the samples (nonocc) | dense, at the same samples (nonocc) | "
+      "sparse + interpolation, dense map (nonocc) | dense map (nonocc) | sparse map (all) | dense map (all) |")
     w("|---|---|---|---|---|---|---|---|")
     for name, ndisp, s_stats, res in rows:
         w("| %s | %d | %s | %s | %s | %s | %s | %s |" % (

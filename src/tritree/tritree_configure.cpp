@@ -50,7 +50,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   tile_ = tile_side_for(params.max_area_px2);
   // One block, carved in order of alignment: the moments of one tile per
   // pass-1 worker (level l holds the halves of the squares of side 2^(l+1),
-  // then one level's side triangles), the leaves, the row-of-tiles starts, the vertex ids and sort
+  // then one level's side triangles), the row-of-tiles starts, the leaves, the vertex ids and sort
   // buckets, the need grid (the virtual grid has at most W x H points).
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
   for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
@@ -74,8 +74,10 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     }
     sc.side = m;
   }
-  tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
+  // The 8-byte row-of-tiles starts before the 12-byte triangles: after an odd
+  // number of triangles they were misaligned (UBSan, found by fuzz_pipeline).
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
+  tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
   bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + 1) * sizeof(std::int32_t)));
   need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
