@@ -58,24 +58,31 @@ std::int64_t chain_energy(const std::vector<int>& chain, int k, int nd,
   return best;
 }
 
-// S(p, k) - S(p, 0) must equal the sum over the directions of the chains'
-// brute-force energies E_r(p, k) - E_r(p, 0): each path cost is its chain's
-// minimum energy less a constant of p.
-void check_against_brute_force(const ImageU8& l, const ImageU8& r, const Mesh* mesh,
-                               const StereoParams& p) {
+// Costs and path sums of one frame through the integer PathMatcher, `workers`
+// threads (the matcher's sums are per worker: more than one exercises that).
+void aggregate_frame(const ImageU8& l, const ImageU8& r, const SampleLayout& s, const StereoParams& p,
+                     int workers, PathMatcher& pm) {
   const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
   MatchContext ctx(l.width, l.height, p, ks);
   ctx.begin_frame(l.view(), r.view());
   CensusScratch cs;
   cs.resize(l.width);
   ctx.prepare_right_rows(0, l.height, &cs);
-  PathMatcher pm;
-  pm.configure(l.width, l.height, p, ks, 2);
+  pm.configure(l.width, l.height, p, ks, workers);
   ThreadPool pool;
-  pool.start(2, {}, false);
-  const SampleLayout s{mesh, l.width, l.height};
+  if (workers > 1) pool.start(workers, {}, false);
   pm.compute_costs(ctx, s, pool);
   pm.aggregate(s, l.view(), pool);
+}
+
+// S(p, k) - S(p, 0) must equal the sum over the directions of the chains'
+// brute-force energies E_r(p, k) - E_r(p, 0): each path cost is its chain's
+// minimum energy less a constant of p.
+void check_against_brute_force(const ImageU8& l, const ImageU8& r, const Mesh* mesh,
+                               const StereoParams& p) {
+  const SampleLayout s{mesh, l.width, l.height};
+  PathMatcher pm;
+  aggregate_frame(l, r, s, p, 2, pm);
   auto cost = [&](int i, int k) { return static_cast<int>(pm.cost_row(i)[k]); };
   // P2 across an intensity edge (docs/model.md 3b): P1 + (P2 - P1) T / (T + |dI|).
   const int t_edge = p.paths.p2_edge_scale;
@@ -146,18 +153,9 @@ TEST(PathAggregation, PredecessorsFollowTheirDirection) {
   p.tritree.max_area_px2 = 30;
   p.paths.directions = 8;
   const Mesh mesh = reference::build_tritree(l, p.tritree);
-  const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
-  MatchContext ctx(l.width, l.height, p, ks);
-  ctx.begin_frame(l.view(), l.view());
-  CensusScratch cs;
-  cs.resize(l.width);
-  ctx.prepare_right_rows(0, l.height, &cs);
-  PathMatcher pm;
-  pm.configure(l.width, l.height, p, ks, 1);
-  ThreadPool pool;
   const SampleLayout s{&mesh, l.width, l.height};
-  pm.compute_costs(ctx, s, pool);
-  pm.aggregate(s, l.view(), pool);
+  PathMatcher pm;
+  aggregate_frame(l, l, s, p, 1, pm);
   int with_pred = 0;
   for (int dir = 0; dir < 8; ++dir)
     for (int i = 0; i < s.count(); ++i) {
