@@ -50,6 +50,9 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   const int max_gap = std::max(max_width, max_height);
   fill_penalty_table(params.paths.p1_q4, params.paths.gap, max_gap, p1_by_gap_);
   fill_penalty_table(params.paths.p2_q4, params.paths.gap, max_gap, p2_by_gap_);
+  max_width_ = max_width;
+  const bool by_rows = params.cost.kind == CostKind::kCensus;
+  ring_len_ = by_rows ? static_cast<std::size_t>(params.cost.window_h) * static_cast<std::size_t>(max_width) * cost_stride_ : 0;
   costs_len_ = n * cost_stride_;
   preds_len_ = n * 6;
   costs_ = untouched<std::uint16_t>(costs_len_);
@@ -65,6 +68,11 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
     w.path_min = untouched<std::uint16_t>(n);
     w.scratch.resize(d);
     w.total.assign(cost_stride_ + 64, 0);
+    if (by_rows) {
+      w.pixel_rows = untouched<std::uint16_t>(ring_len_);
+      w.column_sums = untouched<std::uint16_t>(static_cast<std::size_t>(max_width) * cost_stride_);
+      w.slot_row.assign(static_cast<std::size_t>(params.cost.window_h), -1);
+    }
     w.terms.assign(static_cast<std::size_t>(workers), nullptr);
   }
 }
@@ -88,12 +96,23 @@ std::size_t PathMatcher::working_memory_bytes() const {
                       capacity_bytes(workers_);
   for (const Worker& w : workers_)
     bytes += (n * path_stride_ + n * cost_stride_ + n) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
-             capacity_bytes(w.total) + capacity_bytes(w.terms);
+             capacity_bytes(w.total) + capacity_bytes(w.terms) + capacity_bytes(w.slot_row) +
+             (w.pixel_rows ? (ring_len_ + static_cast<std::size_t>(max_width_) * cost_stride_) * sizeof(std::uint16_t) : 0);
   return bytes;
 }
 
 void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples,
                                 ThreadPool& pool) {
+  if (params_.cost.kind == CostKind::kCensus) {
+    // Larger chunks: each chunk recomputes the window's rows above and below it.
+    rows_.reset(0, samples.height, 16);
+    pool.run([&](int w) {
+      Worker& wk = workers_[static_cast<std::size_t>(w)];
+      int y0 = 0, y1 = 0;
+      while (rows_.next(&y0, &y1)) census_costs_by_rows(ctx, samples, wk, y0, y1);
+    });
+    return;
+  }
   rows_.reset(0, samples.height, 4);
   pool.run([&](int w) {
     Worker& wk = workers_[static_cast<std::size_t>(w)];
@@ -103,6 +122,57 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
         for (int i = samples.row_begin(y); i < samples.row_end(y); ++i)
           ctx.aggregate_sample(samples.x_of(i), y, costs_.get() + row(i, cost_stride_), wk.scratch);
   });
+}
+
+// The census cost's box mean by rows: each image row's per-pixel Hamming costs
+// are computed once per chunk into a ring of window_h rows; for an output row,
+// the column sums over its (clipped) window rows, then each sample adds its
+// (clipped) window columns and takes the mean by the model's Q32 rule. The
+// same integer sums as MatchContext::aggregate_sample, with each pixel's
+// popcounts done once instead of once per sample whose window holds it.
+void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk,
+                                       int y0, int y1) {
+  const int d = num_disp_;
+  const int w = samples.width, h = samples.height;
+  const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
+  const int slots = params_.cost.window_h;
+  const std::size_t row_len = static_cast<std::size_t>(max_width_) * cost_stride_;
+  std::fill(wk.slot_row.begin(), wk.slot_row.end(), -1);
+  auto pixel_row = [&](int y) {
+    const auto slot = static_cast<std::size_t>(y % slots);
+    std::uint16_t* r = wk.pixel_rows.get() + slot * row_len;
+    if (wk.slot_row[slot] != y) {
+      ctx.census_pixel_costs(y, r, cost_stride_, wk.scratch);
+      wk.slot_row[slot] = y;
+    }
+    return r;
+  };
+  std::uint16_t* cols = wk.column_sums.get();
+  std::uint16_t* sum = wk.total.data();
+  for (int y = y0; y < y1; ++y) {
+    if (samples.row_end(y) == samples.row_begin(y)) continue;
+    const int wy0 = std::max(0, y - ry), wy1 = std::min(h - 1, y + ry);
+    const std::uint16_t* first = pixel_row(wy0);
+    std::copy(first, first + static_cast<std::size_t>(w) * cost_stride_, cols);
+    for (int yy = wy0 + 1; yy <= wy1; ++yy) {
+      const std::uint16_t* r = pixel_row(yy);
+      for (std::size_t j = 0; j < static_cast<std::size_t>(w) * cost_stride_; ++j)
+        cols[j] = static_cast<std::uint16_t>(cols[j] + r[j]);
+    }
+    for (int i = samples.row_begin(y); i < samples.row_end(y); ++i) {
+      const int x = samples.x_of(i);
+      const int wx0 = std::max(0, x - rx), wx1 = std::min(w - 1, x + rx);
+      const std::uint16_t* c0 = cols + static_cast<std::size_t>(wx0) * cost_stride_;
+      std::copy(c0, c0 + d, sum);
+      for (int xx = wx0 + 1; xx <= wx1; ++xx) {
+        const std::uint16_t* c = cols + static_cast<std::size_t>(xx) * cost_stride_;
+        for (int k = 0; k < d; ++k) sum[k] = static_cast<std::uint16_t>(sum[k] + c[k]);
+      }
+      const auto pixels = static_cast<std::uint64_t>((wx1 - wx0 + 1) * (wy1 - wy0 + 1));
+      kernels_->normalize_costs_u16(sum, (std::uint64_t{1} << 32) / pixels, d,
+                                    costs_.get() + row(i, cost_stride_));
+    }
+  }
 }
 
 // Sparse mode: the predecessor of p along a vertical or diagonal direction u is

@@ -72,6 +72,8 @@ class PathMatcher {
   std::size_t path_stride_ = 0;   // L rows: guard, D values, guard
   std::vector<std::uint32_t> p1_by_gap_, p2_by_gap_;
   std::size_t costs_len_ = 0, preds_len_ = 0;
+  int max_width_ = 0;
+  std::size_t ring_len_ = 0;  // per worker: window_h x max_width x cost_stride_ (census only)
   std::unique_ptr<std::uint16_t[]> costs_;
   std::unique_ptr<std::int32_t[]> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
@@ -82,9 +84,15 @@ class PathMatcher {
     bool has_sum = false;
     CostScratch scratch;
     std::vector<std::uint16_t> total;
+    // Census costs by rows (compute_costs): window_h rows of per-pixel costs,
+    // their column sums, and which image row each ring slot holds.
+    std::unique_ptr<std::uint16_t[]> pixel_rows;
+    std::unique_ptr<std::uint16_t[]> column_sums;
+    std::vector<int> slot_row;
     std::vector<const std::uint16_t*> terms;
   };
   std::vector<Worker> workers_;
+  void census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk, int y0, int y1);
   WorkChunks rows_, dirs_, chunks_;
 };
 

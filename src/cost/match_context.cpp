@@ -234,6 +234,22 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* cen
   }
 }
 
+void MatchContext::census_pixel_costs(int y, std::uint16_t* out, std::size_t stride,
+                                      CostScratch& scratch) const {
+  const std::uint16_t** right = scratch.census_right_.data();
+  std::uint16_t* left = scratch.census_left_.data();
+  for (int x = 0; x < width_; ++x) {
+    for (int p = 0; p < census_planes_; ++p) {
+      right[p] = right_census_rev_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_ +
+                 rev_offset(x);
+      left[p] = left_census_[(static_cast<std::size_t>(p) * max_height_ + y) * census_stride_ +
+                             static_cast<std::size_t>(x)];
+    }
+    kernels_->census_window_u16(right, left, census_planes_, params_.num_disp,
+                                out + static_cast<std::size_t>(x) * stride);
+  }
+}
+
 // Mean Hamming distance over the clipped window, in Q4 (0 .. 16 * bits).
 void MatchContext::aggregate_census(int x0, int x1, int y0, int y1, std::uint16_t* cost_q4,
                                     CostScratch& scratch) const {

@@ -104,6 +104,12 @@ class MatchContext {
   void prepare_right_rows(int y_begin, int y_end, CensusScratch* census = nullptr);
 
   bool uses_census() const { return census_planes_ > 0; }
+  // The census cost of every pixel of row y before aggregation: out + x *
+  // stride holds H(x, y, k) = sum over the planes of popcount(CL xor CR), k in
+  // [0, D). The box mean over a window is then sums of these rows (what
+  // aggregate_sample computes per sample, docs/model.md section 2). The rows
+  // y reads must be prepared; scratch sized for num_disp().
+  void census_pixel_costs(int y, std::uint16_t* out, std::size_t stride, CostScratch& scratch) const;
   int census_planes() const { return census_planes_; }
   // Census descriptor plane p of left pixel (x, y) of the current frame.
   std::uint16_t left_census(int p, int x, int y) const {
