@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Bad input tried on the tristereo program: sourced by tests/cli/run_cases.sh,
 # which defines $T (the program), $BAD (the hostile-file maker), $W (the work
 # folder, the current folder of every case) and run():

@@ -1,4 +1,6 @@
 #!/bin/bash
+# The case functions below are called from tests/cli/cases.sh (sourced).
+# shellcheck disable=SC2317,SC2086,SC1091
 # Runs the bad-input cases of tests/cli/cases.sh against the tristereo program
 # and checks each response (exit code and message), then either prints the
 # table of docs/reliability.md or checks that the doc holds that very table.
@@ -16,7 +18,7 @@ if [ $# -lt 3 ]; then
   exit 2
 fi
 T=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-BAD=$2
+export BAD=$2  # read by tests/cli/cases.sh
 W=$3
 mode=${4:-}
 doc=${5:-}
@@ -55,10 +57,10 @@ run() {
     cd "$W" && exec timeout "$timeout_s" bash -c "$cmd"
   ) > "$W/.out" 2> "$W/.err"
   local rc=$? verdict="" first exit_ok=0
-  if [ "$kind" = error ]; then [ $rc = "$want" ] && exit_ok=1; else [ $rc = 0 ] && exit_ok=1; fi
+  if [ "$kind" = error ]; then [ "$rc" = "$want" ] && exit_ok=1; else [ "$rc" = 0 ] && exit_ok=1; fi
   if [ "$kind" = warning ]; then first=$(grep -m1 '^warning:' "$W/.err"); else first=$(head -n 1 "$W/.err"); fi
-  if [ $rc = 124 ]; then verdict=hang; n_hang=$((n_hang + 1))
-  elif [ $rc -ge 128 ] || grep -qE 'Sanitizer|terminate called|bad_alloc|Segmentation|Aborted' "$W/.err"; then
+  if [ "$rc" = 124 ]; then verdict=hang; n_hang=$((n_hang + 1))
+  elif [ "$rc" -ge 128 ] || grep -qE 'Sanitizer|terminate called|bad_alloc|Segmentation|Aborted' "$W/.err"; then
     verdict=crash; n_crash=$((n_crash + 1))
   elif [ $rc = 0 ] && [ "$kind" = error ]; then verdict="silent (exit 0)"; n_garbage=$((n_garbage + 1))
   elif [ $rc = 0 ] && [ -z "$first" ]; then verdict="silent (no warning)"; n_garbage=$((n_garbage + 1))
