@@ -166,7 +166,7 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 "\"weights\": \"%s\", \"truncation\": %d, \"lambda_q4\": %d, \"gap\": \"%s\", "
                 "\"subpixel\": %s, \"cost\": \"%s\", \"census\": \"%dx%d\", \"optimizer\": \"%s\", "
                 "\"paths\": %d, \"p1_q4\": %d, \"p2_q4\": %d, \"p2_edge\": %d, \"lr_max_diff_q4\": %d, "
-                "\"uniqueness_pct\": %d, \"fill\": \"%s\"},\n"
+                "\"lr_source\": \"%s\", \"uniqueness_pct\": %d, \"fill\": \"%s\"},\n"
                 "  \"validity\": {\"samples\": %d, \"uniqueness_rejected\": %d, \"lr_rejected\": %d, "
                 "\"invalid_fraction\": %.6f, \"filled\": %d},\n"
                 "  \"ms\": {\"tritree\": %.3f, \"cost_aggregation\": %.3f, \"dp\": %.3f, "
@@ -181,7 +181,7 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 p.cost.truncation, p.dp.lambda_q4, to_string(p.dp.gap),
                 p.dp.subpixel ? "true" : "false", to_string(p.cost.kind), p.cost.census_w,
                 p.cost.census_h, to_string(p.optimizer), p.paths.directions, p.paths.p1_q4,
-                p.paths.p2_q4, p.paths.p2_edge_scale, p.validity.lr_max_diff_q4,
+                p.paths.p2_q4, p.paths.p2_edge_scale, p.validity.lr_max_diff_q4, to_string(p.validity.lr_source),
                 p.validity.uniqueness_pct, to_string(p.validity.fill), o.validity.samples,
                 o.validity.uniqueness_rejected, o.validity.lr_rejected,
                 o.validity.samples > 0

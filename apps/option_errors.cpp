@@ -33,6 +33,7 @@ constexpr FieldOption kFieldOptions[] = {
     {"paths.p2_edge_scale", "--p2-edge"},
     {"validity.lr_max_diff_q4", "--lr-max-diff"},
     {"validity.uniqueness_pct", "--uniqueness"},
+    {"validity.lr_source", "--lr-source"},
 };
 
 }  // namespace

@@ -12,7 +12,7 @@ void add_stereo_options(std::set<std::string>& v, std::set<std::string>& f) {
   for (const char* o : {"ndisp", "dmin", "psnr", "max-area", "window", "weights", "lambda", "gap",
                         "truncation", "gamma-color", "gamma-proximity", "kernels", "threads", "cpus",
                         "cost", "census", "ad-weight", "optimizer", "paths", "p1", "p2", "p2-edge",
-                        "path-gap", "lr-max-diff", "uniqueness", "fill", "mode"})
+                        "path-gap", "lr-max-diff", "lr-source", "uniqueness", "fill", "mode"})
     v.insert(o);
   for (const char* o : {"dense", "no-subpixel", "no-pin"}) f.insert(o);
 }
@@ -65,6 +65,11 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   if (a.has("path-gap"))
     as_usage_error("--path-gap", [&] { p.paths.gap = parse_gap_policy(a.get("path-gap", "")); });
   p.validity.lr_max_diff_q4 = a.get_int("lr-max-diff", p.validity.lr_max_diff_q4);
+  if (a.has("lr-source")) {
+    as_usage_error("--lr-source", [&] { p.validity.lr_source = parse_lr_source(a.get("lr-source", "")); });
+  } else if (p.optimizer == Optimizer::kRowDp) {
+    p.validity.lr_source = LrSource::kMirroredPass;  // the row DP keeps no summed costs
+  }
   p.validity.uniqueness_pct = a.get_int("uniqueness", p.validity.uniqueness_pct);
   if (a.has("fill")) as_usage_error("--fill", [&] { p.validity.fill = parse_fill_mode(a.get("fill", "")); });
   as_usage_error(nullptr, [&] { validate_params(p); });
@@ -93,16 +98,19 @@ const char* stereo_options_help() {
   --lambda L           smoothness weight in Q4 cost units, 0..32000 (default 40)
   --gap inv_sq|inv|const   gap policy tau(g) of the smoothness penalty (default const)
   --cost ad|census|ad_census   matching cost (default census)
-  --census WxH         census transform window, odd sides 3..9, W*H <= 65 (default 7x7)
+  --census WxH         census transform window, odd sides 3..9, W*H <= 65 (default 5x5)
   --ad-weight W        ad_census: AD share in Q4 (16 = equal), 0..64 (default 8)
   --optimizer paths|dp path aggregation on the mesh (default) or the paper's row DP
   --paths 4|8          path directions (default 4)
-  --p1 P --p2 P        path penalties in Q4 cost units (defaults 160, 640)
+  --p1 P --p2 P        path penalties in Q4 cost units (defaults 120, 800)
   --p2-edge T          P2 shrinks across intensity edges by T/(T+|dI|); 0 = off
                        (default 30)
   --path-gap inv_sq|inv|const  penalties scaled by tau(edge length) (default const)
   --lr-max-diff Q4     left-right check tolerance in 1/16 px; -1 = no check (default 16)
-  --uniqueness PCT     uniqueness margin in percent; 0 = off (default 0)
+  --lr-source costs|mirror  the right view's disparities for that check: from the
+                       paths' summed costs (default with --optimizer paths), or
+                       a second pass on the mirrored pair (default with dp)
+  --uniqueness PCT     uniqueness margin in percent; 0 = off (default 10)
   --fill background|none   invalid samples: filled from the background side, or left invalid
   --no-subpixel        integer disparities only
   --dense              every pixel a DP sample (the paper's dense baseline)

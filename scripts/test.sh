@@ -49,7 +49,7 @@ cross=1
 # digests (which the ARM builds must reproduce), identical for any thread count.
 exact_targets="simd_kernels_test census_path_kernels_test match_reference_test pipeline_reference_test golden_digest_test tritree_reference_test interp_test pipeline_threads_test"
 native_extra_targets="tristereo_cli _tristereo"  # the Python stage needs them
-exact_regex='^(Sets/SimdKernels|Sets/CensusPathKernels|CensusScalar|PathStepScalar|KernelSets|MatchReference|RandomBitExact|SyntheticBitExact|All/MiddleburyBitExact|GoldenDigest|TritreeReference|Interpolate|PipelineThreads)'
+exact_regex='^(Sets/SimdKernels|Sets/CensusPathKernels|CensusScalar|PathStepScalar|LrMinScalar|MinOutsideScalar|KernelSets|MatchReference|RandomBitExact|SyntheticBitExact|All/MiddleburyBitExact|GoldenDigest|TritreeReference|Interpolate|PipelineThreads)'
 
 summary=""
 failed=0

@@ -20,14 +20,22 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # (label, options, why the variant is measured). The first is the defaults.
 VARIANTS = [
-    ("defaults", [], "census 7x7, 3x3 box, 4 paths, P1 160 / P2 640, P2 edge 30, left-right check, background fill"),
+    ("defaults", [], "census 5x5, 3x3 box, 4 paths, P1 120 / P2 800, P2 edge 30, uniqueness 10 %, "
+                     "left-right check from the summed costs, background fill"),
     ("paper model", ["--mode", "paper"], "AD 5x5, T_c 30, row DP, lambda 40: Sarkis & Diepold as the first version built it"),
     ("cost ad", ["--cost", "ad"], "the paper's absolute differences with everything else of the defaults"),
-    ("optimizer dp", ["--optimizer", "dp"], "the paper's row DP on the census cost"),
+    ("optimizer dp", ["--optimizer", "dp"], "the paper's row DP on the census cost (its left-right check is the "
+                                            "mirrored pass: the row DP keeps no summed costs)"),
+    ("census 7x7", ["--census", "7x7"], "the larger census window (three 16-bit planes instead of two)"),
     ("window 1x1", ["--window", "1x1"], "census at the sample only"),
     ("8 paths", ["--paths", "8"], "the diagonals too (twice the path work)"),
+    ("P1 160 / P2 640", ["--p1", "160", "--p2", "640"], "the penalties chosen with the 7x7 census"),
     ("no P2 edge", ["--p2-edge", "0"], "the same P2 across intensity edges"),
-    ("no left-right check", ["--lr-max-diff", "-1"], "no right-view pass (half the matching work)"),
+    ("no uniqueness", ["--uniqueness", "0"], "every sample's winner kept however close its rival"),
+    ("left-right by mirrored pass", ["--lr-source", "mirror"], "the right view matched again as the left view "
+                                                               "of the mirrored pair (its own tritree, costs and "
+                                                               "paths: about twice the matching work)"),
+    ("no left-right check", ["--lr-max-diff", "-1"], "no left-right check"),
 ]
 
 COLUMNS = [  # (set, metric, header)
@@ -69,6 +77,9 @@ def main():
     ap.add_argument("--cache", default=os.path.join(ROOT, "build", "tune-cache"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "tuning.md"))
+    ap.add_argument("--write-limits", metavar="TEST_CPP",
+                    help="also rewrite the measured limits of this test (tests/data_accuracy_test.cpp): "
+                         "each scene's score with the defaults + 0.3, and the PianoL gap + 0.3")
     args = ap.parse_args()
     os.makedirs(args.cache, exist_ok=True)
     results = [(label, opts, why, score(args, label, opts)) for label, opts, why in VARIANTS]
@@ -118,6 +129,26 @@ def main():
     with open(args.out, "w") as f:
         f.write("\n".join(out) + "\n")
     print("tune: wrote %s" % args.out)
+    if args.write_limits:
+        write_limits(args.write_limits, results[0][3])
+
+
+def write_limits(path, res):
+    """Replaces the lines between TUNED_LIMITS_BEGIN and TUNED_LIMITS_END (v2: the nonocc score)."""
+    def limit_metric(sid):
+        m = res["scenes"][sid]["metrics"]
+        return m.get("bad 1 px nonocc", metric(res, sid))
+    lines = ['    {"%s", %.2f},  // %.2f' % (sid, limit_metric(sid) + 0.3, limit_metric(sid)) for sid in sorted(res["scenes"])]
+    gap = abs(metric(res, "middlebury2014/pianol") - metric(res, "middlebury2014/piano"))
+    lines.append('    {"pianol_gap", %.2f},  // |pianol - piano| %.2f' % (gap + 0.3, gap))
+    with open(path) as f:
+        text = f.read().split("\n")
+    begin = next(i for i, l in enumerate(text) if "TUNED_LIMITS_BEGIN" in l)
+    end = next(i for i, l in enumerate(text) if "TUNED_LIMITS_END" in l)
+    text[begin + 1:end] = lines
+    with open(path, "w") as f:
+        f.write("\n".join(text))
+    print("tune: wrote the limits of %s" % path)
 
 
 if __name__ == "__main__":

@@ -25,6 +25,8 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.census_window_u16 = &CensusWindowU16<xsimd::neon>::call;
   set.path_step_u16 = &PathStepU16<xsimd::neon>::call;
   set.sum_argmin_u16 = &SumArgminU16<xsimd::neon>::call;
+  set.lr_min_u16 = &LrMinU16<xsimd::neon>::call;
+  set.min_outside_u16 = &MinOutsideU16<xsimd::neon>::call;
 }
 
 }  // namespace simd

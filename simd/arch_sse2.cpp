@@ -25,6 +25,8 @@ void fill_kernel_set_sse2(KernelSet& set) {
   set.census_window_u16 = &CensusWindowU16<xsimd::sse2>::call;
   set.path_step_u16 = &PathStepU16<xsimd::sse2>::call;
   set.sum_argmin_u16 = &SumArgminU16<xsimd::sse2>::call;
+  set.lr_min_u16 = &LrMinU16<xsimd::sse2>::call;
+  set.min_outside_u16 = &MinOutsideU16<xsimd::sse2>::call;
 }
 
 }  // namespace simd

@@ -844,16 +844,75 @@ int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n
     acc.store_unaligned(total + k);
     low = escape::min_u16(low, acc);
   }
+  const int full = k;
   std::uint16_t m = detail::horizontal_min_u16(low);
-  for (int j = k; j < n; ++j) {
+  for (int j = full; j < n; ++j) {
     std::uint32_t s = 0;
     for (int i = 0; i < count; ++i) s += terms[i][j];
     total[j] = static_cast<std::uint16_t>(s);
     if (total[j] < m) m = total[j];
   }
-  int best = 0;
-  while (total[best] != m) ++best;
+  // The smallest k with total[k] == m: a min over (total == m ? k : 0xFFFF)
+  // (n <= 256, so 0xFFFF is no index), then the tail.
+  const b16 iota = b16::load_aligned(detail::kCount);
+  const b16 vm(m), none(detail::kU16Max);
+  b16 first(detail::kU16Max);
+  for (int j = 0; j < full; j += lanes)
+    first = escape::min_u16(first, xsimd::select(b16::load_unaligned(total + j) == vm,
+                                                 iota + b16(static_cast<std::uint16_t>(j)), none));
+  int best = detail::horizontal_min_u16(first);
+  if (best == detail::kU16Max) {
+    best = full;
+    while (total[best] != m) ++best;
+  }
   return best;
+}
+
+// Lane j takes part when |j - k| >= 2, i.e. when the saturating |j - k| - 1
+// is not 0 (indices and k are <= 256: no wrap in u16).
+template <class Arch>
+std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  const b16 iota = b16::load_aligned(detail::kCount);
+  const b16 vk(static_cast<std::uint16_t>(k)), one(std::uint16_t{1}), zero(std::uint16_t{0});
+  const b16 none(detail::kU16Max);
+  b16 low(detail::kU16Max);
+  int j = 0;
+  for (; j + lanes <= n; j += lanes) {
+    const b16 idx = iota + b16(static_cast<std::uint16_t>(j));
+    const b16 dist = xsimd::ssub(idx, vk) | xsimd::ssub(vk, idx);
+    low = escape::min_u16(low, xsimd::select(xsimd::ssub(dist, one) != zero, b16::load_unaligned(total + j), none));
+  }
+  std::uint16_t m = detail::horizontal_min_u16(low);
+  for (; j < n; ++j)
+    if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];
+  return m;
+}
+
+// total <= best is min(total, best) == total: an equality compare, which every
+// target has for u16 lanes (SSE2 has no unsigned u16 compare).
+template <class Arch>
+void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best_cost,
+                          std::uint16_t* best_k) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  const b16 iota = b16::load_aligned(detail::kCount);
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) {
+    const b16 t = b16::load_unaligned(total + k);
+    const b16 b = b16::load_unaligned(best_cost + k);
+    const b16 m = escape::min_u16(t, b);
+    const auto take = m == t;
+    m.store_unaligned(best_cost + k);
+    xsimd::select(take, iota + b16(static_cast<std::uint16_t>(k)), b16::load_unaligned(best_k + k))
+        .store_unaligned(best_k + k);
+  }
+  for (; k < n; ++k)
+    if (total[k] <= best_cost[k]) {
+      best_cost[k] = total[k];
+      best_k[k] = static_cast<std::uint16_t>(k);
+    }
 }
 
 }  // namespace simd

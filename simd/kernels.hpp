@@ -93,6 +93,17 @@ struct SumArgminU16 {
   static int call(const std::uint16_t* const* terms, int count, int n, std::uint16_t* total);
 };
 
+template <class Arch>
+struct MinOutsideU16 {
+  static std::uint16_t call(const std::uint16_t* total, int n, int k);
+};
+
+template <class Arch>
+struct LrMinU16 {
+  static void call(const std::uint16_t* total, int n, std::uint16_t* best_cost,
+                   std::uint16_t* best_k);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -107,7 +118,9 @@ struct SumArgminU16 {
   KEYWORD template struct CensusRowU16<ARCH>;                 \
   KEYWORD template struct CensusWindowU16<ARCH>;              \
   KEYWORD template struct PathStepU16<ARCH>;                  \
-  KEYWORD template struct SumArgminU16<ARCH>;
+  KEYWORD template struct SumArgminU16<ARCH>;                \
+  KEYWORD template struct LrMinU16<ARCH>;                    \
+  KEYWORD template struct MinOutsideU16<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

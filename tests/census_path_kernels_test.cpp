@@ -162,6 +162,58 @@ TEST_P(CensusPathKernels, SumArgminEqualsScalar) {
     }
 }
 
+TEST(LrMinScalar, KeepsTheSmallestCostAndOnTiesTheLastOffered) {
+  // Two samples offer to the same right pixels; the second (offered last) wins ties.
+  std::vector<std::uint16_t> best(3, 0xFFFF), k(3, 99);
+  const std::vector<std::uint16_t> first = {5, 7, 0xFFFF}, second = {5, 9, 0xFFFF};
+  lr_min_u16_scalar(first.data(), 3, best.data(), k.data());
+  EXPECT_EQ(best, (std::vector<std::uint16_t>{5, 7, 0xFFFF}));
+  EXPECT_EQ(k, (std::vector<std::uint16_t>{0, 1, 2}));  // 0xFFFF <= 0xFFFF: taken
+  k = {9, 9, 9};
+  lr_min_u16_scalar(second.data(), 3, best.data(), k.data());
+  EXPECT_EQ(best, (std::vector<std::uint16_t>{5, 7, 0xFFFF}));
+  EXPECT_EQ(k, (std::vector<std::uint16_t>{0, 9, 2}));
+}
+
+TEST(MinOutsideScalar, SkipsTheWinnerAndItsNeighbours) {
+  const std::vector<std::uint16_t> v = {4, 1, 2, 3, 8};
+  EXPECT_EQ(min_outside_u16_scalar(v.data(), 5, 2), 4);       // 1, 2, 3 skipped
+  EXPECT_EQ(min_outside_u16_scalar(v.data(), 5, 0), 2);       // 4, 1 skipped
+  EXPECT_EQ(min_outside_u16_scalar(v.data(), 5, 4), 1);
+  EXPECT_EQ(min_outside_u16_scalar(v.data(), 3, 1), 0xFFFF);  // nothing outside
+}
+
+TEST_P(CensusPathKernels, LrMinEqualsScalar) {
+  std::mt19937 rng(15);
+  for (int n = 1; n <= 256; ++n)
+    for (int trial = 0; trial < 3; ++trial) {
+      // Small values: many ties between the running best and the offer.
+      std::uniform_int_distribution<int> v(0, trial == 0 ? 3 : 65535);
+      std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack), best_a(total.size()), k_a(total.size());
+      for (auto& x : total) x = static_cast<std::uint16_t>(v(rng));
+      for (auto& x : best_a) x = static_cast<std::uint16_t>(v(rng));
+      for (auto& x : k_a) x = static_cast<std::uint16_t>(v(rng));
+      if (trial == 2) total[static_cast<std::size_t>(n - 1)] = best_a[static_cast<std::size_t>(n - 1)] = 0xFFFF;
+      std::vector<std::uint16_t> best_b = best_a, k_b = k_a;
+      simd().lr_min_u16(total.data(), n, best_a.data(), k_a.data());
+      scalar().lr_min_u16(total.data(), n, best_b.data(), k_b.data());
+      ASSERT_EQ(best_a, best_b) << "n=" << n;
+      ASSERT_EQ(k_a, k_b) << "n=" << n;
+    }
+}
+
+TEST_P(CensusPathKernels, MinOutsideEqualsScalar) {
+  std::mt19937 rng(16);
+  for (int n = 1; n <= 256; ++n) {
+    std::uniform_int_distribution<int> v(0, 65535);
+    std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack);
+    for (auto& x : total) x = static_cast<std::uint16_t>(v(rng));
+    for (int k = 0; k < n; ++k)
+      ASSERT_EQ(simd().min_outside_u16(total.data(), n, k), scalar().min_outside_u16(total.data(), n, k))
+          << "n=" << n << " k=" << k;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Sets, CensusPathKernels, ::testing::ValuesIn(test::simd_kernel_params()),
                          test::KernelParamName());
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(CensusPathKernels);

@@ -229,7 +229,10 @@ TEST(Radiometric, CensusDefaultsHoldUnderGainAndOffset) {
   }
 }
 
-TEST(Occlusion, LeftRightCheckFindsTheOccludedBands) {
+// Both sources of the right view's disparities (docs/model.md section 6).
+class Occlusion : public ::testing::TestWithParam<LrSource> {};
+
+TEST_P(Occlusion, LeftRightCheckFindsTheOccludedBands) {
   SynthParams sp;
   sp.width = 320;
   sp.height = 240;
@@ -237,6 +240,7 @@ TEST(Occlusion, LeftRightCheckFindsTheOccludedBands) {
   const SyntheticScene scene = make_synthetic_scene(sp);
   StereoParams p;
   p.num_disp = 32;
+  p.validity.lr_source = GetParam();
   p.validity.fill = FillMode::kNone;
   const StereoOutput o = run(scene.left, scene.right, p);
   std::int64_t occ = 0, occ_invalid = 0, vis = 0, vis_invalid = 0;
@@ -259,15 +263,21 @@ TEST(Occlusion, LeftRightCheckFindsTheOccludedBands) {
   EXPECT_GT(occ_rate, 60.0);
   EXPECT_LT(vis_rate, 8.0);
   EXPECT_GT(o.validity.lr_rejected, 0);
-  // Without the check nothing is invalid, and the fill leaves nothing invalid.
+  // Without the check it rejects nothing; with the fill nothing stays invalid
+  // and every sample the two tests rejected is filled.
   p.validity.lr_max_diff_q4 = -1;
   EXPECT_EQ(run(scene.left, scene.right, p).validity.lr_rejected, 0);
   p.validity.lr_max_diff_q4 = 16;
   p.validity.fill = FillMode::kBackground;
   const StereoOutput filled = run(scene.left, scene.right, p);
-  EXPECT_EQ(filled.validity.filled, o.validity.lr_rejected);
+  EXPECT_EQ(filled.validity.filled, filled.validity.lr_rejected + filled.validity.uniqueness_rejected);
   for (std::int16_t d : filled.disp_q4.pixels) ASSERT_NE(d, kInvalidDispQ4);
 }
+
+INSTANTIATE_TEST_SUITE_P(Sources, Occlusion, ::testing::Values(LrSource::kSummedCosts, LrSource::kMirroredPass),
+                         [](const ::testing::TestParamInfo<LrSource>& i) {
+                           return std::string(to_string(i.param));
+                         });
 
 }  // namespace
 }  // namespace tristereo

@@ -39,6 +39,11 @@ enum class CostKind { kAd, kCensus, kAdCensus };
 enum class Optimizer { kRowDp, kPaths };
 // What becomes of samples that the validity checks reject (docs/model.md section 6).
 enum class FillMode { kNone, kBackground };
+// Where the left-right check takes the right view's disparities from
+// (docs/model.md section 6): the path optimizer's summed costs read along the
+// right image's rows (no second pass), or a second matching pass on the
+// mirrored pair.
+enum class LrSource { kSummedCosts, kMirroredPass };
 // Gap policy tau(g) of the smoothness term P(g) = round(lambda * tau(g)).
 enum class GapPolicy { kInvSquare, kInverse, kConstant };
 
@@ -49,8 +54,8 @@ struct TritreeParams {
 
 struct CostParams {
   CostKind kind = CostKind::kCensus;
-  int census_w = 7;                 // census transform window, odd, 3..9, census_w * census_h - 1 <= 64
-  int census_h = 7;
+  int census_w = 5;                 // census transform window, odd, 3..9, census_w * census_h - 1 <= 64
+  int census_h = 5;
   int ad_weight_q4 = 8;             // ad_census: cost = census + ad_weight_q4 * ad / 16 (0..64)
   int window_w = 3;                 // support window (aggregation), odd, 1..kMaxWindowSide
   int window_h = 3;                 // odd, 1..kMaxWindowSide (the paper's model: 5x5)
@@ -72,8 +77,8 @@ struct DpParams {
 // that best follows the direction (the same-row sample for horizontal ones).
 struct PathParams {
   int directions = 4;               // 4 (horizontal, vertical) or 8 (+ diagonals)
-  int p1_q4 = 160;
-  int p2_q4 = 640;                  // >= p1_q4
+  int p1_q4 = 120;
+  int p2_q4 = 800;                  // >= p1_q4
   // P2 shrinks across intensity edges: P2' = P1 + (P2 - P1) * T / (T + |I(p) - I(q)|);
   // 0 = off (P2 everywhere).
   int p2_edge_scale = 30;
@@ -82,13 +87,14 @@ struct PathParams {
 
 // Validity of sample disparities (docs/model.md section 6).
 struct ValidityParams {
-  // Left-right check: a second matching pass with the right image as the
-  // reference; a sample is kept when the right map at its match agrees within
-  // lr_max_diff_q4 (Q4). -1 = no check.
+  // Left-right check: a sample is kept when the right view's disparity at its
+  // match agrees within lr_max_diff_q4 (Q4). -1 = no check.
   int lr_max_diff_q4 = 16;
+  // kSummedCosts needs optimizer = kPaths (the row DP keeps no summed costs).
+  LrSource lr_source = LrSource::kSummedCosts;
   // Uniqueness: the best summed cost times (100 + margin) must stay below 100 times
   // every cost two or more disparities away. 0 = off.
-  int uniqueness_pct = 0;
+  int uniqueness_pct = 10;
   FillMode fill = FillMode::kBackground;
 };
 
@@ -124,5 +130,7 @@ TRISTEREO_API const char* to_string(FillMode f);
 TRISTEREO_API CostKind parse_cost_kind(const std::string& s);   // "ad" | "census" | "ad_census"
 TRISTEREO_API Optimizer parse_optimizer(const std::string& s);  // "dp" | "paths"
 TRISTEREO_API FillMode parse_fill_mode(const std::string& s);   // "none" | "background"
+TRISTEREO_API const char* to_string(LrSource s);
+TRISTEREO_API LrSource parse_lr_source(const std::string& s);   // "costs" | "mirror"
 
 }  // namespace tristereo

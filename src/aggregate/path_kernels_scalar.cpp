@@ -40,4 +40,20 @@ int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
   return best;
 }
 
+void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
+                       std::uint16_t* best_k) {
+  for (int k = 0; k < n; ++k)
+    if (total[k] <= best_cost[k]) {
+      best_cost[k] = total[k];
+      best_k[k] = static_cast<std::uint16_t>(k);
+    }
+}
+
+std::uint16_t min_outside_u16_scalar(const std::uint16_t* total, int n, int k) {
+  std::uint16_t m = 0xFFFF;
+  for (int j = 0; j < n; ++j)
+    if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];
+  return m;
+}
+
 }  // namespace tristereo

@@ -1,6 +1,7 @@
 #include "src/aggregate/path_matcher.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <string>
 
@@ -15,7 +16,6 @@ namespace tristereo {
 namespace {
 constexpr std::size_t kLanesRound = 16;  // rows start on 32-byte boundaries
 constexpr std::uint16_t kGuard = 0xFFFF;
-constexpr int kSamplesPerChunk = 1024;
 
 std::size_t round_up(std::size_t v) { return (v + kLanesRound - 1) / kLanesRound * kLanesRound; }
 
@@ -36,7 +36,7 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   if (workers < 1 || workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: workers = " + std::to_string(workers));
   validate_params(params);
-  if (!kernels.path_step_u16 || !kernels.sum_argmin_u16)
+  if (!kernels.path_step_u16 || !kernels.sum_argmin_u16 || !kernels.lr_min_u16 || !kernels.min_outside_u16)
     throw Error(ErrorCode::kInvalidArgument, "kernel set '" + std::string(kernels.name) + "' is incomplete");
   const int d = params.num_disp;
   const std::size_t n = static_cast<std::size_t>(max_width) * static_cast<std::size_t>(max_height);
@@ -50,22 +50,39 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   const int max_gap = std::max(max_width, max_height);
   fill_penalty_table(params.paths.p1_q4, params.paths.gap, max_gap, p1_by_gap_);
   fill_penalty_table(params.paths.p2_q4, params.paths.gap, max_gap, p2_by_gap_);
+  penalties_by_gap_ = false;
+  // Index 0 is no gap (unused): compare the gaps 2.. with gap 1.
+  for (std::size_t g = 2; g < p1_by_gap_.size(); ++g)
+    if (p1_by_gap_[g] != p1_by_gap_[1] || p2_by_gap_[g] != p2_by_gap_[1]) penalties_by_gap_ = true;
+  if (!penalties_by_gap_) {
+    const std::uint32_t a = p1_by_gap_[1], b = std::max(a, p2_by_gap_[1]);
+    const auto scale = static_cast<std::uint32_t>(params.paths.p2_edge_scale);
+    for (std::uint32_t di = 0; di < 256; ++di)
+      p2_by_diff_[di] = static_cast<std::uint16_t>(scale > 0 ? a + (b - a) * scale / (scale + di) : b);
+  }
   max_width_ = max_width;
   const bool by_rows = params.cost.kind == CostKind::kCensus;
   ring_len_ = by_rows ? static_cast<std::size_t>(params.cost.window_h) * static_cast<std::size_t>(max_width) * cost_stride_ : 0;
   costs_len_ = n * cost_stride_;
-  preds_len_ = n * 6;
+  preds_len_ = n * static_cast<std::size_t>(directions_ - 2);
   costs_ = untouched<std::uint16_t>(costs_len_);
   preds_ = untouched<std::int32_t>(preds_len_);
   zero_path_.assign(path_stride_, 0);
   zero_path_[0] = kGuard;
   zero_path_[static_cast<std::size_t>(d) + 1] = kGuard;
+  for (int pass = 0; pass < 2; ++pass) {
+    pass_paths_[pass].clear();
+    pass_mins_[pass].clear();
+    for (int j = 0; j < directions_ / 2 - 1; ++j) {
+      pass_paths_[pass].push_back(untouched<std::uint16_t>(n * path_stride_ + 64));
+      pass_mins_[pass].push_back(untouched<std::uint16_t>(n));
+    }
+  }
   workers_.clear();
   workers_.resize(static_cast<std::size_t>(workers));
   for (Worker& w : workers_) {
-    w.path = untouched<std::uint16_t>(n * path_stride_);
+    w.row_path = std::unique_ptr<std::uint16_t[]>(new std::uint16_t[2 * path_stride_ + 64]());
     w.sum = untouched<std::uint16_t>(n * cost_stride_);
-    w.path_min = untouched<std::uint16_t>(n);
     w.scratch.resize(d);
     w.total.assign(cost_stride_ + 64, 0);
     if (by_rows) {
@@ -74,6 +91,14 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
       w.slot_row.assign(static_cast<std::size_t>(params.cost.window_h), -1);
     }
     w.terms.assign(static_cast<std::size_t>(workers), nullptr);
+    if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kSummedCosts) {
+      // A row's right pixels xr = x - d_min - k, indexed W - 1 - x + k: 0 .. W + D - 2,
+      // plus the kernels' read slack.
+      const std::size_t len = static_cast<std::size_t>(max_width) + cost_stride_ + 64;
+      w.lr_cost.assign(len, 0);
+      w.lr_k.assign(len, 0);
+      w.row_k.assign(static_cast<std::size_t>(max_width), 0);
+    }
   }
 }
 
@@ -86,6 +111,10 @@ void PathMatcher::release() {
   std::vector<std::uint32_t>().swap(p2_by_gap_);
   std::vector<std::uint16_t>().swap(zero_path_);
   std::vector<Worker>().swap(workers_);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<std::unique_ptr<std::uint16_t[]>>().swap(pass_paths_[pass]);
+    std::vector<std::unique_ptr<std::uint16_t[]>>().swap(pass_mins_[pass]);
+  }
   kernels_ = nullptr;
 }
 
@@ -94,9 +123,13 @@ std::size_t PathMatcher::working_memory_bytes() const {
   std::size_t bytes = costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
                       capacity_bytes(workers_);
+  for (int pass = 0; pass < 2; ++pass)
+    bytes += pass_paths_[pass].size() * ((n * path_stride_ + 64 + n) * sizeof(std::uint16_t) +
+                                         2 * sizeof(std::unique_ptr<std::uint16_t[]>));
   for (const Worker& w : workers_)
-    bytes += (n * path_stride_ + n * cost_stride_ + n) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
+    bytes += (2 * path_stride_ + 64 + n * cost_stride_) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
              capacity_bytes(w.total) + capacity_bytes(w.terms) + capacity_bytes(w.slot_row) +
+             capacity_bytes(w.lr_cost) + capacity_bytes(w.lr_k) + capacity_bytes(w.row_k) +
              (w.pixel_rows ? (ring_len_ + static_cast<std::size_t>(max_width_) * cost_stride_) * sizeof(std::uint16_t) : 0);
   return bytes;
 }
@@ -179,36 +212,33 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
 // the mesh neighbour q on the side u comes from (q above p when u points
 // down) with (p - q) . u > 0 that follows u best (largest cosine), ties to the
 // smaller vertex id. Candidates come from the triangles' edges, so a vertex's
-// neighbours are exactly its mesh neighbours.
+// neighbours are exactly its mesh neighbours (an interior edge is offered
+// twice, which changes nothing).
 void PathMatcher::find_predecessors(const SampleLayout& samples) {
   const int n = samples.count();
+  const auto per = static_cast<std::size_t>(directions_ - 2);
   std::int32_t* preds = preds_.get();
-  std::fill(preds, preds + static_cast<std::size_t>(n) * 6, -1);
-  const std::vector<Vertex>& v = samples.mesh->vertices;
+  std::fill(preds, preds + static_cast<std::size_t>(n) * per, -1);
+  const Vertex* v = samples.mesh->vertices.data();
   auto offer = [&](int p, int q, int first_dir) {
-    const int dx = v[static_cast<std::size_t>(p)].x - v[static_cast<std::size_t>(q)].x;
-    const int dy = v[static_cast<std::size_t>(p)].y - v[static_cast<std::size_t>(q)].y;
+    const int dx = v[p].x - v[q].x, dy = v[p].y - v[q].y;
     for (int r = first_dir; r < directions_; r += 2) {
       const PathDirection u = kPathDirections[r];
       if (dx * u.dx + dy * u.dy <= 0) continue;
-      std::int32_t& best = preds[static_cast<std::size_t>(r - 2) * static_cast<std::size_t>(n) + static_cast<std::size_t>(p)];
+      std::int32_t& best = preds[static_cast<std::size_t>(p) * per + static_cast<std::size_t>(r - 2)];
       if (best < 0) {
         best = q;
         continue;
       }
-      const int bdx = v[static_cast<std::size_t>(p)].x - v[static_cast<std::size_t>(best)].x;
-      const int bdy = v[static_cast<std::size_t>(p)].y - v[static_cast<std::size_t>(best)].y;
-      if (follows_better(dx, dy, bdx, bdy, u) ||
-          (!follows_better(bdx, bdy, dx, dy, u) && q < best))
-        best = q;
+      const int bdx = v[p].x - v[best].x, bdy = v[p].y - v[best].y;
+      if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best)) best = q;
     }
   };
   for (const Triangle& t : samples.mesh->triangles)
     for (int e = 0; e < 3; ++e) {
       int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-      const int ya = v[static_cast<std::size_t>(a)].y, yb = v[static_cast<std::size_t>(b)].y;
-      if (ya == yb) continue;
-      if (ya > yb) std::swap(a, b);  // a above b
+      if (v[a].y == v[b].y) continue;
+      if (v[a].y > v[b].y) std::swap(a, b);  // a above b
       offer(b, a, 2);  // forward directions (2, 4, 6): from above
       offer(a, b, 3);  // backward directions (3, 5, 7): from below
     }
@@ -230,45 +260,83 @@ int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
     const int qx = (x - u.dx >= 0 && x - u.dx < samples.width) ? x - u.dx : x;
     return qy * samples.width + qx;
   }
-  return preds_[static_cast<std::size_t>(r - 2) * static_cast<std::size_t>(samples.count()) + static_cast<std::size_t>(i)];
+  return preds_[static_cast<std::size_t>(i) * static_cast<std::size_t>(directions_ - 2) + static_cast<std::size_t>(r - 2)];
 }
 
-void PathMatcher::run_direction(const SampleLayout& samples, ImageView<const std::uint8_t> gray,
-                                int r, int worker, bool accumulate) {
+void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> gray,
+                           bool forward, int worker, bool accumulate) {
   Worker& wk = workers_[static_cast<std::size_t>(worker)];
   const KernelSet& ks = *kernels_;
   const int n = samples.count();
   const int d = num_disp_;
   const int edge_scale = params_.paths.p2_edge_scale;
-  const bool forward = path_runs_forward(r);
-  std::uint16_t* path = wk.path.get();
-  std::uint16_t* path_min = wk.path_min.get();
+  const int pass = forward ? 0 : 1;
+  const int others = directions_ / 2 - 1;  // vertical and diagonal directions of the pass
+  std::uint16_t* paths[3] = {};
+  std::uint16_t* mins[3] = {};
+  for (int j = 0; j < others; ++j) {
+    paths[j] = pass_paths_[pass][static_cast<std::size_t>(j)].get();
+    mins[j] = pass_mins_[pass][static_cast<std::size_t>(j)].get();
+  }
+  std::uint16_t* ring[2] = {wk.row_path.get(), wk.row_path.get() + path_stride_};
+  for (std::uint16_t* r : ring) {
+    r[0] = kGuard;
+    r[d + 1] = kGuard;
+  }
+  // P1 and P2 for the step q -> i (section 3b: by the edge's length, P2 >= P1,
+  // and P2 shrunk across an intensity edge).
+  auto penalties = [&](int i, int q, std::uint16_t* p1, std::uint16_t* p2) {
+    const int px = samples.x_of(i), py = samples.y_of(i);
+    const int qx = samples.x_of(q), qy = samples.y_of(q);
+    if (!penalties_by_gap_) {
+      *p1 = static_cast<std::uint16_t>(p1_by_gap_[1]);
+      *p2 = p2_by_diff_[std::abs(gray.row(py)[px] - gray.row(qy)[qx])];
+      return;
+    }
+    const int gap = std::max(std::abs(px - qx), std::abs(py - qy));
+    std::uint32_t a = p1_by_gap_[static_cast<std::size_t>(gap)];
+    std::uint32_t b = p2_by_gap_[static_cast<std::size_t>(gap)];
+    if (b < a) b = a;
+    if (edge_scale > 0) {
+      const std::uint32_t di = static_cast<std::uint32_t>(std::abs(gray.row(py)[px] - gray.row(qy)[qx]));
+      b = a + (b - a) * static_cast<std::uint32_t>(edge_scale) / (static_cast<std::uint32_t>(edge_scale) + di);
+    }
+    *p1 = static_cast<std::uint16_t>(a);
+    *p2 = static_cast<std::uint16_t>(b);
+  };
+  const std::uint16_t* zero = zero_path_.data() + 1;
+  std::uint16_t row_min = 0;
   for (int step = 0; step < n; ++step) {
     const int i = forward ? step : n - 1 - step;
-    std::uint16_t* out = path + row(i, path_stride_);
-    out[0] = kGuard;
-    out[d + 1] = kGuard;
-    const int q = predecessor(samples, r, i);
-    const std::uint16_t* prev = zero_path_.data() + 1;
+    const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
+    std::uint16_t* sum = wk.sum.get() + row(i, cost_stride_);
+    // Horizontal: the predecessor is the previous step's sample when it is on the same row.
+    std::uint16_t* out = ring[step & 1];
+    const int q = predecessor(samples, pass, i);
+    const std::uint16_t* prev = zero;
     std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
     if (q >= 0) {
-      const int px = samples.x_of(i), py = samples.y_of(i);
-      const int qx = samples.x_of(q), qy = samples.y_of(q);
-      const int gap = std::max(std::abs(px - qx), std::abs(py - qy));
-      std::uint32_t a = p1_by_gap_[static_cast<std::size_t>(gap)];
-      std::uint32_t b = p2_by_gap_[static_cast<std::size_t>(gap)];
-      if (b < a) b = a;
-      if (edge_scale > 0) {
-        const std::uint32_t di = static_cast<std::uint32_t>(std::abs(gray.row(py)[px] - gray.row(qy)[qx]));
-        b = a + (b - a) * static_cast<std::uint32_t>(edge_scale) / (static_cast<std::uint32_t>(edge_scale) + di);
-      }
-      prev = path + row(q, path_stride_) + 1;
-      prev_min = path_min[q];
-      p1 = static_cast<std::uint16_t>(a);
-      p2 = static_cast<std::uint16_t>(b);
+      penalties(i, q, &p1, &p2);
+      prev = ring[(step & 1) ^ 1] + 1;
+      prev_min = row_min;
     }
-    path_min[i] = ks.path_step_u16(costs_.get() + row(i, cost_stride_), prev, prev_min, p1, p2, d,
-                                   out + 1, wk.sum.get() + row(i, cost_stride_), accumulate ? 1 : 0);
+    row_min = ks.path_step_u16(cost, prev, prev_min, p1, p2, d, out + 1, sum, accumulate ? 1 : 0);
+    for (int j = 0; j < others; ++j) {
+      const int r = 2 * (j + 1) + pass;
+      std::uint16_t* path = paths[j];
+      std::uint16_t* o = path + row(i, path_stride_);
+      o[0] = kGuard;
+      o[d + 1] = kGuard;
+      const int qr = predecessor(samples, r, i);
+      const std::uint16_t* pr = zero;
+      std::uint16_t pm = 0, a1 = 0, a2 = 0;
+      if (qr >= 0) {
+        penalties(i, qr, &a1, &a2);
+        pr = path + row(qr, path_stride_) + 1;
+        pm = mins[j][qr];
+      }
+      mins[j][i] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
+    }
   }
 }
 
@@ -276,16 +344,22 @@ void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::ui
                             ThreadPool& pool) {
   if (!samples.dense()) find_predecessors(samples);
   for (Worker& w : workers_) w.has_sum = false;
-  dirs_.reset(0, directions_, 1);
+  dirs_.reset(0, 2, 1);
   pool.run([&](int w) {
     Worker& wk = workers_[static_cast<std::size_t>(w)];
-    int r0 = 0, r1 = 0;
-    while (dirs_.next(&r0, &r1))
-      for (int r = r0; r < r1; ++r) {
-        run_direction(samples, left_gray, r, w, wk.has_sum);
+    int p0 = 0, p1 = 0;
+    while (dirs_.next(&p0, &p1))
+      for (int pass = p0; pass < p1; ++pass) {
+        run_pass(samples, left_gray, pass == 0, w, wk.has_sum);
         wk.has_sum = true;
       }
   });
+}
+
+PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
+                                         ThreadPool& pool, std::int16_t* disp_q4) {
+  aggregate(samples, left_gray, pool);
+  return select(samples, pool, disp_q4);
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {
@@ -297,45 +371,97 @@ void PathMatcher::summed_costs(int i, std::uint16_t* out) const {
   }
 }
 
-int PathMatcher::select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4) {
-  const int n = samples.count();
-  const int d = num_disp_;
-  const int uniq = params_.validity.uniqueness_pct;
-  const bool subpixel = params_.dp.subpixel;
-  std::atomic<int> rejected{0};
-  chunks_.reset(0, n, kSamplesPerChunk);
-  pool.run([&](int w) {
-    Worker& wk = workers_[static_cast<std::size_t>(w)];
-    int count = 0;
-    for (const Worker& o : workers_)
-      if (o.has_sum) wk.terms[static_cast<std::size_t>(count++)] = nullptr;
-    int local_rejected = 0;
-    int i0 = 0, i1 = 0;
-    std::uint16_t* total = wk.total.data();
-    while (chunks_.next(&i0, &i1))
-      for (int i = i0; i < i1; ++i) {
-        int t = 0;
-        for (const Worker& o : workers_)
-          if (o.has_sum) wk.terms[static_cast<std::size_t>(t++)] = o.sum.get() + row(i, cost_stride_);
-        const int k = kernels_->sum_argmin_u16(wk.terms.data(), count, d, total);
-        if (uniq > 0) {
-          const std::uint32_t limit = std::uint32_t{total[k]} * static_cast<std::uint32_t>(100 + uniq);
-          bool unique = true;
-          for (int j = 0; j < d && unique; ++j)
-            if ((j < k - 1 || j > k + 1) && std::uint32_t{total[j]} * 100u <= limit) unique = false;
-          if (!unique) {
-            disp_q4[i] = kInvalidDispQ4;
-            ++local_rejected;
-            continue;
-          }
+PathMatcher::RowDecider::RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk,
+                                    std::int16_t* disp_q4)
+    : pm_(pm), samples_(samples), wk_(wk), disp_q4_(disp_q4),
+      lr_(pm.params_.validity.lr_max_diff_q4 >= 0 && pm.params_.validity.lr_source == LrSource::kSummedCosts) {}
+
+void PathMatcher::RowDecider::begin_row(int y) {
+  v0_ = samples_.row_begin(y);
+  v1_ = samples_.row_end(y);
+  if (lr_)
+    std::fill(wk_.lr_cost.begin(), wk_.lr_cost.begin() + (samples_.width + pm_.num_disp_ - 1), std::uint16_t{0xFFFF});
+}
+
+void PathMatcher::RowDecider::sample(int i, const std::uint16_t* const* terms, int count) {
+  const int d = pm_.num_disp_;
+  const int uniq = pm_.params_.validity.uniqueness_pct;
+  std::uint16_t* total = wk_.total.data();
+  const int k = pm_.kernels_->sum_argmin_u16(terms, count, d, total);
+  if (lr_) {
+    const auto base = static_cast<std::size_t>(samples_.width - 1 - samples_.x_of(i));
+    pm_.kernels_->lr_min_u16(total, d, wk_.lr_cost.data() + base, wk_.lr_k.data() + base);
+    wk_.row_k[static_cast<std::size_t>(i - v0_)] = static_cast<std::uint16_t>(k);
+  }
+  if (uniq > 0 && (k > 1 || k + 2 < d)) {
+    // Unique when every S(k') with |k' - k| > 1 has 100 S(k') > (100 + U) S(k):
+    // the smallest of them decides.
+    const std::uint16_t other = pm_.kernels_->min_outside_u16(total, d, k);
+    if (std::uint32_t{other} * 100u <= std::uint32_t{total[k]} * static_cast<std::uint32_t>(100 + uniq)) {
+      disp_q4_[i] = kInvalidDispQ4;
+      if (lr_) wk_.row_k[static_cast<std::size_t>(i - v0_)] = kNoWinner;
+      ++rejected.uniqueness;
+      return;
+    }
+  }
+  int off = 0;
+  if (pm_.params_.dp.subpixel && k > 0 && k < d - 1) off = subpixel_offset_q4(total[k - 1], total[k], total[k + 1]);
+  disp_q4_[i] = static_cast<std::int16_t>(kDispOne * (pm_.params_.d_min + k) + off);
+}
+
+// Left sample at x with winner k matches right pixel xr = x - d_min - k; the
+// right view's winner there is lr_k at index W - 1 - x + k.
+void PathMatcher::RowDecider::end_row() {
+  if (!lr_) return;
+  const int w = samples_.width;
+  for (int i = v0_; i < v1_; ++i) {
+    const int k = wk_.row_k[static_cast<std::size_t>(i - v0_)];
+    if (k == kNoWinner) continue;
+    const int x = samples_.x_of(i);
+    const int xr = x - pm_.params_.d_min - k;
+    bool ok = xr >= 0 && xr < w;
+    if (ok) {
+      const int kr = wk_.lr_k[static_cast<std::size_t>(w - 1 - x + k)];
+      ok = kDispOne * std::abs(k - kr) <= pm_.params_.validity.lr_max_diff_q4;
+    }
+    if (!ok) {
+      disp_q4_[i] = kInvalidDispQ4;
+      ++rejected.left_right;
+    }
+  }
+}
+
+// Rows go to the workers on demand (the left-right check compares samples of
+// one row); within a row the samples are taken right to left, so that
+// lr_min_u16's `<=` keeps the smallest k among equal costs at a right pixel.
+PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPool& pool,
+                                          std::int16_t* disp_q4) {
+  std::atomic<int> rejected_unique{0}, rejected_lr{0};
+  rows_.reset(0, samples.height, samples.dense() ? 4 : 16);
+  pool.run([&](int wi) {
+    Worker& wk = workers_[static_cast<std::size_t>(wi)];
+    RowDecider decide(*this, samples, wk, disp_q4);
+    int y0 = 0, y1 = 0;
+    while (rows_.next(&y0, &y1))
+      for (int y = y0; y < y1; ++y) {
+        const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
+        if (v0 == v1) continue;
+        decide.begin_row(y);
+        for (int i = v1 - 1; i >= v0; --i) {
+          int t = 0;
+          for (const Worker& o : workers_)
+            if (o.has_sum) wk.terms[static_cast<std::size_t>(t++)] = o.sum.get() + row(i, cost_stride_);
+          decide.sample(i, wk.terms.data(), t);
         }
-        int off = 0;
-        if (subpixel && k > 0 && k < d - 1) off = subpixel_offset_q4(total[k - 1], total[k], total[k + 1]);
-        disp_q4[i] = static_cast<std::int16_t>(kDispOne * (params_.d_min + k) + off);
+        decide.end_row();
       }
-    rejected.fetch_add(local_rejected, std::memory_order_relaxed);
+    rejected_unique.fetch_add(decide.rejected.uniqueness, std::memory_order_relaxed);
+    rejected_lr.fetch_add(decide.rejected.left_right, std::memory_order_relaxed);
   });
-  return rejected.load();
+  Rejected r;
+  r.uniqueness = rejected_unique.load();
+  r.left_right = rejected_lr.load();
+  return r;
 }
 
 }  // namespace tristereo

@@ -2,12 +2,15 @@
 //
 // Configured once for the largest frame; per frame:
 //
-//   pm.compute_costs(ctx, samples, pool);   // C(i, k) at every sample
-//   pm.aggregate(samples, left_gray, pool); // L_r along each direction, S = sum_r L_r
-//   pm.select(samples, pool, disp_q4);      // smallest argmin of S, sub-pixel, uniqueness
+//   pm.compute_costs(ctx, samples, pool);  // C(i, k) at every sample
+//   pm.match(samples, left_gray, pool, disp_q4);
+//       = aggregate: L_r along each direction, S = sum_r L_r (two passes:
+//         the forward directions, then the backward ones)
+//       + select: smallest argmin of S, sub-pixel, uniqueness, left-right
+//         check from S (lr_source = costs)
 //
-// Directions are handed to the workers on demand; each worker adds its paths
-// into its own S buffer and the winner adds the workers' buffers. Integer sums
+// The two passes are handed to the workers on demand; each worker adds its
+// paths into its own S buffer and the winner adds the workers' buffers. Integer sums
 // do not depend on the order, so the output is the same for any thread count.
 // Every buffer is sized at configure for max_width x max_height samples (dense
 // mode's worst case) and allocated without being touched, so a sparse frame
@@ -41,9 +44,16 @@ class PathMatcher {
   void aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                  ThreadPool& pool);
   // disp_q4[i] = 16 (d_min + k) + sub-pixel offset for the smallest argmin k
-  // of S(i, .), or kInvalidDispQ4 where the uniqueness test fails. Returns the
-  // number of samples the uniqueness test rejected.
-  int select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4);
+  // of S(i, .), or kInvalidDispQ4 where the uniqueness test or (lr_source =
+  // costs) the left-right check fails. Returns how many each rejected.
+  struct Rejected {
+    int uniqueness = 0;
+    int left_right = 0;
+  };
+  Rejected select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4);
+  // aggregate() then select().
+  Rejected match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
+                 ThreadPool& pool, std::int16_t* disp_q4);
 
   // Gives every buffer back (working_memory_bytes() becomes 0).
   void release();
@@ -59,9 +69,30 @@ class PathMatcher {
 
  private:
   static std::size_t row(int i, std::size_t stride) { return static_cast<std::size_t>(i) * stride; }
+  struct Worker;
+  // The winner of each sample of a row, uniqueness, and the left-right check
+  // from the summed costs once the row is complete (docs/model.md section 6).
+  // Samples are offered right to left between begin_row and end_row.
+  class RowDecider {
+   public:
+    RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk, std::int16_t* disp_q4);
+    void begin_row(int y);
+    void sample(int i, const std::uint16_t* const* terms, int count);  // S = sum of the terms
+    void end_row();
+    Rejected rejected;
+
+   private:
+    static constexpr std::uint16_t kNoWinner = 0xFFFF;  // row_k of a sample uniqueness rejected
+    const PathMatcher& pm_;
+    const SampleLayout& samples_;
+    Worker& wk_;
+    std::int16_t* disp_q4_;
+    bool lr_;
+    int v0_ = 0, v1_ = 0;
+  };
   void find_predecessors(const SampleLayout& samples);
-  void run_direction(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, int r,
-                     int worker, bool accumulate);
+  void run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, bool forward,
+                int worker, bool accumulate);
 
   StereoParams params_;
   const KernelSet* kernels_ = nullptr;
@@ -71,16 +102,27 @@ class PathMatcher {
   std::size_t cost_stride_ = 0;   // C and S rows
   std::size_t path_stride_ = 0;   // L rows: guard, D values, guard
   std::vector<std::uint32_t> p1_by_gap_, p2_by_gap_;
+  // When P1 and P2 do not depend on the gap (gap policy const): P2 after the
+  // edge rule for each |I(p) - I(q)|, so a step needs no division.
+  bool penalties_by_gap_ = true;
+  std::uint16_t p2_by_diff_[256] = {};
   std::size_t costs_len_ = 0, preds_len_ = 0;
   int max_width_ = 0;
   std::size_t ring_len_ = 0;  // per worker: window_h x max_width x cost_stride_ (census only)
   std::unique_ptr<std::uint16_t[]> costs_;
   std::unique_ptr<std::int32_t[]> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
+  // The directions run in two passes, forward (raster order: the even
+  // directions) and backward (the odd ones); a pass steps every direction at
+  // each sample while its costs and sums are in cache. L_r of a vertical or
+  // diagonal direction is kept for every sample (its predecessor may be rows
+  // back): pass_paths_[pass][j] for direction 2 (j + 1) + pass, with the
+  // minimum of each sample's L_r in pass_mins_.
+  std::vector<std::unique_ptr<std::uint16_t[]>> pass_paths_[2], pass_mins_[2];
   struct Worker {
-    std::unique_ptr<std::uint16_t[]> path;  // L_r of the direction being run
+    // L_r of the horizontal direction: the previous sample's and this one's.
+    std::unique_ptr<std::uint16_t[]> row_path;
     std::unique_ptr<std::uint16_t[]> sum;   // sum of this worker's directions
-    std::unique_ptr<std::uint16_t[]> path_min;
     bool has_sum = false;
     CostScratch scratch;
     std::vector<std::uint16_t> total;
@@ -90,10 +132,14 @@ class PathMatcher {
     std::unique_ptr<std::uint16_t[]> column_sums;
     std::vector<int> slot_row;
     std::vector<const std::uint16_t*> terms;
+    // Left-right check from S (select): the right view's running winner per
+    // right pixel of the row (index W - 1 - xr + ... see select), and each
+    // sample's k.
+    std::vector<std::uint16_t> lr_cost, lr_k, row_k;
   };
   std::vector<Worker> workers_;
   void census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk, int y0, int y1);
-  WorkChunks rows_, dirs_, chunks_;
+  WorkChunks rows_, dirs_;
 };
 
 }  // namespace tristereo

@@ -113,6 +113,18 @@ struct KernelSet {
   // returns the smallest k minimising total. count >= 1, n >= 1.
   int (*sum_argmin_u16)(const std::uint16_t* const* terms, int count, int n,
                         std::uint16_t* total) = nullptr;
+
+  // The right view's running winner along one row (left-right check from the
+  // summed costs, docs/model.md section 6), for k in [0, n):
+  //   if (total[k] <= best_cost[k]) { best_cost[k] = total[k]; best_k[k] = k; }
+  // `<=`: the caller offers a row's samples right to left, so of equal costs
+  // the smallest k (the one offered last) stays.
+  void (*lr_min_u16)(const std::uint16_t* total, int n, std::uint16_t* best_cost,
+                     std::uint16_t* best_k) = nullptr;
+
+  // The uniqueness test's rival: min of total[j] over j in [0, n) with
+  // |j - k| > 1, or 0xFFFF when there is none. 0 <= k < n <= 256.
+  std::uint16_t (*min_outside_u16)(const std::uint16_t* total, int n, int k) = nullptr;
 };
 
 // The portable reference set (always available).

@@ -42,5 +42,8 @@ std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_
                                    int accumulate);
 int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
                           std::uint16_t* total);
+std::uint16_t min_outside_u16_scalar(const std::uint16_t* total, int n, int k);
+void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
+                       std::uint16_t* best_k);
 
 }  // namespace tristereo

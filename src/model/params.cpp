@@ -67,6 +67,12 @@ void validate_params(const StereoParams& p) {
           " exceeds 65535 (the summed path costs are 16-bit); lower P2 or the directions");
   }
   check_range("validity.lr_max_diff_q4", p.validity.lr_max_diff_q4, -1, 16 * kMaxNumDisp);
+  if (p.validity.lr_source != LrSource::kSummedCosts && p.validity.lr_source != LrSource::kMirroredPass)
+    bad("validity.lr_source is not an LrSource value");
+  if (p.validity.lr_max_diff_q4 >= 0 && p.validity.lr_source == LrSource::kSummedCosts &&
+      p.optimizer != Optimizer::kPaths)
+    bad("validity.lr_source = costs needs the path optimizer (the row DP keeps no summed costs); "
+        "use lr_source = mirror or turn the left-right check off");
   check_range("validity.uniqueness_pct", p.validity.uniqueness_pct, 0, 100);
   if (p.validity.fill != FillMode::kNone && p.validity.fill != FillMode::kBackground)
     bad("validity.fill is not a FillMode value");
@@ -127,6 +133,14 @@ FillMode parse_fill_mode(const std::string& s) {
   if (s == "none") return FillMode::kNone;
   if (s == "background") return FillMode::kBackground;
   bad("unknown fill '" + s + "' (expected none or background)");
+}
+
+const char* to_string(LrSource s) { return s == LrSource::kSummedCosts ? "costs" : "mirror"; }
+
+LrSource parse_lr_source(const std::string& s) {
+  if (s == "costs") return LrSource::kSummedCosts;
+  if (s == "mirror") return LrSource::kMirroredPass;
+  bad("unknown left-right source '" + s + "' (expected costs or mirror)");
 }
 
 const char* to_string(Weights w) { return w == Weights::kBox ? "box" : "adaptive"; }

@@ -68,9 +68,9 @@ struct Pipeline::Impl {
   void mark(PipelineStage s, bool begin) const {
     if (listener) listener->on_stage(s, begin);
   }
-  int match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
-                 const SampleLayout& samples, std::int16_t* sample_disp, std::int64_t* cost_ns,
-                 std::int64_t* dp_ns);
+  PathMatcher::Rejected match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
+                                   const SampleLayout& samples, std::int16_t* sample_disp,
+                                   std::int64_t* cost_ns, std::int64_t* dp_ns);
   void interpolate_all(const Mesh& mesh, const std::int16_t* vertex_disp, ImageView<std::int16_t> out);
 };
 
@@ -140,7 +140,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px);
-  const bool lr = sp.validity.lr_max_diff_q4 >= 0;
+  const bool lr = sp.validity.lr_max_diff_q4 >= 0 && sp.validity.lr_source == LrSource::kMirroredPass;
   const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
   m.mirror_left = ImageU8{};
   m.mirror_right = ImageU8{};
@@ -198,10 +198,12 @@ ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8&
 }  // namespace
 
 // Matching of one view: costs at the samples, the configured optimizer, the
-// winner (and uniqueness, paths only). Returns the samples uniqueness rejected.
-int Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
-                               const SampleLayout& samples, std::int16_t* sample_disp,
-                               std::int64_t* cost_ns, std::int64_t* dp_ns) {
+// winner (and, paths only, uniqueness and the left-right check from the summed
+// costs). Returns the samples those tests rejected.
+PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg,
+                                                 ImageView<const std::uint8_t> rg,
+                                                 const SampleLayout& samples, std::int16_t* sample_disp,
+                                                 std::int64_t* cost_ns, std::int64_t* dp_ns) {
   const std::int64_t t0 = monotonic_ns();
   const int workers = pool.size();
   const int height = lg.height;
@@ -216,8 +218,7 @@ int Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg, ImageView<const
   if (config.params.optimizer == Optimizer::kPaths) {
     paths.compute_costs(match, samples, pool);
     const std::int64_t t_costs = monotonic_ns();
-    paths.aggregate(samples, lg, pool);
-    const int rejected = paths.select(samples, pool, sample_disp);
+    const PathMatcher::Rejected rejected = paths.match(samples, lg, pool, sample_disp);
     *cost_ns += t_costs - t0;
     *dp_ns += monotonic_ns() - t_costs;
     return rejected;
@@ -259,7 +260,7 @@ int Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg, ImageView<const
       both > 0 ? static_cast<std::int64_t>(static_cast<double>(match_wall) * cost_sum / both) : match_wall;
   *cost_ns += (t_prepared - t0) + cost_part;
   *dp_ns += match_wall - cost_part;
-  return 0;
+  return {};
 }
 
 void Pipeline::Impl::interpolate_all(const Mesh& mesh, const std::int16_t* vertex_disp,
@@ -305,12 +306,15 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   validity.samples = samples.count();
 
   std::int64_t cost_ns = 0, dp_ns = 0;
-  validity.uniqueness_rejected = m.match_view(lg, rg, samples, sample_disp, &cost_ns, &dp_ns);
+  const PathMatcher::Rejected rejected = m.match_view(lg, rg, samples, sample_disp, &cost_ns, &dp_ns);
+  validity.uniqueness_rejected = rejected.uniqueness;
+  validity.lr_rejected = rejected.left_right;
   const std::int64_t t_matched = monotonic_ns();
   m.mark(PipelineStage::kMatching, false);
 
-  // Left-right check: the right view's pass, its own fill and dense map.
-  if (params.validity.lr_max_diff_q4 >= 0) {
+  // Left-right check by a second pass: the right view's own tritree, matching,
+  // fill and dense map (lr_source = costs did it in match_view).
+  if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass) {
     mirror_gray(rg, m.mirror_left);
     mirror_gray(lg, m.mirror_right);
     const ImageView<const std::uint8_t> ml{m.mirror_left.pixels.data(), width, height, 1, width};

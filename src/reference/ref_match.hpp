@@ -44,7 +44,7 @@ Samples make_samples(const Mesh* mesh, int width, int height);
 // kInvalidDispQ4 where uniqueness rejects). *uniqueness_rejected counts those.
 std::vector<std::int16_t> match_paths(const ImageU8& left_gray, const ImageU8& right_gray,
                                       const Samples& samples, const StereoParams& params,
-                                      int* uniqueness_rejected);
+                                      int* uniqueness_rejected, int* lr_rejected);
 
 // Background fill (docs/model.md section 6); returns the number of samples filled.
 int fill_background(const Samples& samples, std::vector<std::int16_t>& disp_q4);

@@ -50,7 +50,7 @@ Samples make_samples(const Mesh* mesh, int width, int height) {
 
 std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
                                       const Samples& samples, const StereoParams& params,
-                                      int* uniqueness_rejected) {
+                                      int* uniqueness_rejected, int* lr_rejected) {
   const int n = static_cast<int>(samples.points.size());
   const int nd = params.num_disp;
   const PathParams& pp = params.paths;
@@ -128,6 +128,7 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
     }
   }
   std::vector<std::int16_t> disp(static_cast<std::size_t>(n));
+  std::vector<int> winner(static_cast<std::size_t>(n), -1);  // k, or -1 when uniqueness rejected it
   int rejected = 0;
   for (int i = 0; i < n; ++i) {
     const std::vector<std::int64_t>& s = total[static_cast<std::size_t>(i)];
@@ -143,6 +144,7 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
       ++rejected;
       continue;
     }
+    winner[static_cast<std::size_t>(i)] = k;
     int off = 0;
     if (params.dp.subpixel && k > 0 && k < nd - 1)
       off = subpixel_offset_q4(static_cast<int>(s[static_cast<std::size_t>(k - 1)]), static_cast<int>(s[static_cast<std::size_t>(k)]),
@@ -150,6 +152,43 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
     disp[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(16 * (params.d_min + k) + off);
   }
   if (uniqueness_rejected) *uniqueness_rejected = rejected;
+  // Left-right check from the summed costs: the right view's disparity index
+  // at right pixel xr of row y is the k minimising S(q, k) over the row's
+  // samples q with q_x - d_min - k = xr (ties: the smallest k).
+  int lr_count = 0;
+  if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kSummedCosts) {
+    std::vector<int> row_first(static_cast<std::size_t>(n)), row_last(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
+      row_first[static_cast<std::size_t>(i)] = (i > 0 && point(i - 1).y == point(i).y) ? row_first[static_cast<std::size_t>(i - 1)] : i;
+    for (int i = n - 1; i >= 0; --i)
+      row_last[static_cast<std::size_t>(i)] = (i + 1 < n && point(i + 1).y == point(i).y) ? row_last[static_cast<std::size_t>(i + 1)] : i;
+    for (int i = 0; i < n; ++i) {
+      const int k = winner[static_cast<std::size_t>(i)];
+      if (k < 0) continue;
+      const Vertex p = point(i);
+      const int xr = p.x - params.d_min - k;
+      bool ok = xr >= 0 && xr < samples.width;
+      if (ok) {
+        std::int64_t best = 0;
+        int kr = -1;
+        for (int j = row_first[static_cast<std::size_t>(i)]; j <= row_last[static_cast<std::size_t>(i)]; ++j) {
+          const int kj = point(j).x - params.d_min - xr;
+          if (kj < 0 || kj >= nd) continue;
+          const std::int64_t c = total[static_cast<std::size_t>(j)][static_cast<std::size_t>(kj)];
+          if (kr < 0 || c < best || (c == best && kj < kr)) {
+            best = c;
+            kr = kj;
+          }
+        }
+        ok = 16 * std::abs(k - kr) <= params.validity.lr_max_diff_q4;
+      }
+      if (!ok) {
+        disp[static_cast<std::size_t>(i)] = kInvalidDispQ4;
+        ++lr_count;
+      }
+    }
+  }
+  if (lr_rejected) *lr_rejected = lr_count;
   return disp;
 }
 

@@ -34,13 +34,16 @@ ImageU8 mirrored(const ImageU8& g) {
 }
 
 // Sample disparities of one view (the left image is the reference): the
-// configured optimizer, and uniqueness for the paths.
+// configured optimizer, and for the paths uniqueness and the left-right check
+// from the summed costs (lr_source = costs).
 std::vector<std::int16_t> match_view(const ImageU8& lg, const ImageU8& rg,
                                      const reference::Samples& samples,
-                                     const StereoParams& params, int* uniqueness_rejected) {
+                                     const StereoParams& params, int* uniqueness_rejected,
+                                     int* lr_rejected) {
   *uniqueness_rejected = 0;
+  *lr_rejected = 0;
   if (params.optimizer == Optimizer::kPaths)
-    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected);
+    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected, lr_rejected);
   std::vector<std::int16_t> disp;
   for (int y = 0; y < lg.height; ++y) {
     std::vector<int> xs;
@@ -65,17 +68,18 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
   out.mesh = reference::build_tritree(lg, params.tritree);
   const Mesh& mesh = out.mesh;
   const reference::Samples samples = reference::make_samples(params.dense ? nullptr : &mesh, w, h);
-  std::vector<std::int16_t> disp = match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected);
+  std::vector<std::int16_t> disp =
+      match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected, &out.validity.lr_rejected);
   out.validity.samples = static_cast<std::int32_t>(disp.size());
 
-  // Left-right check: the right view is the left view of the mirrored pair.
-  if (params.validity.lr_max_diff_q4 >= 0) {
+  // Left-right check by a second pass: the right view is the left view of the mirrored pair.
+  if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass) {
     const ImageU8 ml = mirrored(rg), mr = mirrored(lg);
     Mesh right_mesh;
     if (!params.dense) right_mesh = reference::build_tritree(ml, params.tritree);
     const reference::Samples rs = reference::make_samples(params.dense ? nullptr : &right_mesh, w, h);
-    int unused = 0;
-    std::vector<std::int16_t> rdisp = match_view(ml, mr, rs, params, &unused);
+    int unused = 0, unused_lr = 0;
+    std::vector<std::int16_t> rdisp = match_view(ml, mr, rs, params, &unused, &unused_lr);
     if (params.validity.fill != FillMode::kNone) reference::fill_background(rs, rdisp);
     ImageS16 right_map(w, h, 1, kInvalidDispQ4);
     if (params.dense) {

@@ -90,6 +90,10 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   p.paths.p2_edge_scale = rng.uniform(0, 1) ? 0 : rng.uniform(1, 255);
   p.paths.gap = static_cast<GapPolicy>(rng.uniform(0, 2));
   p.validity.lr_max_diff_q4 = rng.uniform(0, 2) == 0 ? -1 : rng.uniform(0, 40);
+  // From the summed costs needs the paths; the row DP takes the mirrored pass.
+  p.validity.lr_source = p.optimizer == Optimizer::kPaths && rng.uniform(0, 1) == 1
+                             ? LrSource::kSummedCosts
+                             : LrSource::kMirroredPass;
   p.validity.uniqueness_pct = rng.uniform(0, 1) ? 0 : rng.uniform(1, 30);
   p.validity.fill = rng.uniform(0, 3) == 0 ? FillMode::kNone : FillMode::kBackground;
   return p;
