@@ -767,18 +767,6 @@ void CensusRowU16<Arch>::call(const std::uint16_t* const* rows, int win_w, int w
   }
 }
 
-namespace detail {
-// Bit count of each u16 lane (SWAR: pairs, nibbles, bytes, then the two bytes).
-template <class A>
-batch<std::uint16_t, A> popcount_u16(batch<std::uint16_t, A> v) {
-  using b16 = batch<std::uint16_t, A>;
-  v = v - ((v >> 1) & b16(std::uint16_t{0x5555}));
-  v = (v & b16(std::uint16_t{0x3333})) + ((v >> 2) & b16(std::uint16_t{0x3333}));
-  v = (v + (v >> 4)) & b16(std::uint16_t{0x0F0F});
-  return (v + (v >> 8)) & b16(std::uint16_t{0x001F});
-}
-}  // namespace detail
-
 // The D sums stay in a register per block while the window's entries are
 // walked. The last block reads the rows' slack and stores only n % lanes sums.
 template <class Arch>
@@ -789,7 +777,7 @@ void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const st
   for (int k = 0; k < n; k += lanes) {
     b16 acc(std::uint16_t{0});
     for (int i = 0; i < count; ++i)
-      acc = acc + detail::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
+      acc = acc + escape::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
     if (k + lanes <= n) {
       acc.store_unaligned(sum + k);
     } else {
@@ -797,6 +785,25 @@ void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const st
       acc.store_aligned(tmp);
       std::memcpy(sum + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
     }
+  }
+}
+
+// Each block's sum stays in a register while the rows are added.
+template <class Arch>
+void SumRowsU16<Arch>::call(const std::uint16_t* const* rows, int count, std::size_t n,
+                            std::uint16_t* sum) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr std::size_t lanes = b16::size;
+  std::size_t j = 0;
+  for (; j + lanes <= n; j += lanes) {
+    b16 acc = b16::load_unaligned(rows[0] + j);
+    for (int i = 1; i < count; ++i) acc = acc + b16::load_unaligned(rows[i] + j);
+    acc.store_unaligned(sum + j);
+  }
+  for (; j < n; ++j) {
+    std::uint32_t s = 0;
+    for (int i = 0; i < count; ++i) s += rows[i][j];
+    sum[j] = static_cast<std::uint16_t>(s);
   }
 }
 
@@ -890,8 +897,9 @@ std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k
   return m;
 }
 
-// total <= best is min(total, best) == total: an equality compare, which every
-// target has for u16 lanes (SSE2 has no unsigned u16 compare).
+// total < best is min(total, best) == total and total != best: equality
+// compares, which every target has for u16 lanes (SSE2 has no unsigned u16
+// compare).
 template <class Arch>
 void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                           std::uint16_t* best_k) {
@@ -903,13 +911,13 @@ void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best
     const b16 t = b16::load_unaligned(total + k);
     const b16 b = b16::load_unaligned(best_cost + k);
     const b16 m = escape::min_u16(t, b);
-    const auto take = m == t;
+    const auto take = (m == t) & (t != b);
     m.store_unaligned(best_cost + k);
     xsimd::select(take, iota + b16(static_cast<std::uint16_t>(k)), b16::load_unaligned(best_k + k))
         .store_unaligned(best_k + k);
   }
   for (; k < n; ++k)
-    if (total[k] <= best_cost[k]) {
+    if (total[k] < best_cost[k]) {
       best_cost[k] = total[k];
       best_k[k] = static_cast<std::uint16_t>(k);
     }

@@ -10,6 +10,7 @@
 // Semantics, bounds and rounding are exactly those documented in kernel_set.hpp.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include <xsimd/xsimd.hpp>
@@ -82,6 +83,11 @@ struct CensusWindowU16 {
 };
 
 template <class Arch>
+struct SumRowsU16 {
+  static void call(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
+};
+
+template <class Arch>
 struct PathStepU16 {
   static std::uint16_t call(const std::uint16_t* cost, const std::uint16_t* prev,
                             std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2, int n,
@@ -117,6 +123,7 @@ struct LrMinU16 {
   KEYWORD template struct DpPointerU16<ARCH>;                 \
   KEYWORD template struct CensusRowU16<ARCH>;                 \
   KEYWORD template struct CensusWindowU16<ARCH>;              \
+  KEYWORD template struct SumRowsU16<ARCH>;                   \
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct SumArgminU16<ARCH>;                \
   KEYWORD template struct LrMinU16<ARCH>;                    \

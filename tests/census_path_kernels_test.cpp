@@ -162,17 +162,39 @@ TEST_P(CensusPathKernels, SumArgminEqualsScalar) {
     }
 }
 
-TEST(LrMinScalar, KeepsTheSmallestCostAndOnTiesTheLastOffered) {
-  // Two samples offer to the same right pixels; the second (offered last) wins ties.
+TEST(LrMinScalar, KeepsTheSmallestCostAndOnTiesTheFirstOffered) {
+  // Two samples offer to the same right pixels; the first offered keeps ties,
+  // and 0xFFFF (above every summed cost) never replaces the start value.
   std::vector<std::uint16_t> best(3, 0xFFFF), k(3, 99);
-  const std::vector<std::uint16_t> first = {5, 7, 0xFFFF}, second = {5, 9, 0xFFFF};
+  const std::vector<std::uint16_t> first = {5, 7, 0xFFFF}, second = {5, 6, 0xFFFF};
   lr_min_u16_scalar(first.data(), 3, best.data(), k.data());
   EXPECT_EQ(best, (std::vector<std::uint16_t>{5, 7, 0xFFFF}));
-  EXPECT_EQ(k, (std::vector<std::uint16_t>{0, 1, 2}));  // 0xFFFF <= 0xFFFF: taken
+  EXPECT_EQ(k, (std::vector<std::uint16_t>{0, 1, 99}));
   k = {9, 9, 9};
   lr_min_u16_scalar(second.data(), 3, best.data(), k.data());
-  EXPECT_EQ(best, (std::vector<std::uint16_t>{5, 7, 0xFFFF}));
-  EXPECT_EQ(k, (std::vector<std::uint16_t>{0, 9, 2}));
+  EXPECT_EQ(best, (std::vector<std::uint16_t>{5, 6, 0xFFFF}));
+  EXPECT_EQ(k, (std::vector<std::uint16_t>{9, 1, 9}));
+}
+
+TEST_P(CensusPathKernels, SumRowsEqualsScalar) {
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<int> v(0, 65535);  // the sums wrap mod 2^16 alike
+  for (int count = 1; count <= 9; ++count)
+    for (std::size_t n : {std::size_t{1}, std::size_t{7}, std::size_t{16}, std::size_t{33}, std::size_t{256}, std::size_t{1000}}) {
+      std::vector<std::vector<std::uint16_t>> rows(static_cast<std::size_t>(count), std::vector<std::uint16_t>(n));
+      std::vector<const std::uint16_t*> rp;
+      for (auto& r : rows) {
+        for (auto& x : r) x = static_cast<std::uint16_t>(v(rng));
+        rp.push_back(r.data());
+      }
+      std::vector<std::uint16_t> a(n, 1), b(n, 2);
+      simd().sum_rows_u16(rp.data(), count, n, a.data());
+      scalar().sum_rows_u16(rp.data(), count, n, b.data());
+      ASSERT_EQ(a, b) << "count=" << count << " n=" << n;
+      std::uint32_t s0 = 0;
+      for (const auto& r : rows) s0 += r[0];
+      ASSERT_EQ(b[0], static_cast<std::uint16_t>(s0));
+    }
 }
 
 TEST(MinOutsideScalar, SkipsTheWinnerAndItsNeighbours) {

@@ -43,7 +43,7 @@ int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
 void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                        std::uint16_t* best_k) {
   for (int k = 0; k < n; ++k)
-    if (total[k] <= best_cost[k]) {
+    if (total[k] < best_cost[k]) {
       best_cost[k] = total[k];
       best_k[k] = static_cast<std::uint16_t>(k);
     }

@@ -36,7 +36,8 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   if (workers < 1 || workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: workers = " + std::to_string(workers));
   validate_params(params);
-  if (!kernels.path_step_u16 || !kernels.sum_argmin_u16 || !kernels.lr_min_u16 || !kernels.min_outside_u16)
+  if (!kernels.path_step_u16 || !kernels.sum_argmin_u16 || !kernels.lr_min_u16 || !kernels.min_outside_u16 ||
+      !kernels.sum_rows_u16)
     throw Error(ErrorCode::kInvalidArgument, "kernel set '" + std::string(kernels.name) + "' is incomplete");
   const int d = params.num_disp;
   const std::size_t n = static_cast<std::size_t>(max_width) * static_cast<std::size_t>(max_height);
@@ -182,25 +183,17 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
   };
   std::uint16_t* cols = wk.column_sums.get();
   std::uint16_t* sum = wk.total.data();
+  const std::uint16_t* parts[kMaxWindowSide];
   for (int y = y0; y < y1; ++y) {
     if (samples.row_end(y) == samples.row_begin(y)) continue;
     const int wy0 = std::max(0, y - ry), wy1 = std::min(h - 1, y + ry);
-    const std::uint16_t* first = pixel_row(wy0);
-    std::copy(first, first + static_cast<std::size_t>(w) * cost_stride_, cols);
-    for (int yy = wy0 + 1; yy <= wy1; ++yy) {
-      const std::uint16_t* r = pixel_row(yy);
-      for (std::size_t j = 0; j < static_cast<std::size_t>(w) * cost_stride_; ++j)
-        cols[j] = static_cast<std::uint16_t>(cols[j] + r[j]);
-    }
+    for (int yy = wy0; yy <= wy1; ++yy) parts[yy - wy0] = pixel_row(yy);
+    kernels_->sum_rows_u16(parts, wy1 - wy0 + 1, static_cast<std::size_t>(w) * cost_stride_, cols);
     for (int i = samples.row_begin(y); i < samples.row_end(y); ++i) {
       const int x = samples.x_of(i);
       const int wx0 = std::max(0, x - rx), wx1 = std::min(w - 1, x + rx);
-      const std::uint16_t* c0 = cols + static_cast<std::size_t>(wx0) * cost_stride_;
-      std::copy(c0, c0 + d, sum);
-      for (int xx = wx0 + 1; xx <= wx1; ++xx) {
-        const std::uint16_t* c = cols + static_cast<std::size_t>(xx) * cost_stride_;
-        for (int k = 0; k < d; ++k) sum[k] = static_cast<std::uint16_t>(sum[k] + c[k]);
-      }
+      for (int xx = wx0; xx <= wx1; ++xx) parts[xx - wx0] = cols + static_cast<std::size_t>(xx) * cost_stride_;
+      kernels_->sum_rows_u16(parts, wx1 - wx0 + 1, static_cast<std::size_t>(d), sum);
       const auto pixels = static_cast<std::uint64_t>((wx1 - wx0 + 1) * (wy1 - wy0 + 1));
       kernels_->normalize_costs_u16(sum, (std::uint64_t{1} << 32) / pixels, d,
                                     costs_.get() + row(i, cost_stride_));
@@ -222,7 +215,20 @@ void PathMatcher::find_predecessors(const SampleLayout& samples) {
   const Vertex* v = samples.mesh->vertices.data();
   auto offer = [&](int p, int q, int first_dir) {
     const int dx = v[p].x - v[q].x, dy = v[p].y - v[q].y;
-    for (int r = first_dir; r < directions_; r += 2) {
+    // Vertical (directions 2, 3): the dot product is |dy| > 0, and the larger
+    // cosine is the smaller |dx| / |dy|, compared by cross-multiplication
+    // (both below 2^12: exact in 32 bits).
+    {
+      std::int32_t& best = preds[static_cast<std::size_t>(p) * per + static_cast<std::size_t>(first_dir - 2)];
+      if (best < 0) {
+        best = q;
+      } else {
+        const int bdx = v[p].x - v[best].x, bdy = v[p].y - v[best].y;
+        const int lhs = std::abs(dx * bdy), rhs = std::abs(bdx * dy);
+        if (lhs < rhs || (lhs == rhs && q < best)) best = q;
+      }
+    }
+    for (int r = first_dir + 2; r < directions_; r += 2) {
       const PathDirection u = kPathDirections[r];
       if (dx * u.dx + dy * u.dy <= 0) continue;
       std::int32_t& best = preds[static_cast<std::size_t>(p) * per + static_cast<std::size_t>(r - 2)];
@@ -432,8 +438,8 @@ void PathMatcher::RowDecider::end_row() {
 }
 
 // Rows go to the workers on demand (the left-right check compares samples of
-// one row); within a row the samples are taken right to left, so that
-// lr_min_u16's `<=` keeps the smallest k among equal costs at a right pixel.
+// one row); within a row the samples are taken left to right, so that
+// lr_min_u16's `<` keeps the smallest k among equal costs at a right pixel.
 PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPool& pool,
                                           std::int16_t* disp_q4) {
   std::atomic<int> rejected_unique{0}, rejected_lr{0};
@@ -447,7 +453,7 @@ PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPoo
         const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
         if (v0 == v1) continue;
         decide.begin_row(y);
-        for (int i = v1 - 1; i >= v0; --i) {
+        for (int i = v0; i < v1; ++i) {
           int t = 0;
           for (const Worker& o : workers_)
             if (o.has_sum) wk.terms[static_cast<std::size_t>(t++)] = o.sum.get() + row(i, cost_stride_);

@@ -72,7 +72,7 @@ class PathMatcher {
   struct Worker;
   // The winner of each sample of a row, uniqueness, and the left-right check
   // from the summed costs once the row is complete (docs/model.md section 6).
-  // Samples are offered right to left between begin_row and end_row.
+  // Samples are offered left to right between begin_row and end_row.
   class RowDecider {
    public:
     RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk, std::int16_t* disp_q4);

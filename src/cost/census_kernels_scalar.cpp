@@ -44,4 +44,12 @@ void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::
   }
 }
 
+void sum_rows_u16_scalar(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum) {
+  for (std::size_t j = 0; j < n; ++j) {
+    std::uint32_t s = 0;
+    for (int i = 0; i < count; ++i) s += rows[i][j];
+    sum[j] = static_cast<std::uint16_t>(s);
+  }
+}
+
 }  // namespace tristereo

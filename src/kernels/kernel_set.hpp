@@ -7,6 +7,7 @@
 // the bounds quoted on each one are enforced by validate_params/configure.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace tristereo {
@@ -97,6 +98,11 @@ struct KernelSet {
   void (*census_window_u16)(const std::uint16_t* const* right_rev, const std::uint16_t* left,
                             int count, int n, std::uint16_t* sum) = nullptr;
 
+  // sum[j] = sum_{i < count} rows[i][j] (mod 2^16), j in [0, n): the census
+  // cost's box sums, over a window's rows and then its columns. count >= 1.
+  void (*sum_rows_u16)(const std::uint16_t* const* rows, int count, std::size_t n,
+                       std::uint16_t* sum) = nullptr;
+
   // One step of a path (docs/model.md section 3b), for k in [0, n):
   //   out[k] = cost[k] + min(prev[k], prev[k-1] + p1, prev[k+1] + p1, prev_min + p2) - prev_min
   // with prev[-1] = prev[n] = 0xFFFF guards read by the kernel (the sums
@@ -116,9 +122,10 @@ struct KernelSet {
 
   // The right view's running winner along one row (left-right check from the
   // summed costs, docs/model.md section 6), for k in [0, n):
-  //   if (total[k] <= best_cost[k]) { best_cost[k] = total[k]; best_k[k] = k; }
-  // `<=`: the caller offers a row's samples right to left, so of equal costs
-  // the smallest k (the one offered last) stays.
+  //   if (total[k] < best_cost[k]) { best_cost[k] = total[k]; best_k[k] = k; }
+  // The caller offers a row's samples left to right, so of equal costs the
+  // smallest k (the one offered first) stays; best_cost starts at 0xFFFF,
+  // above every summed cost (validate_params keeps them <= 65534).
   void (*lr_min_u16)(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                      std::uint16_t* best_k) = nullptr;
 

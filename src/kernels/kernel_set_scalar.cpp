@@ -21,6 +21,7 @@ const KernelSet& scalar_kernel_set() {
     s.path_step_u16 = path_step_u16_scalar;
     s.sum_argmin_u16 = sum_argmin_u16_scalar;
     s.lr_min_u16 = lr_min_u16_scalar;
+    s.sum_rows_u16 = sum_rows_u16_scalar;
     s.min_outside_u16 = min_outside_u16_scalar;
     return s;
   }();

@@ -60,11 +60,11 @@ void validate_params(const StereoParams& p) {
     // of them in u16 lanes.
     const long long worst = static_cast<long long>(p.paths.directions) *
                             (max_cost_q4(p.cost) + p.paths.p2_q4);
-    if (worst > 65535)
+    if (worst > 65534)
       bad("paths.p2_q4 = " + std::to_string(p.paths.p2_q4) + " is too large: " +
           std::to_string(p.paths.directions) + " directions x (largest cost " +
           std::to_string(max_cost_q4(p.cost)) + " + P2) = " + std::to_string(worst) +
-          " exceeds 65535 (the summed path costs are 16-bit); lower P2 or the directions");
+          " exceeds 65534 (the summed path costs are 16-bit, 65535 marks no cost); lower P2 or the directions");
   }
   check_range("validity.lr_max_diff_q4", p.validity.lr_max_diff_q4, -1, 16 * kMaxNumDisp);
   if (p.validity.lr_source != LrSource::kSummedCosts && p.validity.lr_source != LrSource::kMirroredPass)

@@ -84,7 +84,7 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   }
   p.optimizer = rng.uniform(0, 2) == 0 ? Optimizer::kRowDp : Optimizer::kPaths;
   p.paths.directions = rng.uniform(0, 1) ? 8 : 4;
-  const int p2_max = 65535 / p.paths.directions - max_cost_q4(p.cost);
+  const int p2_max = 65534 / p.paths.directions - max_cost_q4(p.cost);
   p.paths.p2_q4 = rng.uniform(0, std::min(p2_max, rng.uniform(0, 3) == 0 ? kMaxPathPenaltyQ4 : 2000));
   p.paths.p1_q4 = rng.uniform(0, p.paths.p2_q4);
   p.paths.p2_edge_scale = rng.uniform(0, 1) ? 0 : rng.uniform(1, 255);
