@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole GoogleTest suite built with another compiler or under sanitizers
-# (the test command's clang and asan stages).
+# (the test command's asan stage: clang and the sanitizers in one build).
 #
 #   scripts/sanitize-test.sh clang [BUILD_DIR]   clang++ Release, warnings as
 #                                                errors, the whole suite

@@ -15,8 +15,10 @@
 #                (scripts/consumer-test.sh native)
 #   tsan         the thread-pool, tritree and pipeline thread tests under
 #                ThreadSanitizer (scripts/tsan-test.sh)
-#   clang        the whole suite built with clang++ (warnings as errors) and
-#                run (scripts/sanitize-test.sh clang)
+#   asan         the whole suite built with clang++ (warnings as errors) under
+#                AddressSanitizer + UndefinedBehaviorSanitizer, every report
+#                fatal, and run (scripts/sanitize-test.sh asan): the clang
+#                build and the sanitized run in one job
 #   fuzz         every libFuzzer harness of tests/fuzz: its corpus and
 #                regression inputs replayed, then fuzzed 20 s
 #                (TRISTEREO_FUZZ_SECONDS) under ASan + UBSan (scripts/fuzz-test.sh)
@@ -196,13 +198,13 @@ if [ "$subset" = "all" ]; then
   [ "$rc" -eq 0 ] || status=FAILED
   record tsan "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/tsan.log")"
 
-  # -------------------------------------------------------------- clang, fuzzing
+  # -------------------------------------------- clang + ASan + UBSan, fuzzing
   t0=$(date +%s)
-  echo "==== test: clang: scripts/sanitize-test.sh clang"
-  run_logged "$log_dir/clang.log" scripts/sanitize-test.sh clang
+  echo "==== test: asan: scripts/sanitize-test.sh asan"
+  run_logged "$log_dir/asan.log" scripts/sanitize-test.sh asan
   status=passed
   [ "$rc" -eq 0 ] || status=FAILED
-  record clang "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/clang.log")"
+  record asan "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/asan.log")"
   run_stage fuzz scripts/fuzz-test.sh
 fi
 

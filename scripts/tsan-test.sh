@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ThreadSanitizer run of the thread-pool tests and of every test that runs the
-# tritree or the pipeline on a pool (parallel refinement regions, banded output,
-# row-banded matching).
+# tritree or the pipeline on a pool (the tritree's tiles, the path passes and
+# rows handed out on demand, banded output).
 #
 #   scripts/tsan-test.sh [build-dir] [ctest -R regex]
 #
@@ -15,8 +15,8 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-${repo}/build-tsan}"
-regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|Tritree\.(IdenticalForAnyThreadCount|PoolBuild|ManyRegions|BuildWithPool)|PipelineThreads\.(SyntheticScene|WorkersArePinned|SecondPipeline|Reconfigure))}"
-targets=(thread_pool_test work_chunks_test platform_test tritree_test pipeline_threads_test)
+regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|Tritree\.IdenticalForAnyThreadCount|PathAggregation|PipelineThreads\.(SyntheticScene|WorkersArePinned|SecondPipeline|Reconfigure))}"
+targets=(thread_pool_test work_chunks_test platform_test tritree_test paths_test pipeline_threads_test)
 jobs="${TSAN_JOBS:-$(nproc)}"
 
 cmake -S "${repo}" -B "${build}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
