@@ -1,5 +1,6 @@
 #include "support/golden_cases.hpp"
 
+#include "support/data.hpp"
 #include "support/scenes.hpp"
 #include "tristereo/synth.hpp"
 
@@ -26,7 +27,7 @@ static StereoParams golden_params(int ndisp, bool dense, Weights w) {
   return p;
 }
 
-// The defaults (census, 8 paths on the mesh, left-right check, background fill).
+// The defaults (census, paths on the mesh, uniqueness, left-right check, background fill).
 static StereoParams golden_defaults(int ndisp, bool dense) {
   StereoParams p;
   p.num_disp = ndisp;
@@ -59,6 +60,15 @@ std::vector<GoldenCase> golden_cases(bool with_middlebury) {
         cases.push_back({name + "_sparse_default", m.left, m.right, golden_defaults(m.ndisp, false)});
     }
   }
+  return cases;
+}
+
+std::vector<GoldenCase> golden_data_cases() {
+  std::vector<GoldenCase> cases;
+  for (const std::string set : {"middlebury2014", "kitti2015", "eth3d"})
+    for (DataScene& s : load_data_set(set))
+      cases.push_back({set + "/" + s.name + "_sparse_default", std::move(s.left), std::move(s.right),
+                       golden_defaults(s.ndisp, false)});
   return cases;
 }
 
