@@ -26,11 +26,13 @@ VARIANTS = [
     ("cost ad", ["--cost", "ad"], "the paper's absolute differences with everything else of the defaults"),
     ("optimizer dp", ["--optimizer", "dp"], "the paper's row DP on the census cost (its left-right check is the "
                                             "mirrored pass: the row DP keeps no summed costs)"),
+    ("cost ad_census", ["--cost", "ad_census"], "census plus half the AD cost (--ad-weight 8, Q4), AD-census style"),
     ("census 7x7", ["--census", "7x7"], "the larger census window (three 16-bit planes instead of two)"),
     ("window 1x1", ["--window", "1x1"], "census at the sample only"),
     ("8 paths", ["--paths", "8"], "the diagonals too (twice the path work)"),
     ("P1 160 / P2 640", ["--p1", "160", "--p2", "640"], "the penalties chosen with the 7x7 census"),
     ("no P2 edge", ["--p2-edge", "0"], "the same P2 across intensity edges"),
+    ("P1, P2 by edge length", ["--path-gap", "inv"], "penalties scaled by tau(g) = 1/g of the mesh edge's length g"),
     ("no uniqueness", ["--uniqueness", "0"], "every sample's winner kept however close its rival"),
     ("left-right by mirrored pass", ["--lr-source", "mirror"], "the right view matched again as the left view "
                                                                "of the mirrored pair (its own tritree, costs and "
@@ -93,7 +95,10 @@ def main():
            "Every known-GT pixel counts, invalid counts as bad, sparse mode (the default), one thread. "
            "Each row changes one choice of the defaults; lower is better. The defaults are the choice "
            "that is best or within noise on every set at once, not on one: a variant that wins on one "
-           "set and loses on another is not taken.", ""]
+           "set and loses on another is not taken. One variant is better on every set and still not the default: "
+           "the left-right check by a mirrored second pass, which repeats the tritree, the costs and the "
+           "paths on the mirrored pair, about twice the matching time (issue #14's speed budget, "
+           "docs/performance.md); it stays available as `--lr-source mirror`.", ""]
     hdr = ["variant"] + [c[2] for c in COLUMNS] + ["scenes worse than SGBM", "E / L gap (motorcycle, piano)", "ms per frame (mean)"]
     out.append("| " + " | ".join(hdr) + " |")
     out.append("|" + "---|" * len(hdr))
