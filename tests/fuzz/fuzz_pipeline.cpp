@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 
@@ -55,6 +56,29 @@ StereoParams draw_params(FuzzInput& in) {
   p.dp.lambda_q4 = in.flag() ? in.int_in(0, 600) : in.int_in(0, kMaxLambdaQ4);
   p.dp.gap = static_cast<GapPolicy>(in.int_in(0, 2));
   p.dp.subpixel = in.flag();
+  // The stages beyond the paper (docs/model.md 2, 3b, 6): every field drawn.
+  p.cost.kind = static_cast<CostKind>(in.int_in(0, 2));
+  if (p.cost.kind != CostKind::kAd) {
+    p.cost.weights = Weights::kBox;  // adaptive weights are for the AD cost only
+    do {
+      p.cost.census_w = 2 * in.int_in(1, 4) + 1;
+      p.cost.census_h = 2 * in.int_in(1, 4) + 1;
+    } while (p.cost.census_w * p.cost.census_h - 1 > kMaxCensusBits && in.remaining() > 0);
+    if (p.cost.census_w * p.cost.census_h - 1 > kMaxCensusBits) p.cost.census_h = 3;
+    p.cost.ad_weight_q4 = in.int_in(0, kMaxAdWeightQ4);
+  }
+  p.optimizer = in.flag() ? Optimizer::kRowDp : Optimizer::kPaths;
+  p.paths.directions = in.flag() ? 8 : 4;
+  const int p2_max = 65534 / p.paths.directions - max_cost_q4(p.cost);
+  p.paths.p2_q4 = in.int_in(0, std::min(p2_max, in.flag() ? kMaxPathPenaltyQ4 : 2000));
+  p.paths.p1_q4 = in.int_in(0, p.paths.p2_q4);
+  p.paths.p2_edge_scale = in.flag() ? 0 : in.int_in(1, 255);
+  p.paths.gap = static_cast<GapPolicy>(in.int_in(0, 2));
+  p.validity.lr_max_diff_q4 = in.flag() ? -1 : in.int_in(0, 40);
+  p.validity.lr_source = p.optimizer == Optimizer::kPaths && in.flag() ? LrSource::kSummedCosts
+                                                                       : LrSource::kMirroredPass;
+  p.validity.uniqueness_pct = in.flag() ? 0 : in.int_in(1, 30);
+  p.validity.fill = in.flag() ? FillMode::kNone : FillMode::kBackground;
   const bool above = in.flag();
   switch (in.int_in(0, 31)) {
     case 1: p.num_disp = above ? kMaxNumDisp + 1 : 0; break;
@@ -67,6 +91,23 @@ StereoParams draw_params(FuzzInput& in) {
     case 8: p.cost.asw_gamma_color = above ? 1001 : 0; break;
     case 9: p.cost.asw_gamma_proximity = above ? 100001 : 0; break;
     case 10: p.dp.lambda_q4 = above ? kMaxLambdaQ4 + 1 : -1; break;
+    case 11: p.cost.census_w = above ? 11 : 2; break;
+    case 12: p.cost.ad_weight_q4 = above ? kMaxAdWeightQ4 + 1 : -1; break;
+    case 13: p.paths.directions = above ? 16 : 2; break;
+    case 14: p.paths.p2_q4 = above ? p2_max + 1 : p.paths.p1_q4 - 1; break;  // the u16 bound, or P2 < P1
+    case 15: p.paths.p2_edge_scale = above ? 256 : -1; break;
+    case 16: p.validity.lr_max_diff_q4 = above ? 16 * kMaxNumDisp + 1 : -2; break;
+    case 17: p.validity.uniqueness_pct = above ? 101 : -1; break;
+    case 18:  // the summed-costs check with the row DP, or a weight kind census does not take
+      if (above) {
+        p.optimizer = Optimizer::kRowDp;
+        p.validity.lr_source = LrSource::kSummedCosts;
+        p.validity.lr_max_diff_q4 = 16;
+      } else {
+        p.cost.kind = CostKind::kCensus;
+        p.cost.weights = Weights::kAdaptive;
+      }
+      break;
     default: break;  // valid
   }
   return p;
@@ -113,7 +154,12 @@ std::string describe(const StereoParams& p, int w, int h, int c) {
   return std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(c) +
          " D=" + std::to_string(p.num_disp) + " dmin=" + std::to_string(p.d_min) +
          " dense=" + std::to_string(p.dense) + " window=" + std::to_string(p.cost.window_w) + "x" +
-         std::to_string(p.cost.window_h) + " weights=" + to_string(p.cost.weights);
+         std::to_string(p.cost.window_h) + " weights=" + to_string(p.cost.weights) + " cost=" +
+         to_string(p.cost.kind) + " census=" + std::to_string(p.cost.census_w) + "x" + std::to_string(p.cost.census_h) +
+         " optimizer=" + to_string(p.optimizer) + " paths=" + std::to_string(p.paths.directions) + " p1=" +
+         std::to_string(p.paths.p1_q4) + " p2=" + std::to_string(p.paths.p2_q4) + " lr=" +
+         std::to_string(p.validity.lr_max_diff_q4) + "/" + to_string(p.validity.lr_source) + " uniq=" +
+         std::to_string(p.validity.uniqueness_pct) + " fill=" + to_string(p.validity.fill);
 }
 
 }  // namespace
