@@ -80,7 +80,7 @@ StereoParams draw_params(FuzzInput& in) {
   p.validity.uniqueness_pct = in.flag() ? 0 : in.int_in(1, 30);
   p.validity.fill = in.flag() ? FillMode::kNone : FillMode::kBackground;
   const bool above = in.flag();
-  switch (in.int_in(0, 31)) {
+  switch (in.int_in(0, 53)) {  // 18 of 54: one input in three
     case 1: p.num_disp = above ? kMaxNumDisp + 1 : 0; break;
     case 2: p.d_min = above ? kMaxDispSpan - p.num_disp + 1 : -(kMaxDispSpan - p.num_disp) - 1; break;
     case 3: p.tritree.psnr_deci_db = above ? kMaxPsnrDeciDb + 1 : kMinPsnrDeciDb - 1; break;
