@@ -50,10 +50,11 @@ to a temporary file in its folder and renamed into place when complete):
   --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds
   --reference               run the float reference instead of the integer pipeline
 
-Cost: a frame takes time in proportion to samples x window area x D (every pixel is a
-sample with --dense): about 0.1 ns each with AVX2 kernels and 1 ns with scalar ones on
-one x86 core, so a dense 640x480 frame with a 31x31 window and D = 256 takes seconds
-(docs/reliability.md).
+Cost: a frame takes time in proportion to D times (pixels + samples x window area +
+samples x path directions), every pixel a sample with --dense, twice that with
+--lr-source mirror: about 0.1 ns per term with AVX2 kernels and 1 ns with scalar ones on
+one x86 core. The defaults at 640x480, D = 128 take about 65 ms; a dense frame with a
+31x31 window and D = 256 takes seconds (docs/reliability.md).
 
 Warnings (stderr, exit 0): LEFT and RIGHT probably swapped, a disparity range with no
 match inside the image, more --threads than CPUs, a gray image with an RGB one (matched
