@@ -27,8 +27,8 @@ int cmd_demo(int argc, char** argv) {
   if (args.flag("help")) {
     std::cout << "usage: tristereo demo [OUTDIR (default demo-out)] [--width 640] [--height 480] "
                  "[--ndisp 64] [--seed 1] [--threads 0]\n\n"
-                 "Generates a synthetic stereo scene with exact ground truth, runs sparse DP and the\n"
-                 "dense-DP baseline, checks the integer pipeline against the float reference, scores\n"
+                 "Generates a synthetic stereo scene with exact ground truth, matches it sparse (at the\n"
+                 "tritree's vertices) and dense (every pixel, the baseline), checks the integer pipeline against the float reference, scores\n"
                  "both against the ground truth and writes the inputs, disparity maps (PFM + colour\n"
                  "PNG), the 2.5D mesh (PLY) and stats (JSON) to OUTDIR.\n" << "\n" << exit_codes_help();
     return 0;
@@ -73,7 +73,7 @@ int cmd_demo(int argc, char** argv) {
     write_stats_json((dir / (tag + "_stats.json")).string(), run);
     if (!dense) write_mesh_ply((dir / "mesh.ply").string(), run.output.mesh, run.output.vertex_disp_q4,
                                scene.left.view(), nullptr, true);
-    std::cout << "\n" << tag << " DP: ";
+    std::cout << "\n" << tag << ": ";
     print_match_summary(std::cout, run);
     const Image<float> disp = to_float(run.output.disp_q4);
     print_bad("dense map, all pixels", evaluate_disparity(disp.view(), scene.disp_left.view(), {}));

@@ -24,8 +24,9 @@ namespace tristereo::cli {
 namespace {
 const char* kMatchHelp = R"(usage: tristereo match LEFT RIGHT --ndisp D [options]
 
-Computes the tritree mesh of LEFT, sparse DP disparities at its vertices, the dense
-disparity map and the 2.5D mesh. LEFT/RIGHT: rectified 8-bit PNG/PGM/PPM (gray or RGB).
+Computes the tritree mesh of LEFT, disparities at its vertices (path costs summed on the
+mesh by default; --optimizer dp: the paper's row DP), the dense disparity map and the
+2.5D mesh. LEFT/RIGHT: rectified 8-bit PNG/PGM/PPM (gray or RGB).
 
 Outputs (each checked before computing: the format follows the extension, other
 extensions are refused, no output may name an input or another output; each is written

@@ -281,7 +281,7 @@ void print_match_summary(std::ostream& os, const MatchRun& run) {
                 "fill %.2f ms, interpolation %.2f ms, total %.2f ms\n"
                 "invalid samples: %d by uniqueness, %d by the left-right check (of %d); %d filled\n",
                 o.mesh.width, o.mesh.height, run.config.params.num_disp, run.implementation.c_str(),
-                run.config.params.dense ? "dense DP" : "sparse DP", o.mesh.vertices.size(),
+                run.config.params.dense ? "dense" : "sparse", o.mesh.vertices.size(),
                 100.0 * static_cast<double>(o.mesh.vertices.size()) / pixels,
                 o.mesh.triangles.size(), static_cast<long long>(o.mesh.forced_splits),
                 ms(run.timings.tritree_ns), ms(run.timings.cost_aggregation_ns),

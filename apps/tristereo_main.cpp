@@ -14,7 +14,7 @@ namespace {
 const char* kUsage = R"(usage: tristereo <command> [options]     (tristereo <command> --help for details)
 
 Commands:
-  demo [OUTDIR]                 built-in default: synthetic scene -> sparse and dense DP,
+  demo [OUTDIR]                 built-in default: synthetic scene -> sparse and dense matching,
                                 scores vs exact ground truth, reference check, files in OUTDIR
   match LEFT RIGHT --ndisp D    disparity map, 2.5D mesh and stats for one rectified pair
   verify LEFT RIGHT --ndisp D   float reference vs every kernel set: prints 'bit-exact'

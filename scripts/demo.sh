@@ -2,7 +2,7 @@
 # The main job on a built-in default, on a fresh Debian 12 machine: installs
 # what it needs (scripts/build.sh: compiler, CMake, libraries; no test
 # frameworks, no plotting), builds build/tristereo, then runs `tristereo demo`
-# (synthetic scene with exact ground truth -> sparse and dense DP, scores,
+# (synthetic scene with exact ground truth -> sparse and dense matching, scores,
 # reference check, files in demo-out/) and, when ../shared/data is present,
 # `tristereo match` on Tsukuba.
 set -eu
