@@ -55,7 +55,7 @@ Frames:
   --warmup W           frames run first and not measured (default 5)
   --source synthetic|pair|folder   (default: pair if --left, folder if --folder,
                        else synthetic)
-  --width W --height H synthetic frame size (default 640x480)
+  --width W --height H synthetic frame size, 16..4096 (default 640x480)
   --left L --right R   one rectified pair, processed again every frame
   --folder DIR         a sequence DIR/left_0000.png, DIR/right_0000.png, ... (numbering
                        from 0 or 1, cycled if shorter than warm-up + frames)
@@ -376,8 +376,9 @@ int cmd_profile(int argc, char** argv) {
                       ": this build has no GPIO support (libgpiod v1 was not "
                       "found at build time; install libgpiod-dev and reconfigure)");
   }
-  const int synth_w = bounded_int(args, "width", 640, 2, kMaxImageSide);
-  const int synth_h = bounded_int(args, "height", 480, 2, kMaxImageSide);
+  // The synthetic scene's own limits (make_synthetic_scene: 16..4096 per side).
+  const int synth_w = bounded_int(args, "width", 640, 16, kMaxImageSide);
+  const int synth_h = bounded_int(args, "height", 480, 16, kMaxImageSide);
   // Validates every model option (and --ndisp) before frames are prepared.
   PipelineConfig config = stereo_config_from_args(args, synth_w, synth_h);
 
