@@ -32,25 +32,30 @@ const std::map<std::string, std::string>& golden() {
   return g;
 }
 
+// The integer pipeline, with every kernel set this CPU runs, gives the digest.
+void check_integer(const GoldenCase& c, const std::string& digest) {
+  for (KernelChoice k : available_kernel_sets()) {
+    PipelineConfig cfg;
+    cfg.max_width = c.left.width;
+    cfg.max_height = c.left.height;
+    cfg.params = c.params;
+    cfg.kernels = k;
+    cfg.threads = 2;
+    cfg.pin_threads = false;
+    Pipeline pipe;
+    pipe.configure(cfg);
+    EXPECT_EQ(digest_hex(pipe.process(c.left.view(), c.right.view())), digest)
+        << c.name << " (integer, " << to_string(k) << ")";
+  }
+}
+
 void check_cases(const std::vector<GoldenCase>& cases) {
   for (const GoldenCase& c : cases) {
     auto it = golden().find(c.name);
     ASSERT_NE(it, golden().end()) << "no golden digest for " << c.name;
     EXPECT_EQ(digest_hex(run_reference(c.left, c.right, c.params)), it->second)
         << c.name << " (float reference)";
-    for (KernelChoice k : available_kernel_sets()) {
-      PipelineConfig cfg;
-      cfg.max_width = c.left.width;
-      cfg.max_height = c.left.height;
-      cfg.params = c.params;
-      cfg.kernels = k;
-      cfg.threads = 2;
-      cfg.pin_threads = false;
-      Pipeline pipe;
-      pipe.configure(cfg);
-      EXPECT_EQ(digest_hex(pipe.process(c.left.view(), c.right.view())), it->second)
-          << c.name << " (integer, " << to_string(k) << ")";
-    }
+    check_integer(c, it->second);
   }
 }
 
@@ -74,19 +79,7 @@ TEST(GoldenDigest, OtherSetsDefaults) {
   for (const GoldenCase& c : cases) {
     auto it = golden().find(c.name);
     ASSERT_NE(it, golden().end()) << "no golden digest for " << c.name;
-    for (KernelChoice k : available_kernel_sets()) {
-      PipelineConfig cfg;
-      cfg.max_width = c.left.width;
-      cfg.max_height = c.left.height;
-      cfg.params = c.params;
-      cfg.kernels = k;
-      cfg.threads = 2;
-      cfg.pin_threads = false;
-      Pipeline pipe;
-      pipe.configure(cfg);
-      EXPECT_EQ(digest_hex(pipe.process(c.left.view(), c.right.view())), it->second)
-          << c.name << " (integer, " << to_string(k) << ")";
-    }
+    check_integer(c, it->second);
   }
 }
 
