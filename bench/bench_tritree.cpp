@@ -20,6 +20,7 @@
 #include <benchmark/benchmark.h>
 
 #include "platform/thread_pool.hpp"
+#include "src/interp/interpolate_midpoints.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/gray.hpp"
@@ -124,8 +125,16 @@ void bench_interpolation(benchmark::State& state, const NamedImage* image) {
   }
   ImageS16 disp(w, h, 1, 0);
   const int n = static_cast<int>(mesh.triangles.size());
+  const TritreeGrid grid = tree.grid();
+  std::vector<std::int32_t> values(midpoint_tile_values(tree.tile_side()));
+  const bool by_triangles = state.range(0) != 0;
   for (auto _ : state) {
-    interpolate_triangles(mesh, vdisp.data(), 0, n, disp.view());
+    if (by_triangles) {
+      interpolate_triangles(mesh, vdisp.data(), 0, n, disp.view());
+    } else {
+      interpolate_midpoint_tiles(grid, mesh, vdisp.data(), 0, grid.layout.tiles_y, values.data(), disp.view());
+      interpolate_stretched_leaves(grid, mesh, vdisp.data(), disp.view());
+    }
     benchmark::DoNotOptimize(disp.pixels.data());
   }
   state.counters["triangles"] = n;
@@ -153,7 +162,11 @@ const bool registered = [] {
         ->Arg(2)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
+    // by_triangles:0 = the pipeline's midpoint averages, 1 = one plane per triangle.
     benchmark::RegisterBenchmark(("interpolation/" + image.name).c_str(), bench_interpolation, &image)
+        ->ArgName("by_triangles")
+        ->Arg(0)
+        ->Arg(1)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
     benchmark::RegisterBenchmark(("tritree_independent/" + image.name).c_str(), bench_independent, &image)

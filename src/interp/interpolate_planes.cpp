@@ -107,65 +107,69 @@ void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                 "triangle range [" + std::to_string(tri_begin) + ", " + std::to_string(tri_end) +
                     ") is not inside [0, " + std::to_string(n_tri) + "]");
 
-  const SmallTriangleMasks& masks = small_triangle_masks();
   for (int t = tri_begin; t < tri_end; ++t) {
     const Triangle& tri = mesh.triangles[static_cast<std::size_t>(t)];
-    const Vertex a = mesh.vertices[static_cast<std::size_t>(tri[0])];
-    const Vertex b = mesh.vertices[static_cast<std::size_t>(tri[1])];
-    const Vertex c = mesh.vertices[static_cast<std::size_t>(tri[2])];
-    const std::int64_t da = vertex_disp_q4[tri[0]];
-    const std::int64_t db = vertex_disp_q4[tri[1]];
-    const std::int64_t dc = vertex_disp_q4[tri[2]];
-    const std::int64_t ux = b.x - a.x, uy = b.y - a.y, ud = db - da;
-    const std::int64_t vx = c.x - a.x, vy = c.y - a.y, vd = dc - da;
-    const std::int64_t area2 = ux * vy - uy * vx;  // n_I
-    if (area2 <= 0) continue;                      // not a mesh triangle (precondition)
+    interpolate_triangle(mesh.vertices[static_cast<std::size_t>(tri[0])],
+                         mesh.vertices[static_cast<std::size_t>(tri[1])],
+                         mesh.vertices[static_cast<std::size_t>(tri[2])], vertex_disp_q4[tri[0]],
+                         vertex_disp_q4[tri[1]], vertex_disp_q4[tri[2]], disp_q4);
+  }
+}
 
-    if (da == kInvalidDispQ4 || db == kInvalidDispQ4 || dc == kInvalidDispQ4) {
-      for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
-        std::int16_t* row = disp_q4.row(y);
-        for (int x = x0; x < x1; ++x) row[x] = kInvalidDispQ4;
-      });
-      continue;
+void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::int16_t disp_a,
+                          std::int16_t disp_b, std::int16_t disp_c, ImageView<std::int16_t> disp_q4) {
+  const int w = disp_q4.width, h = disp_q4.height;
+  const SmallTriangleMasks& masks = small_triangle_masks();
+  const std::int64_t da = disp_a, db = disp_b, dc = disp_c;
+  const std::int64_t ux = b.x - a.x, uy = b.y - a.y, ud = db - da;
+  const std::int64_t vx = c.x - a.x, vy = c.y - a.y, vd = dc - da;
+  const std::int64_t area2 = ux * vy - uy * vx;  // n_I
+  if (area2 <= 0) return;                        // not a mesh triangle (precondition)
+
+  if (da == kInvalidDispQ4 || db == kInvalidDispQ4 || dc == kInvalidDispQ4) {
+    for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
+      std::int16_t* row = disp_q4.row(y);
+      for (int x = x0; x < x1; ++x) row[x] = kInvalidDispQ4;
+    });
+    return;
+  }
+  const std::int64_t nx = uy * vd - ud * vy;
+  const std::int64_t ny = ud * vx - ux * vd;
+  const bool small = ux >= -2 && ux <= 2 && uy >= -2 && uy <= 2 && vx >= -2 && vx <= 2 &&
+                     vy >= -2 && vy <= 2 && std::max({a.x, b.x, c.x}) < w - 1 &&
+                     std::max({a.y, b.y, c.y}) < h - 1;
+  if (small && (area2 & (area2 - 1)) == 0) {
+    // Few pixels, known from the table: evaluate each one directly.
+    std::uint32_t m = masks.mask[small_key(static_cast<int>(ux), static_cast<int>(uy),
+                                           static_cast<int>(vx), static_cast<int>(vy))];
+    const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
+    const std::int64_t base = 2 * area2 * da + area2;
+    while (m != 0) {
+      const int bit = __builtin_ctz(m);
+      m &= m - 1;
+      const int dy = bit / 5 - 2, dx = bit % 5 - 2;
+      disp_q4.row(a.y + dy)[a.x + dx] = static_cast<std::int16_t>((base - 2 * (nx * dx + ny * dy)) >> shift);
     }
-    const std::int64_t nx = uy * vd - ud * vy;
-    const std::int64_t ny = ud * vx - ux * vd;
-    const bool small = ux >= -2 && ux <= 2 && uy >= -2 && uy <= 2 && vx >= -2 && vx <= 2 &&
-                       vy >= -2 && vy <= 2 && std::max({a.x, b.x, c.x}) < w - 1 &&
-                       std::max({a.y, b.y, c.y}) < h - 1;
-    if (small && (area2 & (area2 - 1)) == 0) {
-      // Few pixels, known from the table: evaluate each one directly.
-      std::uint32_t m = masks.mask[small_key(static_cast<int>(ux), static_cast<int>(uy),
-                                             static_cast<int>(vx), static_cast<int>(vy))];
-      const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
-      const std::int64_t base = 2 * area2 * da + area2;
-      while (m != 0) {
-        const int bit = __builtin_ctz(m);
-        m &= m - 1;
-        const int dy = bit / 5 - 2, dx = bit % 5 - 2;
-        disp_q4.row(a.y + dy)[a.x + dx] = static_cast<std::int16_t>((base - 2 * (nx * dx + ny * dy)) >> shift);
-      }
-      continue;
-    }
-    if (area2 <= kMaxShiftArea2 && (area2 & (area2 - 1)) == 0) {
-      // The tritree's triangles (all but the stretched ones on the image's
-      // last row and column) have area2 = 2^k: the rounded quotient is a shift.
-      const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
-      const std::int32_t step = static_cast<std::int32_t>(-2 * nx);
-      for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
-        const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
-        fill_span_shift(disp_q4.row(y), x0, x1, static_cast<std::int32_t>(2 * n0 + area2), step, shift);
-      });
-      continue;
-    }
-    // Rounded value = floor(num / den) with num = 2 N + area2, den = 2 area2;
-    // N falls by n_x per pixel to the right.
-    const std::int64_t den = 2 * area2;
+    return;
+  }
+  if (area2 <= kMaxShiftArea2 && (area2 & (area2 - 1)) == 0) {
+    // The tritree's triangles (all but the stretched ones on the image's
+    // last row and column) have area2 = 2^k: the rounded quotient is a shift.
+    const int shift = __builtin_ctzll(static_cast<unsigned long long>(area2)) + 1;
+    const std::int32_t step = static_cast<std::int32_t>(-2 * nx);
     for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
       const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
-      fill_span(disp_q4.row(y), x0, x1, 2 * n0 + area2, -2 * nx, den);
+      fill_span_shift(disp_q4.row(y), x0, x1, static_cast<std::int32_t>(2 * n0 + area2), step, shift);
     });
+    return;
   }
+  // Rounded value = floor(num / den) with num = 2 N + area2, den = 2 area2;
+  // N falls by n_x per pixel to the right.
+  const std::int64_t den = 2 * area2;
+  for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
+    const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
+    fill_span(disp_q4.row(y), x0, x1, 2 * n0 + area2, -2 * nx, den);
+  });
 }
 
 }  // namespace tristereo

@@ -25,4 +25,9 @@ namespace tristereo {
 void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                            int tri_begin, int tri_end, ImageView<std::int16_t> disp_q4);
 
+// One triangle (a, b, c) with positive orientation, as above: writes the
+// pixels of disp_q4 (the whole image) it owns. No argument checks.
+void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::int16_t disp_a,
+                          std::int16_t disp_b, std::int16_t disp_c, ImageView<std::int16_t> disp_q4);
+
 }  // namespace tristereo

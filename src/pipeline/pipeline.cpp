@@ -20,6 +20,7 @@
 #include "src/fill/sample_fill.hpp"
 #include "src/select/lr_check.hpp"
 #include "src/dp/row_matcher.hpp"
+#include "src/interp/interpolate_midpoints.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/kernels/dispatch.hpp"
 #include "src/memory/capacity_bytes.hpp"
@@ -39,6 +40,7 @@ struct Pipeline::Impl {
   const KernelSet* kernels = nullptr;
 
   Tritree tritree;
+  Tritree right_tritree;  // the mirrored pass's (left-right check by a second pass)
   MatchContext match;
   PathMatcher paths;
   SampleFill fill;
@@ -49,6 +51,7 @@ struct Pipeline::Impl {
     UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
+    std::unique_ptr<std::int32_t[]> tile_values;  // interpolation: one tile's grid values
   };
   std::vector<Worker> workers;
   WorkChunks rows;       // matching: rows handed out on demand
@@ -71,7 +74,8 @@ struct Pipeline::Impl {
   PathMatcher::Rejected match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
                                    const SampleLayout& samples, std::int16_t* sample_disp,
                                    std::int64_t* cost_ns, std::int64_t* dp_ns);
-  void interpolate_all(const Mesh& mesh, const std::int16_t* vertex_disp, ImageView<std::int16_t> out);
+  void interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
+                       ImageView<std::int16_t> out);
 };
 
 Pipeline::Pipeline() : impl_(new Impl) {}
@@ -87,14 +91,16 @@ int Pipeline::worker_count() const { return impl_->configured ? impl_->pool.size
 std::size_t Pipeline::working_memory_bytes() const {
   const Impl& m = *impl_;
   if (!m.configured) return 0;
-  std::size_t bytes = m.tritree.working_memory_bytes() + m.match.working_memory_bytes() +
+  std::size_t bytes = m.tritree.working_memory_bytes() + m.right_tritree.working_memory_bytes() +
+                      m.match.working_memory_bytes() +
                       capacity_bytes(m.workers) + capacity_bytes(m.all_xs) +
                       capacity_bytes(m.left_gray.pixels) + capacity_bytes(m.right_gray.pixels) +
                       capacity_bytes(m.out.mesh.vertices) + capacity_bytes(m.out.mesh.triangles) +
                       capacity_bytes(m.out.mesh.row_start) + capacity_bytes(m.out.vertex_disp_q4) +
                       capacity_bytes(m.out.disp_q4.pixels);
   for (const Impl::Worker& w : m.workers)
-    bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes();
+    bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
+             midpoint_tile_values(m.tritree.tile_side()) * sizeof(std::int32_t);
   bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
            capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
            capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
@@ -134,6 +140,7 @@ void Pipeline::configure(const PipelineConfig& config) {
     if (rows_dp) w.matcher.configure(config.max_width, config.params);
     w.census.resize(config.max_width);
     w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
+    w.tile_values.reset(new std::int32_t[midpoint_tile_values(m.tritree.tile_side())]);
   }
   const int max_px = config.max_width * config.max_height;
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads);
@@ -147,7 +154,11 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.mirror_left.pixels.reserve(lr_px);
   m.mirror_right.pixels.reserve(lr_px);
   m.right_mesh = Mesh{};
-  if (lr) m.tritree.reserve(m.right_mesh);
+  m.right_tritree = Tritree{};
+  if (lr) {
+    m.right_tritree.configure(config.max_width, config.max_height, config.params.tritree);
+    m.right_tritree.reserve(m.right_mesh);
+  }
   m.right_vdisp.clear();
   m.right_vdisp.reserve(lr_px);
   m.right_disp = ImageS16{};
@@ -263,12 +274,30 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
   return {};
 }
 
-void Pipeline::Impl::interpolate_all(const Mesh& mesh, const std::int16_t* vertex_disp,
+// Interpolation by midpoint averages over the tritree's tiles (rows of tiles
+// on demand), then the stretched border leaves, then, only when a vertex is
+// invalid, the triangles that reach one (src/interp/interpolate_midpoints.hpp).
+void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
                                      ImageView<std::int16_t> out) {
-  triangles.reset(0, static_cast<int>(mesh.triangles.size()), kTrianglesPerChunk);
+  const TritreeGrid grid = tree.grid();
+  const int n_tri = static_cast<int>(mesh.triangles.size());
+  if (grid.need == nullptr) {  // a 2-pixel strip: its two triangles
+    interpolate_triangles(mesh, vertex_disp, 0, n_tri, out);
+    return;
+  }
+  triangles.reset(0, grid.layout.tiles_y, 1);
+  pool.run([&](int w) {
+    int r0 = 0, r1 = 0;
+    std::int32_t* values = this->workers[static_cast<std::size_t>(w)].tile_values.get();
+    while (triangles.next(&r0, &r1)) interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, values, out);
+  });
+  interpolate_stretched_leaves(grid, mesh, vertex_disp, out);
+  const std::int16_t* end = vertex_disp + mesh.vertices.size();
+  if (std::find(vertex_disp, end, kInvalidDispQ4) == end) return;
+  triangles.reset(0, n_tri, kTrianglesPerChunk);
   pool.run([&](int) {
     int t0 = 0, t1 = 0;
-    while (triangles.next(&t0, &t1)) interpolate_triangles(mesh, vertex_disp, t0, t1, out);
+    while (triangles.next(&t0, &t1)) invalidate_triangles(mesh, vertex_disp, t0, t1, out);
   });
 }
 
@@ -325,7 +354,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     rd.pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
     std::int16_t* right_samples = rd.pixels.data();
     if (!params.dense) {
-      m.tritree.build(ml, m.right_mesh, &m.pool);
+      m.right_tritree.build(ml, m.right_mesh, &m.pool);
       m.right_vdisp.resize(m.right_mesh.vertices.size());  // within capacity
       right_samples = m.right_vdisp.data();
     }
@@ -333,7 +362,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     std::int64_t unused_cost = 0, unused_dp = 0;
     m.match_view(ml, mr, rs, right_samples, &unused_cost, &unused_dp);
     if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples);
-    if (!params.dense) m.interpolate_all(m.right_mesh, right_samples, rd.view());
+    if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, rd.view());
     validity.lr_rejected = lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp);
   }
   const std::int64_t t_right = monotonic_ns();
@@ -346,7 +375,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
       vdisp[i] = dense.at(mesh.vertices[i].x, mesh.vertices[i].y);
   } else {
-    m.interpolate_all(mesh, vdisp.data(), dense.view());
+    m.interpolate_all(m.tritree, mesh, vdisp.data(), dense.view());
   }
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);

@@ -35,6 +35,25 @@ namespace tristereo {
 
 class ThreadPool;
 
+// What the last build() left behind, for the interpolation by midpoints
+// (src/interp/interpolate_midpoints.hpp): the hierarchy's layout, the need
+// grid and the vertex ids. Valid until the next build() or configure().
+struct TritreeGrid {
+  RtinLayout layout;
+  const std::uint8_t* need = nullptr;      // (vw + 1) x (vh + 1), bit 0 = need(m)
+  const std::int32_t* vertex_id = nullptr; // width x height, valid at the vertices
+  // The leaves with a corner on a moved line (stretched: not the power-of-two
+  // triangles of their virtual corners), as vertex ids.
+  const Triangle* stretched = nullptr;
+  std::size_t stretched_count = 0;
+
+  // A grid point (virtual coordinates) is a vertex: a tile corner or need(m).
+  bool is_vertex(int x, int y) const {
+    return (need[static_cast<std::size_t>(y) * (layout.vw + 1) + x] & 1) != 0 ||
+           (x % layout.tile == 0 && y % layout.tile == 0);
+  }
+};
+
 class Tritree {
  public:
   // Reserves storage for images up to max_width x max_height (2 ..
@@ -69,6 +88,8 @@ class Tritree {
   };
   const BuildTimes& build_times() const { return times_; }
   int tile_side() const { return tile_; }
+  // The last build's grid (see TritreeGrid); need is null for a 2-pixel strip.
+  TritreeGrid grid() const;
 
  private:
   // A triangle of the hierarchy: a half of the square of side s at (x0, y0)
@@ -141,6 +162,8 @@ class Tritree {
   std::size_t* band_start_ = nullptr;     // first leaf of each row of tiles
   std::int32_t* bucket_ = nullptr;        // counting sort by first id
   Triangle* tri_scratch_ = nullptr;       // leaves in emission order
+  Triangle* stretched_ = nullptr;         // stretched leaves (TritreeGrid::stretched)
+  std::size_t stretched_count_ = 0;
 };
 
 }  // namespace tristereo

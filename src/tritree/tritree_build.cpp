@@ -534,6 +534,7 @@ void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
   } else {
     t = Triangle{ic, ia, ib};
   }
+  if (!kPlain && layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = t;
 }
 
 void Tritree::emit_tile(int tx0, int ty0, bool plain) {
@@ -561,6 +562,16 @@ void Tritree::emit_tile(int tx0, int ty0, bool plain) {
 
 // ---------------------------------------------------------------- build
 
+TritreeGrid Tritree::grid() const {
+  TritreeGrid g;
+  g.layout = layout_;
+  g.need = layout_.strip() ? nullptr : need_;
+  g.vertex_id = vertex_id_;
+  g.stretched = stretched_;
+  g.stretched_count = stretched_count_;
+  return g;
+}
+
 void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
   validate_image(gray);
   const std::int64_t t0 = monotonic_ns();
@@ -568,6 +579,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
   layout_ = RtinLayout(gray.width, gray.height, params_.max_area_px2);
   criterion_splits_ = forced_splits_ = 0;
   leaf_count_ = 0;
+  stretched_count_ = 0;
 
   if (layout_.strip()) {
     times_.criterion_ns = 0;

@@ -28,6 +28,10 @@ std::size_t max_leaves(int w, int h) {
   return cells < 2 ? 2 : cells;
 }
 
+// A stretched leaf has a corner on the moved last column or row, and a vertex
+// has at most 8 leaves around it.
+std::size_t max_stretched_leaves(int w, int h) { return 8 * (static_cast<std::size_t>(w) + h) + 8; }
+
 // Uninitialised storage: new T[n] of a trivial type touches no page, so a
 // frame smaller than the configured maximum never faults the rest in.
 // PixelMoments has default member initialisers, so the block is raw words.
@@ -55,7 +59,9 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
   for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
   const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
-  const std::size_t bytes = kMaxTileWorkers * moments * sizeof(PixelMoments) + leaves * sizeof(Triangle) +
+  const std::size_t stretched = max_stretched_leaves(max_width, max_height);
+  const std::size_t bytes = kMaxTileWorkers * moments * sizeof(PixelMoments) +
+                            (leaves + stretched) * sizeof(Triangle) +
                             bands * sizeof(std::size_t) + (2 * pixels + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
   arena_bytes_ = (bytes + 7) / 8 * 8;
@@ -78,6 +84,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // number of triangles they were misaligned (UBSan, found by fuzz_pipeline).
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
   tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
+  stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
   bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + 1) * sizeof(std::int32_t)));
   need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
