@@ -35,31 +35,37 @@ void Tritree::number_vertices(Mesh& mesh) {
   const int w = gray_.width, h = gray_.height;  // mesh: begin_mesh() done
   const RtinLayout& L = layout_;
   const int S = tile_;
+  const int row_len = L.vw + 1;
   std::int32_t id = 0;
   int next_y = 0;  // next real row whose row_start is unset
   for (int vy = 0; vy <= L.vh; ++vy) {
     const int y = L.real_y(vy);
     for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
-    const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * (L.vw + 1);
+    const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
     std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
     const bool tile_row = vy % S == 0;
-    int vx = 0;
-    while (vx <= L.vw) {
-      // Skip 8 grid points at a time while none is a vertex.
-      if (!(tile_row) && vx + 8 <= L.vw + 1) {
+    // Eight grid points at a time: their need bits gathered into one byte
+    // (bit k = point vx0 + k; the multiply moves byte k's bit 0 to bit 56 + k
+    // of a little-endian word, with no carries), then the set bits in order.
+    for (int vx0 = 0; vx0 < row_len; vx0 += 8) {
+      unsigned bits;
+      if (vx0 + 8 <= row_len) {
         std::uint64_t word;
-        std::memcpy(&word, need + vx, 8);
-        if ((word & 0x0101010101010101ull) == 0) {
-          vx += 8;
-          continue;
-        }
+        std::memcpy(&word, need + vx0, 8);
+        bits = static_cast<unsigned>(((word & 0x0101010101010101ull) * 0x0102040810204080ull) >> 56);
+      } else {
+        bits = 0;
+        for (int k = 0; vx0 + k < row_len; ++k) bits |= (need[vx0 + k] & 1u) << k;
       }
-      if ((need[vx] & 1) || (tile_row && vx % S == 0)) {
-        const int x = L.real_x(vx);
+      if (tile_row) {  // tile corners are vertices; S >= 2, so at most every other point
+        for (int k = (S - vx0 % S) % S; k < 8 && vx0 + k < row_len; k += S) bits |= 1u << k;
+      }
+      while (bits != 0) {
+        const int x = L.real_x(vx0 + __builtin_ctz(bits));
+        bits &= bits - 1;
         ids[x] = id++;
         mesh.vertices.push_back(Vertex{x, y});  // within capacity
       }
-      ++vx;
     }
   }
   for (; next_y <= h; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
