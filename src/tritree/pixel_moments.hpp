@@ -85,4 +85,49 @@ inline bool plane_fit_fails(std::uint64_t sse, std::int64_t n_px, std::int64_t a
   return sse * 256 > mse_q8 * static_cast<std::uint64_t>(n_px) * a2 * a2;
 }
 
+// Inside a plain tile (away from the image's last row and column) a
+// triangle's pixels, relative to its first corner A, depend only on its shape
+// (size and orientation): the geometric sums are constants of the shape, and
+// only four sums of the image remain per triangle.
+struct IntensityMoments {
+  std::int32_t si = 0, sxi = 0, syi = 0, sii = 0;  // x, y relative to the tile origin
+
+  void add_pixel(std::int32_t x, std::int32_t y, std::int32_t i) {
+    si += i;
+    sxi += x * i;
+    syi += y * i;
+    sii += i * i;
+  }
+  friend IntensityMoments operator+(const IntensityMoments& a, const IntensityMoments& b) {
+    return IntensityMoments{a.si + b.si, a.sxi + b.sxi, a.syi + b.syi, a.sii + b.sii};
+  }
+};
+
+// A triangle shape (A, B = A + u, C = A + v, area2 = u x v > 0) and the sums
+// over its owned pixels P of 1, x', y', x'^2, x'y', y'^2 with (x', y') = P - A.
+struct ShapeMoments {
+  std::int32_t ux = 0, uy = 0, vx = 0, vy = 0, area2 = 0;
+  std::int32_t n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+};
+
+// plane_sse() for a triangle of shape g with first corner (ax, ay) (relative
+// to the tile origin of m) and corner intensities ia, ib, ic. With
+// J = I - ia and (x', y') = P - A, r = n_x x' + n_y y' + area2 J, so
+//   SSE = n_x^2 Sx'x' + 2 n_x n_y Sx'y' + n_y^2 Sy'y'
+//       + 2 area2 (n_x Sx'J + n_y Sy'J) + area2^2 SJJ.
+// The same uint64 wrap-around argument as plane_sse(): exact below 2^64.
+inline std::uint64_t plane_sse_of_shape(const IntensityMoments& m, const ShapeMoments& g, std::int32_t ax,
+                                        std::int32_t ay, std::int32_t ia, std::int32_t ib, std::int32_t ic) {
+  const std::int64_t ui = ib - ia, vi = ic - ia;
+  const std::int64_t nx = g.uy * vi - ui * g.vy;
+  const std::int64_t ny = ui * g.vx - g.ux * vi;
+  const std::int64_t a2 = g.area2;
+  const std::int64_t sxj = (std::int64_t{m.sxi} - std::int64_t{ax} * m.si) - std::int64_t{ia} * g.sx;
+  const std::int64_t syj = (std::int64_t{m.syi} - std::int64_t{ay} * m.si) - std::int64_t{ia} * g.sy;
+  const std::int64_t sjj = std::int64_t{m.sii} - 2 * std::int64_t{ia} * m.si + std::int64_t{g.n} * ia * ia;
+  const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
+  return u(nx * nx) * u(g.sxx) + 2 * u(nx * ny) * u(g.sxy) + u(ny * ny) * u(g.syy) +
+         2 * u(a2) * (u(nx) * u(sxj) + u(ny) * u(syj)) + u(a2 * a2) * u(sjj);
+}
+
 }  // namespace tristereo

@@ -105,6 +105,8 @@ class Tritree {
   struct TileScratch {
     std::array<PixelMoments*, 6> half{};  // S <= 64: sides 2 .. 64
     PixelMoments* side = nullptr;
+    std::array<IntensityMoments*, 6> half_i{};  // plain tiles (tile_plain)
+    IntensityMoments* side_i = nullptr;
   };
 
   void validate_image(ImageView<const std::uint8_t> gray) const;
@@ -139,6 +141,10 @@ class Tritree {
   TritreeParams params_;
   std::uint64_t mse_q8_ = 0;
   int tile_ = 2;
+  // Shapes of plain tiles' triangles per level (side 2 << l): side triangles
+  // 0..3 (top, right, bottom, left), halves 0..3 ('\\' upper right, lower
+  // left, '/' upper left, lower right), first corner as corners() lists it.
+  std::array<std::array<ShapeMoments, 4>, 6> side_shape_{}, half_shape_{};
 
   // Per-build state.
   ImageView<const std::uint8_t> gray_;

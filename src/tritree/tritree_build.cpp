@@ -312,11 +312,10 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
   const std::ptrdiff_t istride = gray_.stride_bytes;
   const auto pix = [&](int x, int y) -> std::int32_t { return img[y * istride + x]; };
   const std::uint64_t mse = mse_q8_;
-  const auto fails = [&](const PixelMoments& m, int xa, int ya, int xb, int yb, int xc, int yc,
-                         std::int32_t area2) {
-    const PlaneCorner a{xa - tx0, ya - ty0, pix(xa, ya)}, b{xb - tx0, yb - ty0, pix(xb, yb)},
-        c{xc - tx0, yc - ty0, pix(xc, yc)};
-    return plane_fit_fails(plane_sse(m, a, b, c), m.n, area2, mse);
+  // Shape g with first corner (xa, ya), its other corners from the shape.
+  const auto fails = [&](const IntensityMoments& m, const ShapeMoments& g, int xa, int ya) {
+    const std::int32_t ia = pix(xa, ya), ib = pix(xa + g.ux, ya + g.uy), ic = pix(xa + g.vx, ya + g.vy);
+    return plane_fit_fails(plane_sse_of_shape(m, g, xa - tx0, ya - ty0, ia, ib, ic), g.n, g.area2, mse);
   };
 
   // Side 2.
@@ -324,13 +323,14 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
     const bool test = 4 <= two_amax;
     const bool keep_moments = 8 <= two_amax;  // the side triangles of side 4 are tested
     const int n = S / 2;
-    PixelMoments* out = sc.half[0];
+    IntensityMoments* out = sc.half_i[0];
     for (int j = 0; j < n; ++j) {
       const int y = ty0 + 2 * j;
       const std::uint8_t* r0 = img + y * istride;
       const std::uint8_t* r1 = r0 + istride;
       const std::uint8_t* r2 = r1 + istride;
       std::uint8_t* need_row = need + (static_cast<std::size_t>(y) + 1) * stride;
+      const std::int32_t ly = 2 * j;
       for (int i = 0; i < n; ++i, out += 2) {
         const int x = tx0 + 2 * i;
         const std::int32_t i00 = r0[x], i10 = r0[x + 1], i20 = r0[x + 2];
@@ -357,19 +357,16 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
         }
         need_row[x + 1] = static_cast<std::uint8_t>((wa || wb ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
         if (keep_moments) {
-          const int lx = 2 * i, ly = 2 * j;
-          PixelMoments a, b;
-          a.add_pixel(lx, ly, i00);
-          a.add_pixel(lx + 1, ly, i10);
-          if (bs) {
-            a.add_pixel(lx + 1, ly + 1, i11);
-            b.add_pixel(lx, ly + 1, i01);
-          } else {
-            a.add_pixel(lx, ly + 1, i01);
-            b.add_pixel(lx + 1, ly + 1, i11);
-          }
+          // The square's four pixels; A takes three, B the fourth.
+          const std::int32_t lx = 2 * i;
+          const std::int32_t top_i = i00 + i10, top_ii = i00 * i00 + i10 * i10;
+          IntensityMoments a{top_i, lx * top_i + i10, ly * top_i, top_ii};
+          const std::int32_t px = bs ? lx : lx + 1;          // B's pixel
+          const std::int32_t pb = bs ? i01 : i11, pa = bs ? i11 : i01;  // and A's third
+          const std::int32_t ax = bs ? lx + 1 : lx;
+          a.si += pa, a.sxi += ax * pa, a.syi += (ly + 1) * pa, a.sii += pa * pa;
           out[0] = a;
-          out[1] = b;
+          out[1] = IntensityMoments{pb, px * pb, (ly + 1) * pb, pb * pb};
         }
       }
     }
@@ -381,9 +378,12 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
     const std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
     const bool test_sides = side_area2 <= two_amax;
     const bool test_halves = half_area2 <= two_amax;
-    const PixelMoments* quads = sc.half[static_cast<std::size_t>(l - 1)];
-    PixelMoments* halves = sc.half[static_cast<std::size_t>(l)];
-    const auto q = [&](int i, int j, int dx, int dy, int part) -> const PixelMoments& {
+    const std::array<ShapeMoments, 4>& side_g = side_shape_[static_cast<std::size_t>(l)];
+    const std::array<ShapeMoments, 4>& half_g = half_shape_[static_cast<std::size_t>(l)];
+    const IntensityMoments* quads = sc.half_i[static_cast<std::size_t>(l - 1)];
+    IntensityMoments* halves = sc.half_i[static_cast<std::size_t>(l)];
+    IntensityMoments* sides = sc.side_i;
+    const auto q = [&](int i, int j, int dx, int dy, int part) -> const IntensityMoments& {
       return quads[((2 * j + dy) * qn + 2 * i + dx) * 2 + part];
     };
     const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
@@ -396,10 +396,15 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
         const bool nq01 = at(qx0, qy1) & kNeed, nq11 = at(qx1, qy1) & kNeed;
         bool w[4] = {true, true, true, true};
         if (test_sides) {
-          w[0] = fails(q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0), x0, y0, x1, y0, cx, cy, side_area2);
-          w[1] = fails(q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0), x1, y0, x1, y1, cx, cy, side_area2);
-          w[2] = fails(q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1), x1, y1, x0, y1, cx, cy, side_area2);
-          w[3] = fails(q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1), x0, y1, x0, y0, cx, cy, side_area2);
+          IntensityMoments* m = sides + (j * n + i) * 4;
+          m[0] = q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0);
+          m[1] = q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0);
+          m[2] = q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1);
+          m[3] = q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1);
+          w[0] = fails(m[0], side_g[0], x0, y0);
+          w[1] = fails(m[1], side_g[1], x1, y0);
+          w[2] = fails(m[2], side_g[2], x1, y1);
+          w[3] = fails(m[3], side_g[3], x0, y1);
         }
         at(cx, y0) |= static_cast<std::uint8_t>((w[0] || nq00 || nq10 ? kNeed : 0) | (w[0] ? 2 : 0));
         at(x1, cy) |= static_cast<std::uint8_t>((w[1] || nq10 || nq11 ? kNeed : 0) | (w[1] ? 4 : 0));
@@ -407,7 +412,8 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
         at(x0, cy) |= static_cast<std::uint8_t>((w[3] || nq01 || nq00 ? kNeed : 0) | (w[3] ? 2 : 0));
       }
     }
-    // Halves: need at the centres.
+    // Halves: need at the centres (the sides' sums are only kept when the
+    // halves are tested, which implies the sides were).
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
         const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
@@ -415,25 +421,20 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
         const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
         const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
         bool wa = true, wb = true;
-        PixelMoments ma, mb;
         if (test_halves) {
-          const PixelMoments top = q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0);
-          const PixelMoments right = q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0);
-          const PixelMoments bottom = q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1);
-          const PixelMoments left = q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1);
+          const IntensityMoments* m = sides + (j * n + i) * 4;
+          IntensityMoments* out = halves + (j * n + i) * 2;
           if (bs) {
-            ma = top + right;
-            mb = bottom + left;
-            wa = fails(ma, x0, y0, x1, y0, x1, y1, half_area2);
-            wb = fails(mb, x0, y0, x1, y1, x0, y1, half_area2);
+            out[0] = m[0] + m[1];
+            out[1] = m[2] + m[3];
+            wa = fails(out[0], half_g[0], x0, y0);
+            wb = fails(out[1], half_g[1], x0, y0);
           } else {
-            ma = top + left;
-            mb = right + bottom;
-            wa = fails(ma, x0, y0, x1, y0, x0, y1, half_area2);
-            wb = fails(mb, x1, y0, x1, y1, x0, y1, half_area2);
+            out[0] = m[0] + m[3];
+            out[1] = m[1] + m[2];
+            wa = fails(out[0], half_g[2], x0, y0);
+            wb = fails(out[1], half_g[3], x1, y0);
           }
-          halves[(j * n + i) * 2] = ma;
-          halves[(j * n + i) * 2 + 1] = mb;
         }
         const bool own_a = wa || n_top || (bs ? n_right : n_left);
         const bool own_b = wb || n_bottom || (bs ? n_left : n_right);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "src/model/psnr_threshold.hpp"
+#include "src/tritree/fill_rule.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/status.hpp"
 
@@ -40,6 +41,23 @@ std::unique_ptr<T[]> reserve_array(std::size_t n) {
   return std::unique_ptr<T[]>(new T[n]);
 }
 
+// The geometric sums of a triangle's owned pixels relative to its first corner,
+// far from the image's last row and column.
+ShapeMoments shape_moments(const int* x, const int* y) {
+  ShapeMoments g;
+  g.ux = x[1] - x[0], g.uy = y[1] - y[0], g.vx = x[2] - x[0], g.vy = y[2] - y[0];
+  g.area2 = g.ux * g.vy - g.uy * g.vx;
+  const Vertex a{x[0], y[0]}, b{x[1], y[1]}, c{x[2], y[2]};
+  const int far = 1 << 20;
+  for (int py = std::min({y[0], y[1], y[2]}); py <= std::max({y[0], y[1], y[2]}); ++py)
+    for (int px = std::min({x[0], x[1], x[2]}); px <= std::max({x[0], x[1], x[2]}); ++px) {
+      if (!owns_pixel(a, b, c, px, py, far, far)) continue;
+      const int dx = px - x[0], dy = py - y[0];
+      g.n += 1, g.sx += dx, g.sy += dy, g.sxx += dx * dx, g.sxy += dx * dy, g.syy += dy * dy;
+    }
+  return g;
+}
+
 }  // namespace
 
 void Tritree::configure(int max_width, int max_height, const TritreeParams& params) {
@@ -58,9 +76,12 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // buckets, the need grid (the virtual grid has at most W x H points).
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
   for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+  // The plain tiles' intensity moments, in the same layout (16 bytes each).
+  const std::size_t intensity_moments = moments;
   const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
   const std::size_t stretched = max_stretched_leaves(max_width, max_height);
-  const std::size_t bytes = kMaxTileWorkers * moments * sizeof(PixelMoments) +
+  const std::size_t bytes = kMaxTileWorkers * (moments * sizeof(PixelMoments) +
+                                                 intensity_moments * sizeof(IntensityMoments)) +
                             (leaves + stretched) * sizeof(Triangle) +
                             bands * sizeof(std::size_t) + (2 * pixels + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
@@ -79,6 +100,28 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
       m += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
     }
     sc.side = m;
+    IntensityMoments* mi = reinterpret_cast<IntensityMoments*>(take(intensity_moments * sizeof(IntensityMoments)));
+    level = 0;
+    for (int s = 2; s <= tile_; s *= 2) {
+      sc.half_i[level++] = mi;
+      mi += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
+    }
+    sc.side_i = mi;
+  }
+  // Shape moments by the fill rule itself, on a square far from any border.
+  for (int l = 0; (2 << l) <= tile_; ++l) {
+    const int s = 2 << l, o = 2 * kMaxAreaLimitPx2;
+    for (int k = 0; k < 4; ++k) {
+      int x[3], y[3];
+      corners(Tri{false, s, o, o, k}, x, y);
+      side_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = shape_moments(x, y);
+    }
+    for (int k = 0; k < 4; ++k) {
+      // '\\' squares have X0/s + Y0/s even: (o, o) with o/s even, '/' ones (o + s, o).
+      int x[3], y[3];
+      corners(Tri{true, s, k < 2 ? o : o + s, o, k & 1}, x, y);
+      half_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = shape_moments(x, y);
+    }
   }
   // The 8-byte row-of-tiles starts before the 12-byte triangles: after an odd
   // number of triangles they were misaligned (UBSan, found by fuzz_pipeline).
