@@ -19,10 +19,10 @@ constexpr std::uint16_t kGuard = 0xFFFF;
 
 std::size_t round_up(std::size_t v) { return (v + kLanesRound - 1) / kLanesRound * kLanesRound; }
 
-// Storage that is not touched until a frame writes it (default-initialised).
+// Storage that is not touched until a frame writes it (src/memory/large_array.hpp).
 template <class T>
-std::unique_ptr<T[]> untouched(std::size_t n) {
-  return std::unique_ptr<T[]>(new T[n]);
+LargeArray<T> untouched(std::size_t n) {
+  return large_array<T>(n);
 }
 }  // namespace
 
@@ -113,8 +113,8 @@ void PathMatcher::release() {
   std::vector<std::uint16_t>().swap(zero_path_);
   std::vector<Worker>().swap(workers_);
   for (int pass = 0; pass < 2; ++pass) {
-    std::vector<std::unique_ptr<std::uint16_t[]>>().swap(pass_paths_[pass]);
-    std::vector<std::unique_ptr<std::uint16_t[]>>().swap(pass_mins_[pass]);
+    std::vector<LargeArray<std::uint16_t>>().swap(pass_paths_[pass]);
+    std::vector<LargeArray<std::uint16_t>>().swap(pass_mins_[pass]);
   }
   kernels_ = nullptr;
 }
@@ -126,7 +126,7 @@ std::size_t PathMatcher::working_memory_bytes() const {
                       capacity_bytes(workers_);
   for (int pass = 0; pass < 2; ++pass)
     bytes += pass_paths_[pass].size() * ((n * path_stride_ + 64 + n) * sizeof(std::uint16_t) +
-                                         2 * sizeof(std::unique_ptr<std::uint16_t[]>));
+                                         2 * sizeof(LargeArray<std::uint16_t>));
   for (const Worker& w : workers_)
     bytes += (2 * path_stride_ + 64 + n * cost_stride_) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
              capacity_bytes(w.total) + capacity_bytes(w.terms) + capacity_bytes(w.slot_row) +

@@ -21,6 +21,8 @@
 #include <memory>
 #include <vector>
 
+#include "src/memory/large_array.hpp"
+
 #include "platform/thread_pool.hpp"
 #include "platform/work_chunks.hpp"
 #include "src/aggregate/samples.hpp"
@@ -109,8 +111,8 @@ class PathMatcher {
   std::size_t costs_len_ = 0, preds_len_ = 0;
   int max_width_ = 0;
   std::size_t ring_len_ = 0;  // per worker: window_h x max_width x cost_stride_ (census only)
-  std::unique_ptr<std::uint16_t[]> costs_;
-  std::unique_ptr<std::int32_t[]> preds_;  // 6 diagonal/vertical directions x samples
+  LargeArray<std::uint16_t> costs_;
+  LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
   // The directions run in two passes, forward (raster order: the even
   // directions) and backward (the odd ones); a pass steps every direction at
@@ -118,18 +120,18 @@ class PathMatcher {
   // diagonal direction is kept for every sample (its predecessor may be rows
   // back): pass_paths_[pass][j] for direction 2 (j + 1) + pass, with the
   // minimum of each sample's L_r in pass_mins_.
-  std::vector<std::unique_ptr<std::uint16_t[]>> pass_paths_[2], pass_mins_[2];
+  std::vector<LargeArray<std::uint16_t>> pass_paths_[2], pass_mins_[2];
   struct Worker {
     // L_r of the horizontal direction: the previous sample's and this one's.
     std::unique_ptr<std::uint16_t[]> row_path;
-    std::unique_ptr<std::uint16_t[]> sum;   // sum of this worker's directions
+    LargeArray<std::uint16_t> sum;   // sum of this worker's directions
     bool has_sum = false;
     CostScratch scratch;
     std::vector<std::uint16_t> total;
     // Census costs by rows (compute_costs): window_h rows of per-pixel costs,
     // their column sums, and which image row each ring slot holds.
-    std::unique_ptr<std::uint16_t[]> pixel_rows;
-    std::unique_ptr<std::uint16_t[]> column_sums;
+    LargeArray<std::uint16_t> pixel_rows;
+    LargeArray<std::uint16_t> column_sums;
     std::vector<int> slot_row;
     std::vector<const std::uint16_t*> terms;
     // Left-right check from S (select): the right view's running winner per

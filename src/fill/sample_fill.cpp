@@ -9,8 +9,8 @@ namespace tristereo {
 
 namespace {
 template <class T>
-std::unique_ptr<T[]> untouched(std::size_t n) {
-  return std::unique_ptr<T[]>(new T[n]);
+LargeArray<T> untouched(std::size_t n) {
+  return large_array<T>(n);
 }
 }  // namespace
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "src/aggregate/samples.hpp"
+#include "src/memory/large_array.hpp"
 
 namespace tristereo {
 
@@ -34,10 +35,10 @@ class SampleFill {
   void build_adjacency(const SampleLayout& samples);
   int max_samples_ = 0;
   int max_triangles_ = 0;
-  std::unique_ptr<std::int32_t[]> offsets_;    // CSR over samples (sparse)
-  std::unique_ptr<std::int32_t[]> neighbours_;
-  std::unique_ptr<std::int32_t[]> pending_;    // invalid samples still to fill
-  std::unique_ptr<std::int32_t[]> candidate_;  // this round's smallest neighbour
+  LargeArray<std::int32_t> offsets_;    // CSR over samples (sparse)
+  LargeArray<std::int32_t> neighbours_;
+  LargeArray<std::int32_t> pending_;    // invalid samples still to fill
+  LargeArray<std::int32_t> candidate_;  // this round's smallest neighbour
 };
 
 }  // namespace tristereo

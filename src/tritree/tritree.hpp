@@ -25,6 +25,7 @@
 #include <memory>
 #include <vector>
 
+#include "src/memory/large_array.hpp"
 #include "src/tritree/pixel_moments.hpp"
 #include "src/tritree/rtin_layout.hpp"
 #include "tristereo/image.hpp"
@@ -155,7 +156,7 @@ class Tritree {
   // Everything below points into arena_, one block reserved by configure():
   // need_: one byte per virtual grid point: bit 0 need(m), bits 1 and 2
   // wants of the (up to) two triangles whose hypotenuse midpoint it is.
-  std::unique_ptr<std::uint64_t[]> arena_;
+  LargeArray<std::uint64_t> arena_;
   std::size_t arena_bytes_ = 0;
   std::uint8_t* need_ = nullptr;
   // Per-tile scratch of pass 1: moments of the square halves of each level

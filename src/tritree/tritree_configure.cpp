@@ -33,12 +33,12 @@ std::size_t max_leaves(int w, int h) {
 // has at most 8 leaves around it.
 std::size_t max_stretched_leaves(int w, int h) { return 8 * (static_cast<std::size_t>(w) + h) + 8; }
 
-// Uninitialised storage: new T[n] of a trivial type touches no page, so a
-// frame smaller than the configured maximum never faults the rest in.
+// Uninitialised storage (src/memory/large_array.hpp): a frame smaller than the
+// configured maximum never faults the rest in.
 // PixelMoments has default member initialisers, so the block is raw words.
 template <class T>
-std::unique_ptr<T[]> reserve_array(std::size_t n) {
-  return std::unique_ptr<T[]>(new T[n]);
+LargeArray<T> reserve_array(std::size_t n) {
+  return large_array<T>(n);
 }
 
 // The geometric sums of a triangle's owned pixels relative to its first corner,

@@ -1,0 +1,55 @@
+// Large working buffers: uninitialised, and backed by transparent huge pages
+// where the system offers them.
+//
+// A frame's first touch of a buffer costs one page fault per 4 KiB page: for
+// the path matcher's per-sample tables (hundreds of bytes per sample) that
+// was a third of a one-shot `tristereo match` (docs/performance.md, "One-shot
+// match"). The 2 MiB-aligned part of a block (malloc serves large blocks
+// by mmap) is advised MADV_HUGEPAGE, so a fault there brings in 2 MiB at
+// once; the pages are still only touched when a frame writes them (a frame
+// smaller than the configured maximum leaves the rest untouched, at 2 MiB
+// granularity). Nothing is over-allocated for alignment, so the heap holds
+// exactly what working_memory_bytes() reports. Without THP (or outside Linux)
+// the advice is a no-op. Trivial element types only.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <type_traits>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace tristereo {
+
+struct FreeDelete {
+  void operator()(void* p) const noexcept { std::free(p); }
+};
+
+template <class T>
+using LargeArray = std::unique_ptr<T[], FreeDelete>;
+
+constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
+// n elements, uninitialised. Throws std::bad_alloc.
+template <class T>
+LargeArray<T> large_array(std::size_t n) {
+  static_assert(std::is_trivial<T>::value, "large_array holds trivial types only");
+  const std::size_t bytes = n * sizeof(T) > 0 ? n * sizeof(T) : 1;
+  void* p = std::malloc(bytes);
+  if (p == nullptr) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+  const std::uintptr_t last = (begin + bytes) / kHugePageBytes * kHugePageBytes;
+  if (last > first)  // advice only: an error (no THP) changes nothing
+    madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#endif
+  return LargeArray<T>(static_cast<T*>(p));
+}
+
+}  // namespace tristereo
