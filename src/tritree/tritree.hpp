@@ -121,6 +121,9 @@ class Tritree {
   void emit(int ax, int ay, int bx, int by, int cx, int cy);
   template <bool kPlain>
   void emit_leaf(int ax, int ay, int bx, int by, int cx, int cy);
+  template <int kLen2>
+  void emit_plain(int ax, int ay, int bx, int by, int cx, int cy);
+  void emit_plain_tile(int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
   void number_vertices(Mesh& mesh);

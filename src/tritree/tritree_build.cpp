@@ -517,6 +517,25 @@ void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
   emit_leaf<kPlain>(ax, ay, bx, by, cx, cy);
 }
 
+// emit<true> with the hypotenuse's squared length kLen2 known at compile time
+// (it halves at every level): a plain tile's whole descent inlines into a few
+// functions, with no length test per triangle.
+template <int kLen2>
+void Tritree::emit_plain(int ax, int ay, int bx, int by, int cx, int cy) {
+  if constexpr (kLen2 >= 8) {
+    const int mx = (ax + bx) >> 1, my = (ay + by) >> 1;
+    const std::uint8_t c = need_[static_cast<std::size_t>(my) * (layout_.vw + 1) + mx];
+    if (c & kNeed) {
+      const bool apex_after = cy > my || (cy == my && cx > mx);
+      (c & (apex_after ? 2 : 4) ? criterion_splits_ : forced_splits_) += 1;
+      emit_plain<kLen2 / 2>(cx, cy, ax, ay, mx, my);
+      emit_plain<kLen2 / 2>(bx, by, cx, cy, mx, my);
+      return;
+    }
+  }
+  emit_leaf<true>(ax, ay, bx, by, cx, cy);
+}
+
 // A leaf: its corners' vertex ids (numbered before this pass), rotated to
 // start at the smallest (orientation kept).
 template <bool kPlain>
@@ -538,22 +557,34 @@ void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
   if (!kPlain && layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = t;
 }
 
+// A plain tile's half: the descent for its tile side.
+void Tritree::emit_plain_tile(int ax, int ay, int bx, int by, int cx, int cy) {
+  switch (tile_) {
+    case 2: emit_plain<2 * 2 * 2>(ax, ay, bx, by, cx, cy); break;
+    case 4: emit_plain<2 * 4 * 4>(ax, ay, bx, by, cx, cy); break;
+    case 8: emit_plain<2 * 8 * 8>(ax, ay, bx, by, cx, cy); break;
+    case 16: emit_plain<2 * 16 * 16>(ax, ay, bx, by, cx, cy); break;
+    case 32: emit_plain<2 * 32 * 32>(ax, ay, bx, by, cx, cy); break;
+    default: emit_plain<2 * 64 * 64>(ax, ay, bx, by, cx, cy); break;  // A_max <= 1024: S <= 64
+  }
+}
+
 void Tritree::emit_tile(int tx0, int ty0, bool plain) {
   const int S = tile_;
   const int x1 = tx0 + S, y1 = ty0 + S;
   // Hypotenuse first; (a, b, c) keeps the positive orientation of the halves.
   if (RtinLayout::backslash(tx0, ty0, S)) {
     if (plain) {
-      emit<true>(x1, y1, tx0, ty0, x1, ty0);   // upper right
-      emit<true>(tx0, ty0, x1, y1, tx0, y1);   // lower left
+      emit_plain_tile(x1, y1, tx0, ty0, x1, ty0);   // upper right
+      emit_plain_tile(tx0, ty0, x1, y1, tx0, y1);   // lower left
     } else {
       emit<false>(x1, y1, tx0, ty0, x1, ty0);
       emit<false>(tx0, ty0, x1, y1, tx0, y1);
     }
   } else {
     if (plain) {
-      emit<true>(x1, ty0, tx0, y1, tx0, ty0);  // upper left
-      emit<true>(tx0, y1, x1, ty0, x1, y1);    // lower right
+      emit_plain_tile(x1, ty0, tx0, y1, tx0, ty0);  // upper left
+      emit_plain_tile(tx0, y1, x1, ty0, x1, y1);    // lower right
     } else {
       emit<false>(x1, ty0, tx0, y1, tx0, ty0);
       emit<false>(tx0, y1, x1, ty0, x1, y1);
