@@ -116,7 +116,9 @@ def peers_section(a):
         if b.get("aggregate_name") != "median":
             continue
         parts = b["run_name"].split("/")
-        if parts[0] == "frame":  # frame/<scene>/D<d>/<mode>/<kernels>/t1
+        if parts[0] == "frame" and parts[3] == "paper":  # frame/<scene>/D<d>/paper/sparse/<kernels>/t1
+            med[(parts[1], int(parts[2][1:]), "paper")] = b
+        elif parts[0] == "frame":  # frame/<scene>/D<d>/<mode>/<kernels>/t1
             med[(parts[1], int(parts[2][1:]), parts[3])] = b
             kernels[(parts[1], int(parts[2][1:]))] = parts[4]
         elif parts[0] == "peer":  # peer/<scene>/D<d>/<matcher>
@@ -136,30 +138,32 @@ def peers_section(a):
     ms = lambda b: b["real_time"]  # the benchmarks report milliseconds
     lines.append("| scene | D | kernels | StereoBM ms | SGBM 3-way ms | tristereo sparse frame ms | "
                  "tritree | cost | DP | interpolation | **tritree + interpolation** | sparse frame | "
-                 "dense frame | SGBM 3-way | sparse / dense frame |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+                 "dense frame | paper mode frame | SGBM 3-way | sparse / dense frame |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for s, d in scenes:
-        sp, de = med.get((s, d, "sparse")), med.get((s, d, "dense"))
+        sp, de, pa = med.get((s, d, "sparse")), med.get((s, d, "dense")), med.get((s, d, "paper"))
         bm, sg = med.get((s, d, "stereobm")), med.get((s, d, "sgbm3way"))
         if not sp:
             continue
         ratio = lambda v: "%.2fx" % (v / ms(bm)) if bm else "-"
-        lines.append("| %s | %d | %s | %s | %s | %.2f | %s | %s | %s | %s | **%s** | %s | %s | %s | %s |" % (
+        lines.append("| %s | %d | %s | %s | %s | %.2f | %s | %s | %s | %s | **%s** | %s | %s | %s | %s | %s |" % (
             label[s], d, kernels[(s, d)], "%.2f" % ms(bm) if bm else "-", "%.2f" % ms(sg) if sg else "-",
             sp["total_ms"], ratio(sp["tritree_ms"]), ratio(sp["cost_ms"]), ratio(sp["dp_ms"]),
             ratio(sp["interp_ms"]), ratio(sp["tritree_ms"] + sp["interp_ms"]), ratio(sp["total_ms"]),
-            ratio(de["total_ms"]) if de else "-", ratio(ms(sg)) if sg else "-",
+            ratio(de["total_ms"]) if de else "-", ratio(pa["total_ms"]) if pa else "-",
+            ratio(ms(sg)) if sg else "-",
             "%.3f" % (sp["total_ms"] / de["total_ms"]) if de else "-"))
     lines.append("\nThe stage columns (tritree .. SGBM 3-way) are multiples of StereoBM's frame time. "
                  "tristereo's stages in ms (same run):\n")
-    lines.append("| scene | D | mode | tritree | cost | DP | interpolation | frame |")
-    lines.append("|---|---|---|---|---|---|---|---|")
+    lines.append("| scene | D | mode | tritree | cost | DP | fill | interpolation | frame |")
+    lines.append("|---|---|---|---|---|---|---|---|---|")
     for s, d in scenes:
-        for mode in ("sparse", "dense"):
+        for mode in ("sparse", "dense", "paper"):
             b = med.get((s, d, mode))
             if b:
-                lines.append("| %s | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f |" % (
-                    label[s], d, mode, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"]))
+                lines.append("| %s | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |" % (
+                    label[s], d, "paper mode (sparse)" if mode == "paper" else mode, b["tritree_ms"],
+                    b["cost_ms"], b["dp_ms"], b.get("fill_ms", 0.0), b["interp_ms"], b["total_ms"]))
     lines.append("")
     return lines
 
@@ -284,6 +288,25 @@ def pipeline_section(a):
     return lines
 
 
+# The heading each section starts with in the output file.
+SECTION_HEADINGS = {"peers": "## tristereo against OpenCV", "pipeline": "## The pipeline"}
+
+
+def kept_section(path, name):
+    """The lines of section `name` in the existing output file, or []."""
+    try:
+        with open(path) as f:
+            text = f.read().split("\n")
+    except FileNotFoundError:
+        return []
+    starts = [i for i, l in enumerate(text) if any(l.startswith(h) for h in SECTION_HEADINGS.values())]
+    for k, i in enumerate(starts):
+        if text[i].startswith(SECTION_HEADINGS[name]):
+            end = starts[k + 1] if k + 1 < len(starts) else len(text)
+            return [l for l in text[i:end]]
+    return []
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -309,7 +332,11 @@ def main():
         except FileNotFoundError as e:
             if not REUSE:
                 raise
-            print("no %s tables: %s" % (name, e), file=sys.stderr)
+            # Keep the section the file already has (it names the run it came from).
+            kept = kept_section(a.out, name)
+            print("no %s JSON (%s): %s" % (name, e, "kept the file's section" if kept else "section left out"),
+                  file=sys.stderr)
+            lines += kept
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("wrote", a.out)
