@@ -35,6 +35,21 @@ using LargeArray = std::unique_ptr<T[], FreeDelete>;
 
 constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
+// Advises the 2 MiB-aligned part of [p, p + bytes) for transparent huge pages
+// (the buffers reserved elsewhere, e.g. std::vector capacities). Advice only:
+// an error (no THP, not Linux) changes nothing.
+inline void advise_huge_pages(const void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+  const std::uintptr_t last = (begin + bytes) / kHugePageBytes * kHugePageBytes;
+  if (p != nullptr && last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
 // n elements, uninitialised. Throws std::bad_alloc.
 template <class T>
 LargeArray<T> large_array(std::size_t n) {
@@ -42,13 +57,7 @@ LargeArray<T> large_array(std::size_t n) {
   const std::size_t bytes = n * sizeof(T) > 0 ? n * sizeof(T) : 1;
   void* p = std::malloc(bytes);
   if (p == nullptr) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t first = (begin + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
-  const std::uintptr_t last = (begin + bytes) / kHugePageBytes * kHugePageBytes;
-  if (last > first)  // advice only: an error (no THP) changes nothing
-    madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-#endif
+  advise_huge_pages(p, bytes);
   return LargeArray<T>(static_cast<T*>(p));
 }
 
