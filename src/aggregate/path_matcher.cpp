@@ -7,6 +7,7 @@
 
 #include "src/dp/penalty.hpp"
 #include "src/memory/capacity_bytes.hpp"
+#include "src/tritree/rtin_layout.hpp"
 #include "src/dp/subpixel.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
@@ -71,12 +72,17 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   zero_path_.assign(path_stride_, 0);
   zero_path_[0] = kGuard;
   zero_path_[static_cast<std::size_t>(d) + 1] = kGuard;
+  // Predecessors (find_predecessors, predecessor()) lie within S + 1 rows:
+  // fewer than (S + 2) rows of samples apart.
+  const std::size_t ring = std::min(
+      n, static_cast<std::size_t>(tile_side_for(params.tritree.max_area_px2) + 2) * static_cast<std::size_t>(max_width) + 1);
+  ring_samples_ = static_cast<int>(ring);
   for (int pass = 0; pass < 2; ++pass) {
     pass_paths_[pass].clear();
     pass_mins_[pass].clear();
     for (int j = 0; j < directions_ / 2 - 1; ++j) {
-      pass_paths_[pass].push_back(untouched<std::uint16_t>(n * path_stride_ + 64));
-      pass_mins_[pass].push_back(untouched<std::uint16_t>(n));
+      pass_paths_[pass].push_back(untouched<std::uint16_t>(ring * path_stride_ + 64));
+      pass_mins_[pass].push_back(untouched<std::uint16_t>(ring));
     }
   }
   workers_.clear();
@@ -108,6 +114,7 @@ void PathMatcher::release() {
   preds_.reset();
   costs_len_ = preds_len_ = 0;
   max_samples_ = 0;
+  ring_samples_ = 0;
   std::vector<std::uint32_t>().swap(p1_by_gap_);
   std::vector<std::uint32_t>().swap(p2_by_gap_);
   std::vector<std::uint16_t>().swap(zero_path_);
@@ -124,8 +131,9 @@ std::size_t PathMatcher::working_memory_bytes() const {
   std::size_t bytes = costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
                       capacity_bytes(workers_);
+  const auto ring = static_cast<std::size_t>(ring_samples_);
   for (int pass = 0; pass < 2; ++pass)
-    bytes += pass_paths_[pass].size() * ((n * path_stride_ + 64 + n) * sizeof(std::uint16_t) +
+    bytes += pass_paths_[pass].size() * ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) +
                                          2 * sizeof(LargeArray<std::uint16_t>));
   for (const Worker& w : workers_)
     bytes += (2 * path_stride_ + 64 + n * cost_stride_) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
@@ -240,14 +248,22 @@ void PathMatcher::find_predecessors(const SampleLayout& samples) {
       if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best)) best = q;
     }
   };
+  int reach = 0;  // the largest id distance of an edge between two rows
   for (const Triangle& t : samples.mesh->triangles)
     for (int e = 0; e < 3; ++e) {
       int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
       if (v[a].y == v[b].y) continue;
       if (v[a].y > v[b].y) std::swap(a, b);  // a above b
+      reach = std::max(reach, b - a);
       offer(b, a, 2);  // forward directions (2, 4, 6): from above
       offer(a, b, 3);  // backward directions (3, 5, 7): from below
     }
+  // The rings of run_pass hold ring_samples_ samples: enough for every tritree
+  // mesh. Another mesh whose edges reach further is refused before any pass.
+  if (reach >= ring_samples_)
+    throw Error(ErrorCode::kInvalidArgument, "path matcher: a mesh edge spans " + std::to_string(reach) +
+                                                 " samples, the path rings hold " + std::to_string(ring_samples_) +
+                                                 " (edges of at most tile side + 1 rows)");
 }
 
 int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
@@ -312,8 +328,12 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
   };
   const std::uint16_t* zero = zero_path_.data() + 1;
   std::uint16_t row_min = 0;
+  const int ring_n = ring_samples_;
+  int slot = forward ? ring_n - 1 : (n - 1) % ring_n + 1;  // slot of i, stepped before use
   for (int step = 0; step < n; ++step) {
     const int i = forward ? step : n - 1 - step;
+    if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
+    else slot = slot == 0 ? ring_n - 1 : slot - 1;
     const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
     std::uint16_t* sum = wk.sum.get() + row(i, cost_stride_);
     // Horizontal: the predecessor is the previous step's sample when it is on the same row.
@@ -330,7 +350,7 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     for (int j = 0; j < others; ++j) {
       const int r = 2 * (j + 1) + pass;
       std::uint16_t* path = paths[j];
-      std::uint16_t* o = path + row(i, path_stride_);
+      std::uint16_t* o = path + row(slot, path_stride_);
       o[0] = kGuard;
       o[d + 1] = kGuard;
       const int qr = predecessor(samples, r, i);
@@ -338,10 +358,14 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       std::uint16_t pm = 0, a1 = 0, a2 = 0;
       if (qr >= 0) {
         penalties(i, qr, &a1, &a2);
-        pr = path + row(qr, path_stride_) + 1;
-        pm = mins[j][qr];
+        // |i - qr| < ring_n (checked by find_predecessors in sparse mode).
+        int qs = slot + (qr - i);
+        if (qs < 0) qs += ring_n;
+        else if (qs >= ring_n) qs -= ring_n;
+        pr = path + row(qs, path_stride_) + 1;
+        pm = mins[j][qs];
       }
-      mins[j][i] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
+      mins[j][slot] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
     }
   }
 }

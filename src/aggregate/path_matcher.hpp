@@ -117,10 +117,14 @@ class PathMatcher {
   // The directions run in two passes, forward (raster order: the even
   // directions) and backward (the odd ones); a pass steps every direction at
   // each sample while its costs and sums are in cache. L_r of a vertical or
-  // diagonal direction is kept for every sample (its predecessor may be rows
-  // back): pass_paths_[pass][j] for direction 2 (j + 1) + pass, with the
-  // minimum of each sample's L_r in pass_mins_.
+  // diagonal direction is kept until no later sample can need it: its
+  // predecessor is a mesh neighbour at most S + 1 rows away (a leaf's edges
+  // span at most a tile side, plus the stretch), or the pixel row above/below
+  // (dense), so its id is less than ring_samples_ away. pass_paths_[pass][j]
+  // (direction 2 (j + 1) + pass) and pass_mins_ (the minimum of each L_r) are
+  // rings of ring_samples_ samples: sample i is slot i mod ring_samples_.
   std::vector<LargeArray<std::uint16_t>> pass_paths_[2], pass_mins_[2];
+  int ring_samples_ = 0;
   struct Worker {
     // L_r of the horizontal direction: the previous sample's and this one's.
     std::unique_ptr<std::uint16_t[]> row_path;
