@@ -228,6 +228,59 @@ TEST(PixelMoments, PlaneSseEqualsBruteForceOnRandomTrianglesAndImages) {
   EXPECT_GT(keeps, 500);
 }
 
+TEST(PixelMoments, ShapeSseEqualsBruteForceAwayFromTheLastRowAndColumn) {
+  // The plain tiles' test: geometric sums taken once per shape (at a far
+  // placement, as Tritree::configure does), four intensity sums per triangle,
+  // against the brute-force SSE at the triangle's own place in the image.
+  Rng rng(47);
+  int checked = 0, splits = 0;
+  for (int it = 0; it < 3000; ++it) {
+    const int s = 2 << rng.uniform(0, 4);  // square side 2 .. 32
+    const int w = rng.uniform(s + 2, s + 40), h = rng.uniform(s + 2, s + 40);
+    const ImageU8 img = mixed_image(rng, w, h);
+    // A square whose corners stay off the last row and column; one of its two
+    // halves ('\\' or '/') or one of its four side triangles.
+    const int x0 = rng.uniform(0, w - 2 - s), y0 = rng.uniform(0, h - 2 - s), x1 = x0 + s, y1 = y0 + s;
+    const int cx = x0 + s / 2, cy = y0 + s / 2;
+    const Vertex corners[8][3] = {
+        {{x0, y0}, {x1, y0}, {x1, y1}}, {{x0, y0}, {x1, y1}, {x0, y1}},  // '\\' halves
+        {{x0, y0}, {x1, y0}, {x0, y1}}, {{x1, y0}, {x1, y1}, {x0, y1}},  // '/' halves
+        {{x0, y0}, {x1, y0}, {cx, cy}}, {{x1, y0}, {x1, y1}, {cx, cy}},  // side triangles
+        {{x1, y1}, {x0, y1}, {cx, cy}}, {{x0, y1}, {x0, y0}, {cx, cy}}};
+    const Vertex* v = corners[rng.uniform(0, 7)];
+    ASSERT_GT(area2_of(v[0], v[1], v[2]), 0);
+    ShapeMoments g;
+    g.ux = v[1].x - v[0].x, g.uy = v[1].y - v[0].y, g.vx = v[2].x - v[0].x, g.vy = v[2].y - v[0].y;
+    g.area2 = static_cast<std::int32_t>(area2_of(v[0], v[1], v[2]));
+    const int far = 1000;
+    const Vertex fa{far, far}, fb{far + g.ux, far + g.uy}, fc{far + g.vx, far + g.vy};
+    for (int py = far - s; py <= far + s; ++py)
+      for (int px = far - s; px <= far + s; ++px)
+        if (owns_pixel(fa, fb, fc, px, py, 4 * far, 4 * far)) {
+          const int dx = px - far, dy = py - far;
+          g.n += 1, g.sx += dx, g.sy += dy, g.sxx += dx * dx, g.sxy += dx * dy, g.syy += dy * dy;
+        }
+    const int ox = rng.uniform(0, x0), oy = rng.uniform(0, y0);  // a tile origin at or before A
+    IntensityMoments m;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (owns_pixel(v[0], v[1], v[2], x, y, w, h)) m.add_pixel(x - ox, y - oy, img.at(x, y));
+    std::int64_t n_px = 0;
+    const std::uint64_t expected = sse_brute_force(img, v[0], v[1], v[2], &n_px);
+    ASSERT_EQ(g.n, n_px) << "the shape's pixels moved with the triangle";
+    ASSERT_EQ(plane_sse_of_shape(m, g, v[0].x - ox, v[0].y - oy, img.at(v[0].x, v[0].y), img.at(v[1].x, v[1].y),
+                                 img.at(v[2].x, v[2].y)),
+              expected)
+        << "square side " << s << " at " << x0 << "," << y0 << " in " << w << "x" << h;
+    const std::uint64_t mse_q8 = mse_threshold_q8(400);
+    splits += plane_fit_fails(expected, n_px, g.area2, mse_q8) ? 1 : 0;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3000);
+  EXPECT_GT(splits, 300);
+  EXPECT_LT(splits, 2700);
+}
+
 TEST(PixelMoments, ChildrenAddUpToTheirParent) {
   // Bisecting a triangle at its hypotenuse's midpoint partitions its pixels
   // (the fill rule gives each pixel to one side), so moments add exactly.
