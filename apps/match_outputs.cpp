@@ -149,7 +149,7 @@ void write_samples_csv(const std::string& path, const StereoOutput& out) {
 }
 
 void write_stats_json(const std::string& path, const MatchRun& run) {
-  const StereoOutput& o = run.output;
+  const StereoOutput& o = run.out();
   const StereoParams& p = run.config.params;
   const double pixels = static_cast<double>(o.mesh.width) * o.mesh.height;
   char buf[2048];
@@ -220,7 +220,7 @@ const std::vector<OutputOption>& match_output_options() {
 }
 
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run) {
-  const StereoOutput& o = run.output;
+  const StereoOutput& o = run.out();
   if (args.has("disp"))
     write_output("disp", [&] {
       write_disparity(args.get("disp", ""), o.disp_q4.view(),
@@ -271,7 +271,7 @@ void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& 
 }
 
 void print_match_summary(std::ostream& os, const MatchRun& run) {
-  const StereoOutput& o = run.output;
+  const StereoOutput& o = run.out();
   const double pixels = static_cast<double>(o.mesh.width) * o.mesh.height;
   char buf[1024];
   std::snprintf(buf, sizeof buf,

@@ -16,7 +16,9 @@ namespace tristereo::cli {
 
 struct MatchRun {
   PipelineConfig config;
-  StereoOutput output;
+  StereoOutput output;                  // the reference's result
+  const StereoOutput* result = nullptr;  // or the pipeline's, not copied (it outlives the run)
+  const StereoOutput& out() const { return result != nullptr ? *result : output; }
   FrameTimings timings;
   std::string implementation;  // "reference" or "integer/<kernels>"
   int threads = 1;
