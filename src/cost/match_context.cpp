@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "src/memory/capacity_bytes.hpp"
+#include "src/memory/large_array.hpp"
 #include "src/model/exp_table.hpp"
 #include "tristereo/status.hpp"
 
@@ -133,6 +134,9 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   const std::size_t census_stride = static_cast<std::size_t>(max_width + 63) / 64 * 64;
   UntouchedVector<std::uint16_t> left_census(static_cast<std::size_t>(planes) * max_height * census_stride);
   UntouchedVector<std::uint16_t> right_census(static_cast<std::size_t>(planes) * max_height * stride);
+  advise_huge_pages(rev.data(), rev.size());
+  advise_huge_pages(left_census.data(), left_census.size() * sizeof(std::uint16_t));
+  advise_huge_pages(right_census.data(), right_census.size() * sizeof(std::uint16_t));
 
   // Nothing below throws (except bad_alloc above): commit.
   max_width_ = max_width;

@@ -24,6 +24,7 @@
 #include "src/interp/interpolate_planes.hpp"
 #include "src/kernels/dispatch.hpp"
 #include "src/memory/capacity_bytes.hpp"
+#include "src/memory/large_array.hpp"
 #include "src/memory/untouched_vector.hpp"
 #include "src/pipeline/input_check.hpp"
 #include "src/tritree/tritree.hpp"
@@ -180,6 +181,13 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.out.vertex_disp_q4.reserve(max_px_size);
   m.out.disp_q4.channels = 1;
   m.out.disp_q4.pixels.reserve(max_px_size);
+  // The large reserved outputs and copies fault in 2 MiB at a time where THP is on.
+  advise_huge_pages(m.out.mesh.vertices.data(), m.out.mesh.vertices.capacity() * sizeof(Vertex));
+  advise_huge_pages(m.out.mesh.triangles.data(), m.out.mesh.triangles.capacity() * sizeof(Triangle));
+  advise_huge_pages(m.out.vertex_disp_q4.data(), m.out.vertex_disp_q4.capacity() * sizeof(std::int16_t));
+  advise_huge_pages(m.out.disp_q4.pixels.data(), m.out.disp_q4.pixels.capacity() * sizeof(std::int16_t));
+  advise_huge_pages(m.left_gray.pixels.data(), m.left_gray.pixels.capacity());
+  advise_huge_pages(m.right_gray.pixels.data(), m.right_gray.pixels.capacity());
 
   m.pool.start(threads, cpus, config.pin_threads);
   m.config = config;
