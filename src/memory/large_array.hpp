@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <string>
 #include <type_traits>
 
 #if defined(__linux__)
@@ -35,11 +36,24 @@ using LargeArray = std::unique_ptr<T[], FreeDelete>;
 
 constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
+// False when the environment sets TRISTEREO_HUGE_PAGES=0: where the kernel
+// compacts memory to find a huge page on a fault (THP "defrag" = madvise, the
+// default), a first frame on a fragmented system can stall for that; this
+// keeps every buffer on ordinary pages (docs/performance.md, "Working memory").
+inline bool huge_pages_wanted() {
+  static const bool wanted = [] {
+    const char* v = std::getenv("TRISTEREO_HUGE_PAGES");
+    return v == nullptr || std::string(v) != "0";
+  }();
+  return wanted;
+}
+
 // Advises the 2 MiB-aligned part of [p, p + bytes) for transparent huge pages
 // (the buffers reserved elsewhere, e.g. std::vector capacities). Advice only:
 // an error (no THP, not Linux) changes nothing.
 inline void advise_huge_pages(const void* p, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
+  if (!huge_pages_wanted()) return;
   const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(p);
   const std::uintptr_t first = (begin + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
   const std::uintptr_t last = (begin + bytes) / kHugePageBytes * kHugePageBytes;
