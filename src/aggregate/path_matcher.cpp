@@ -144,26 +144,45 @@ std::size_t PathMatcher::working_memory_bytes() const {
 }
 
 void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples,
-                                ThreadPool& pool) {
+                                ThreadPool& pool, const FunctionRef<void()>* beside) {
+  // Side tasks first, one per worker as they arrive: the predecessors (they
+  // only read the mesh, and write preds_), then the caller's.
+  const int sides = (samples.dense() ? 0 : 1) + (beside != nullptr ? 1 : 0);
+  side_next_.store(0, std::memory_order_relaxed);
+  int reach = 0;
+  preds_for_ = nullptr;
+  const auto side_tasks = [&] {
+    for (int t = side_next_.fetch_add(1, std::memory_order_relaxed); t < sides;
+         t = side_next_.fetch_add(1, std::memory_order_relaxed)) {
+      if (t == 0 && !samples.dense()) reach = find_predecessors(samples);
+      else (*beside)();
+    }
+  };
   if (params_.cost.kind == CostKind::kCensus) {
     // Larger chunks: each chunk recomputes the window's rows above and below it.
     rows_.reset(0, samples.height, 16);
     pool.run([&](int w) {
+      side_tasks();
       Worker& wk = workers_[static_cast<std::size_t>(w)];
       int y0 = 0, y1 = 0;
       while (rows_.next(&y0, &y1)) census_costs_by_rows(ctx, samples, wk, y0, y1);
     });
-    return;
+  } else {
+    rows_.reset(0, samples.height, 4);
+    pool.run([&](int w) {
+      side_tasks();
+      Worker& wk = workers_[static_cast<std::size_t>(w)];
+      int y0 = 0, y1 = 0;
+      while (rows_.next(&y0, &y1))
+        for (int y = y0; y < y1; ++y)
+          for (int i = samples.row_begin(y); i < samples.row_end(y); ++i)
+            ctx.aggregate_sample(samples.x_of(i), y, costs_.get() + row(i, cost_stride_), wk.scratch);
+    });
   }
-  rows_.reset(0, samples.height, 4);
-  pool.run([&](int w) {
-    Worker& wk = workers_[static_cast<std::size_t>(w)];
-    int y0 = 0, y1 = 0;
-    while (rows_.next(&y0, &y1))
-      for (int y = y0; y < y1; ++y)
-        for (int i = samples.row_begin(y); i < samples.row_end(y); ++i)
-          ctx.aggregate_sample(samples.x_of(i), y, costs_.get() + row(i, cost_stride_), wk.scratch);
-  });
+  if (!samples.dense()) {
+    check_reach(reach);
+    preds_for_ = samples.mesh;
+  }
 }
 
 // The census cost's box mean by rows: each image row's per-pixel Hamming costs
@@ -215,7 +234,7 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
 // smaller vertex id. Candidates come from the triangles' edges, so a vertex's
 // neighbours are exactly its mesh neighbours (an interior edge is offered
 // twice, which changes nothing).
-void PathMatcher::find_predecessors(const SampleLayout& samples) {
+int PathMatcher::find_predecessors(const SampleLayout& samples) {
   const int n = samples.count();
   const auto per = static_cast<std::size_t>(directions_ - 2);
   std::int32_t* preds = preds_.get();
@@ -258,8 +277,12 @@ void PathMatcher::find_predecessors(const SampleLayout& samples) {
       offer(b, a, 2);  // forward directions (2, 4, 6): from above
       offer(a, b, 3);  // backward directions (3, 5, 7): from below
     }
-  // The rings of run_pass hold ring_samples_ samples: enough for every tritree
-  // mesh. Another mesh whose edges reach further is refused before any pass.
+  return reach;
+}
+
+// The rings of run_pass hold ring_samples_ samples: enough for every tritree
+// mesh. Another mesh whose edges reach further is refused before any pass.
+void PathMatcher::check_reach(int reach) const {
   if (reach >= ring_samples_)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: a mesh edge spans " + std::to_string(reach) +
                                                  " samples, the path rings hold " + std::to_string(ring_samples_) +
@@ -372,7 +395,8 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
 
 void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                             ThreadPool& pool) {
-  if (!samples.dense()) find_predecessors(samples);
+  if (!samples.dense() && preds_for_ != samples.mesh) check_reach(find_predecessors(samples));
+  preds_for_ = nullptr;  // the next frame finds its own
   for (Worker& w : workers_) w.has_sum = false;
   dirs_.reset(0, 2, 1);
   pool.run([&](int w) {

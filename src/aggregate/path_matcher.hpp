@@ -17,6 +17,7 @@
 // only pays for the pages its samples use. No heap allocation per frame.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -27,6 +28,7 @@
 #include "platform/work_chunks.hpp"
 #include "src/aggregate/samples.hpp"
 #include "src/cost/match_context.hpp"
+#include "platform/function_ref.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "tristereo/params.hpp"
 
@@ -40,7 +42,13 @@ class PathMatcher {
                  const KernelSet& kernels, int workers);
 
   // C(i, k) = ctx.aggregate_sample at sample i (ctx prepared for the frame).
-  void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool);
+  // Sparse mode: the mesh predecessors too, on one worker while the others
+  // start on the rows, and `beside` (if given: work of the caller's that only
+  // needs the mesh) on another: both are serial work that would otherwise
+  // leave workers idle. Throws Error (after every worker is done) for a mesh
+  // whose edges reach beyond the path rings.
+  void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool,
+                     const FunctionRef<void()>* beside = nullptr);
   // Predecessors along each direction, then the path costs and their sums.
   // left_gray: the frame's reference image (for the intensity-adaptive P2).
   void aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
@@ -92,7 +100,9 @@ class PathMatcher {
     bool lr_;
     int v0_ = 0, v1_ = 0;
   };
-  void find_predecessors(const SampleLayout& samples);
+  // Returns the largest id distance of a mesh edge between two rows.
+  int find_predecessors(const SampleLayout& samples);
+  void check_reach(int reach) const;
   void run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, bool forward,
                 int worker, bool accumulate);
 
@@ -125,6 +135,8 @@ class PathMatcher {
   // rings of ring_samples_ samples: sample i is slot i mod ring_samples_.
   std::vector<LargeArray<std::uint16_t>> pass_paths_[2], pass_mins_[2];
   int ring_samples_ = 0;
+  const Mesh* preds_for_ = nullptr;  // the mesh whose predecessors preds_ holds (this frame)
+  std::atomic<int> side_next_{0};
   struct Worker {
     // L_r of the horizontal direction: the previous sample's and this one's.
     std::unique_ptr<std::uint16_t[]> row_path;

@@ -43,13 +43,22 @@ void SampleFill::build_adjacency(const SampleLayout& samples) {
     }
 }
 
+void SampleFill::prepare(const SampleLayout& samples) {
+  prepared_for_ = nullptr;
+  if (samples.dense()) return;
+  build_adjacency(samples);
+  prepared_for_ = samples.mesh;
+}
+
 int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4) {
+  const bool prepared = !samples.dense() && prepared_for_ == samples.mesh;
+  prepared_for_ = nullptr;  // one frame's
   const int n = samples.count();
   int pending = 0;
   for (int i = 0; i < n; ++i)
     if (disp_q4[i] == kInvalidDispQ4) pending_[static_cast<std::size_t>(pending++)] = i;
   if (pending == 0) return 0;
-  if (!samples.dense()) build_adjacency(samples);
+  if (!samples.dense() && !prepared) build_adjacency(samples);
   std::int32_t* cand = candidate_.get();
   const int w = samples.width, h = samples.height;
   int filled = 0;

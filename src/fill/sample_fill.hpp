@@ -22,6 +22,10 @@ class SampleFill {
  public:
   // Buffers for up to max_samples samples and max_triangles mesh triangles.
   void configure(int max_samples, int max_triangles);
+  // Builds the mesh adjacency ahead of fill() (sparse mode; it only needs the
+  // mesh, so it can run beside the matching). The next fill() of the same mesh
+  // uses it; any other fill() builds its own.
+  void prepare(const SampleLayout& samples);
   // Fills disp_q4[0 .. samples.count()) in place (kInvalidDispQ4 = invalid).
   // Returns the number of samples filled.
   int fill(const SampleLayout& samples, std::int16_t* disp_q4);
@@ -35,6 +39,7 @@ class SampleFill {
   void build_adjacency(const SampleLayout& samples);
   int max_samples_ = 0;
   int max_triangles_ = 0;
+  const Mesh* prepared_for_ = nullptr;  // prepare()'s mesh, until the next fill()
   LargeArray<std::int32_t> offsets_;    // CSR over samples (sparse)
   LargeArray<std::int32_t> neighbours_;
   LargeArray<std::int32_t> pending_;    // invalid samples still to fill
