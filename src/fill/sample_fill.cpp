@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <climits>
 
+#include "platform/thread_pool.hpp"
 #include "tristereo/fixed_point.hpp"
 
 namespace tristereo {
 
 namespace {
+// Pending samples per chunk of a round: a chunk costs microseconds.
+constexpr int kPendingPerChunk = 2048;
+
 template <class T>
 LargeArray<T> untouched(std::size_t n) {
   return large_array<T>(n);
@@ -50,7 +54,7 @@ void SampleFill::prepare(const SampleLayout& samples) {
   prepared_for_ = samples.mesh;
 }
 
-int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4) {
+int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool) {
   const bool prepared = !samples.dense() && prepared_for_ == samples.mesh;
   prepared_for_ = nullptr;  // one frame's
   const int n = samples.count();
@@ -61,10 +65,9 @@ int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4) {
   if (!samples.dense() && !prepared) build_adjacency(samples);
   std::int32_t* cand = candidate_.get();
   const int w = samples.width, h = samples.height;
-  int filled = 0;
-  for (;;) {
-    // Candidates from neighbours valid at the start of the round.
-    for (int j = 0; j < pending; ++j) {
+  // Candidates from neighbours valid at the start of the round, for pending[j0, j1).
+  const auto candidates = [&](int j0, int j1) {
+    for (int j = j0; j < j1; ++j) {
       const int i = pending_[static_cast<std::size_t>(j)];
       int best = INT_MAX;
       auto offer = [&](int q) {
@@ -83,6 +86,18 @@ int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4) {
           offer(neighbours_[static_cast<std::size_t>(e)]);
       }
       cand[j] = best;
+    }
+  };
+  int filled = 0;
+  for (;;) {
+    if (pool != nullptr && pool->size() > 1 && pending >= 2 * kPendingPerChunk) {
+      chunks_.reset(0, pending, kPendingPerChunk);
+      pool->run([&](int) {
+        int j0 = 0, j1 = 0;
+        while (chunks_.next(&j0, &j1)) candidates(j0, j1);
+      });
+    } else {
+      candidates(0, pending);
     }
     // Write after the whole scan, so a round only sees the previous round's
     // values; then keep the samples still unfilled.

@@ -15,8 +15,11 @@
 
 #include "src/aggregate/samples.hpp"
 #include "src/memory/large_array.hpp"
+#include "platform/work_chunks.hpp"
 
 namespace tristereo {
+
+class ThreadPool;
 
 class SampleFill {
  public:
@@ -27,8 +30,10 @@ class SampleFill {
   // uses it; any other fill() builds its own.
   void prepare(const SampleLayout& samples);
   // Fills disp_q4[0 .. samples.count()) in place (kInvalidDispQ4 = invalid).
-  // Returns the number of samples filled.
-  int fill(const SampleLayout& samples, std::int16_t* disp_q4);
+  // Returns the number of samples filled. With a pool (called from its owner
+  // thread), each round's candidates are found by its workers in chunks; the
+  // result is the same for any pool.
+  int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr);
   // Heap bytes the configured fill holds.
   std::size_t working_memory_bytes() const {
     return (3 * static_cast<std::size_t>(max_samples_) + 1 + 6 * static_cast<std::size_t>(max_triangles_)) *
@@ -40,6 +45,7 @@ class SampleFill {
   int max_samples_ = 0;
   int max_triangles_ = 0;
   const Mesh* prepared_for_ = nullptr;  // prepare()'s mesh, until the next fill()
+  WorkChunks chunks_;                   // a round's pending samples, handed out on demand
   LargeArray<std::int32_t> offsets_;    // CSR over samples (sparse)
   LargeArray<std::int32_t> neighbours_;
   LargeArray<std::int32_t> pending_;    // invalid samples still to fill

@@ -373,12 +373,12 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     const SampleLayout rs{params.dense ? nullptr : &m.right_mesh, width, height};
     std::int64_t unused_cost = 0, unused_dp = 0;
     m.match_view(ml, mr, rs, right_samples, &unused_cost, &unused_dp);
-    if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples);
+    if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples, &m.pool);
     if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, rd.view());
     validity.lr_rejected = lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp);
   }
   const std::int64_t t_right = monotonic_ns();
-  if (params.validity.fill != FillMode::kNone) validity.filled = m.fill.fill(samples, sample_disp);
+  if (params.validity.fill != FillMode::kNone) validity.filled = m.fill.fill(samples, sample_disp, &m.pool);
   const std::int64_t t_filled = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, true);
 
