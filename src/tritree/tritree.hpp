@@ -116,16 +116,24 @@ class Tritree {
   void tile_plain(int tx0, int ty0, const TileScratch& sc);
   void carry_across_tile_borders();
   void carry_up(int x, int y);
-  void emit_tile(int tx0, int ty0, bool plain);
+  // Pass 3 writes each row of tiles' leaves into its own region (so rows of
+  // tiles can run on different workers), with its own split counts.
+  struct Band {
+    Triangle* leaves = nullptr;
+    std::size_t count = 0;
+    std::int64_t criterion = 0, forced = 0;
+  };
+  void emit_tile(Band& b, int tx0, int ty0, bool plain);
   template <bool kPlain>
-  void emit(int ax, int ay, int bx, int by, int cx, int cy);
+  void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   template <bool kPlain>
-  void emit_leaf(int ax, int ay, int bx, int by, int cx, int cy);
+  void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   template <int kLen2>
-  void emit_plain(int ax, int ay, int bx, int by, int cx, int cy);
-  void emit_plain_tile(int ax, int ay, int bx, int by, int cx, int cy);
+  void emit_plain(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
+  void emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;
-  void finish(Mesh& mesh);
+  void finish(Mesh& mesh, ThreadPool* pool);
+  void sort_band(int band, Triangle* out, const Mesh& mesh);
   void number_vertices(Mesh& mesh);
 
   // Geometry of the hierarchy (virtual coordinates).
@@ -167,11 +175,11 @@ class Tritree {
   // (one per pass-1 worker, at most kMaxTileWorkers).
   std::array<TileScratch, kMaxTileWorkers> scratch_{};
   // Pass 3: vertex ids, the leaves as rotated triangles, the sort by first id.
-  std::size_t leaf_count_ = 0;
   std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices
-  std::size_t* band_start_ = nullptr;     // first leaf of each row of tiles
+  Band* bands_ = nullptr;                 // one per row of tiles
+  std::size_t* band_start_ = nullptr;     // where each row of tiles' leaves go in the mesh
   std::int32_t* bucket_ = nullptr;        // counting sort by first id
-  Triangle* tri_scratch_ = nullptr;       // leaves in emission order
+  Triangle* tri_scratch_ = nullptr;       // leaves in emission order, S^2 x tiles_x per row of tiles
   Triangle* stretched_ = nullptr;         // stretched leaves (TritreeGrid::stretched)
   std::size_t stretched_count_ = 0;
 };

@@ -484,15 +484,15 @@ void Tritree::carry_up(int x, int y) {
 // crossing, or when it can (virtual area2 >= 4) and need(midpoint); the
 // children are (c, a, m) and (b, c, m). kPlain: a plain tile (all inside).
 template <bool kPlain>
-void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
+void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   if (!kPlain) {
     const int xs[3] = {ax, bx, cx}, ys[3] = {ay, by, cy};
     const Where w = where(xs, ys);
     if (w == Where::kOutside) return;
     if (w == Where::kCrossing) {
       const int mx = (ax + bx) / 2, my = (ay + by) / 2;
-      emit<false>(cx, cy, ax, ay, mx, my);
-      emit<false>(bx, by, cx, cy, mx, my);
+      emit<false>(b, cx, cy, ax, ay, mx, my);
+      emit<false>(b, bx, by, cx, cy, mx, my);
       return;
     }
   }
@@ -502,51 +502,51 @@ void Tritree::emit(int ax, int ay, int bx, int by, int cx, int cy) {
     const std::uint8_t c = cell(mx, my);
     if (c & kNeed) {
       const bool apex_after = cy > my || (cy == my && cx > mx);
-      (c & (apex_after ? 2 : 4) ? criterion_splits_ : forced_splits_) += 1;
+      (c & (apex_after ? 2 : 4) ? b.criterion : b.forced) += 1;
       if (kPlain && dx * dx + dy * dy == 8) {  // children of area 1: leaves
-        emit_leaf<true>(cx, cy, ax, ay, mx, my);
-        emit_leaf<true>(bx, by, cx, cy, mx, my);
+        emit_leaf<true>(b, cx, cy, ax, ay, mx, my);
+        emit_leaf<true>(b, bx, by, cx, cy, mx, my);
         return;
       }
       // Once a tile is known plain, so are its parts; a general tile's parts may be.
-      emit<kPlain>(cx, cy, ax, ay, mx, my);
-      emit<kPlain>(bx, by, cx, cy, mx, my);
+      emit<kPlain>(b, cx, cy, ax, ay, mx, my);
+      emit<kPlain>(b, bx, by, cx, cy, mx, my);
       return;
     }
   }
-  emit_leaf<kPlain>(ax, ay, bx, by, cx, cy);
+  emit_leaf<kPlain>(b, ax, ay, bx, by, cx, cy);
 }
 
 // emit<true> with the hypotenuse's squared length kLen2 known at compile time
 // (it halves at every level): a plain tile's whole descent inlines into a few
 // functions, with no length test per triangle.
 template <int kLen2>
-void Tritree::emit_plain(int ax, int ay, int bx, int by, int cx, int cy) {
+void Tritree::emit_plain(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   if constexpr (kLen2 >= 8) {
     const int mx = (ax + bx) >> 1, my = (ay + by) >> 1;
     const std::uint8_t c = need_[static_cast<std::size_t>(my) * (layout_.vw + 1) + mx];
     if (c & kNeed) {
       const bool apex_after = cy > my || (cy == my && cx > mx);
-      (c & (apex_after ? 2 : 4) ? criterion_splits_ : forced_splits_) += 1;
-      emit_plain<kLen2 / 2>(cx, cy, ax, ay, mx, my);
-      emit_plain<kLen2 / 2>(bx, by, cx, cy, mx, my);
+      (c & (apex_after ? 2 : 4) ? b.criterion : b.forced) += 1;
+      emit_plain<kLen2 / 2>(b, cx, cy, ax, ay, mx, my);
+      emit_plain<kLen2 / 2>(b, bx, by, cx, cy, mx, my);
       return;
     }
   }
-  emit_leaf<true>(ax, ay, bx, by, cx, cy);
+  emit_leaf<true>(b, ax, ay, bx, by, cx, cy);
 }
 
 // A leaf: its corners' vertex ids (numbered before this pass), rotated to
 // start at the smallest (orientation kept).
 template <bool kPlain>
-void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
+void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   const int w = gray_.width;
   const auto id = [&](int x, int y) {
     return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
                   : vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
   };
   const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
-  Triangle& t = tri_scratch_[leaf_count_++];
+  Triangle& t = b.leaves[b.count++];
   if (ia < ib && ia < ic) {
     t = Triangle{ia, ib, ic};
   } else if (ib < ic) {
@@ -558,36 +558,36 @@ void Tritree::emit_leaf(int ax, int ay, int bx, int by, int cx, int cy) {
 }
 
 // A plain tile's half: the descent for its tile side.
-void Tritree::emit_plain_tile(int ax, int ay, int bx, int by, int cx, int cy) {
+void Tritree::emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   switch (tile_) {
-    case 2: emit_plain<2 * 2 * 2>(ax, ay, bx, by, cx, cy); break;
-    case 4: emit_plain<2 * 4 * 4>(ax, ay, bx, by, cx, cy); break;
-    case 8: emit_plain<2 * 8 * 8>(ax, ay, bx, by, cx, cy); break;
-    case 16: emit_plain<2 * 16 * 16>(ax, ay, bx, by, cx, cy); break;
-    case 32: emit_plain<2 * 32 * 32>(ax, ay, bx, by, cx, cy); break;
-    default: emit_plain<2 * 64 * 64>(ax, ay, bx, by, cx, cy); break;  // A_max <= 1024: S <= 64
+    case 2: emit_plain<2 * 2 * 2>(b, ax, ay, bx, by, cx, cy); break;
+    case 4: emit_plain<2 * 4 * 4>(b, ax, ay, bx, by, cx, cy); break;
+    case 8: emit_plain<2 * 8 * 8>(b, ax, ay, bx, by, cx, cy); break;
+    case 16: emit_plain<2 * 16 * 16>(b, ax, ay, bx, by, cx, cy); break;
+    case 32: emit_plain<2 * 32 * 32>(b, ax, ay, bx, by, cx, cy); break;
+    default: emit_plain<2 * 64 * 64>(b, ax, ay, bx, by, cx, cy); break;  // A_max <= 1024: S <= 64
   }
 }
 
-void Tritree::emit_tile(int tx0, int ty0, bool plain) {
+void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
   const int S = tile_;
   const int x1 = tx0 + S, y1 = ty0 + S;
   // Hypotenuse first; (a, b, c) keeps the positive orientation of the halves.
   if (RtinLayout::backslash(tx0, ty0, S)) {
     if (plain) {
-      emit_plain_tile(x1, y1, tx0, ty0, x1, ty0);   // upper right
-      emit_plain_tile(tx0, ty0, x1, y1, tx0, y1);   // lower left
+      emit_plain_tile(b, x1, y1, tx0, ty0, x1, ty0);   // upper right
+      emit_plain_tile(b, tx0, ty0, x1, y1, tx0, y1);   // lower left
     } else {
-      emit<false>(x1, y1, tx0, ty0, x1, ty0);
-      emit<false>(tx0, ty0, x1, y1, tx0, y1);
+      emit<false>(b, x1, y1, tx0, ty0, x1, ty0);
+      emit<false>(b, tx0, ty0, x1, y1, tx0, y1);
     }
   } else {
     if (plain) {
-      emit_plain_tile(x1, ty0, tx0, y1, tx0, ty0);  // upper left
-      emit_plain_tile(tx0, y1, x1, ty0, x1, y1);    // lower right
+      emit_plain_tile(b, x1, ty0, tx0, y1, tx0, ty0);  // upper left
+      emit_plain_tile(b, tx0, y1, x1, ty0, x1, y1);    // lower right
     } else {
-      emit<false>(x1, ty0, tx0, y1, tx0, ty0);
-      emit<false>(tx0, y1, x1, ty0, x1, y1);
+      emit<false>(b, x1, ty0, tx0, y1, tx0, ty0);
+      emit<false>(b, tx0, y1, x1, ty0, x1, y1);
     }
   }
 }
@@ -610,7 +610,6 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
   gray_ = gray;
   layout_ = RtinLayout(gray.width, gray.height, params_.max_area_px2);
   criterion_splits_ = forced_splits_ = 0;
-  leaf_count_ = 0;
   stretched_count_ = 0;
 
   if (layout_.strip()) {
@@ -646,16 +645,32 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
     number_vertices(mesh);
-    for (int ty = 0; ty < layout_.tiles_y; ++ty) {
-      band_start_[static_cast<std::size_t>(ty)] = leaf_count_;
+    // The plain tiles of each row of tiles into the row's own region, rows
+    // of tiles spread over the workers; then the few general tiles (last
+    // column and row), which also record the stretched leaves, in order.
+    const std::size_t band_capacity = static_cast<std::size_t>(S) * S * static_cast<std::size_t>(layout_.tiles_x);
+    for (int ty = 0; ty < layout_.tiles_y; ++ty)
+      bands_[ty] = Band{tri_scratch_ + static_cast<std::size_t>(ty) * band_capacity, 0, 0, 0};
+    const auto plain_tiles = [&](int ty) {
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
-        emit_tile(x0, y0, x0 + S < layout_.vw && y0 + S < layout_.vh);
+        if (x0 + S < layout_.vw && y0 + S < layout_.vh) emit_tile(bands_[ty], x0, y0, true);
       }
+    };
+    if (workers > 1) {
+      pool->run([&](int w) {
+        for (int ty = w; ty < layout_.tiles_y; ty += pool->size()) plain_tiles(ty);
+      });
+    } else {
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) plain_tiles(ty);
     }
-    band_start_[static_cast<std::size_t>(layout_.tiles_y)] = leaf_count_;
+    for (int ty = 0; ty < layout_.tiles_y; ++ty)
+      for (int tx = 0; tx < layout_.tiles_x; ++tx) {
+        const int x0 = tx * S, y0 = ty * S;
+        if (!(x0 + S < layout_.vw && y0 + S < layout_.vh)) emit_tile(bands_[ty], x0, y0, false);
+      }
   }
-  finish(mesh);
+  finish(mesh, layout_.strip() ? nullptr : pool);
   times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
 }
 

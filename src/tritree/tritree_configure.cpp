@@ -67,7 +67,6 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   check_range("max_area_px2", params.max_area_px2, 1, kMaxAreaLimitPx2);
   check_range("psnr_deci_db", params.psnr_deci_db, kMinPsnrDeciDb, kMaxPsnrDeciDb);
 
-  const std::size_t leaves = max_leaves(max_width, max_height);
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
   tile_ = tile_side_for(params.max_area_px2);
   // One block, carved in order of alignment: the moments of one tile per
@@ -79,11 +78,17 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // The plain tiles' intensity moments, in the same layout (16 bytes each).
   const std::size_t intensity_moments = moments;
   const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
+  // Pass 3's leaves: each row of tiles has a region of S^2 per tile (every
+  // leaf has a virtual area of at least 1 px^2); a smaller frame has no more
+  // tiles per row nor rows of tiles.
+  const RtinLayout largest(max_width, max_height, params.max_area_px2);
+  const std::size_t band_leaves = static_cast<std::size_t>(tile_) * tile_ *
+                                  static_cast<std::size_t>(largest.tiles_x) * static_cast<std::size_t>(largest.tiles_y);
   const std::size_t stretched = max_stretched_leaves(max_width, max_height);
   const std::size_t bytes = kMaxTileWorkers * (moments * sizeof(PixelMoments) +
                                                  intensity_moments * sizeof(IntensityMoments)) +
-                            (leaves + stretched) * sizeof(Triangle) +
-                            bands * sizeof(std::size_t) + (2 * pixels + 1) * sizeof(std::int32_t) + pixels;
+                            (band_leaves + stretched) * sizeof(Triangle) + bands * sizeof(Band) +
+                            bands * sizeof(std::size_t) + (2 * pixels + bands + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
   arena_bytes_ = (bytes + 7) / 8 * 8;
   char* next = reinterpret_cast<char*>(arena_.get());
@@ -126,10 +131,11 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // The 8-byte row-of-tiles starts before the 12-byte triangles: after an odd
   // number of triangles they were misaligned (UBSan, found by fuzz_pipeline).
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
-  tri_scratch_ = reinterpret_cast<Triangle*>(take(leaves * sizeof(Triangle)));
+  bands_ = reinterpret_cast<Band*>(take(bands * sizeof(Band)));
+  tri_scratch_ = reinterpret_cast<Triangle*>(take(band_leaves * sizeof(Triangle)));
   stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
-  bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + 1) * sizeof(std::int32_t)));
+  bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + bands + 1) * sizeof(std::int32_t)));
   need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
 
   params_ = params;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "platform/thread_pool.hpp"
 #include "src/tritree/tritree.hpp"
 
 namespace tristereo {
@@ -78,10 +79,8 @@ void Tritree::begin_mesh(Mesh& mesh) const {
   mesh.row_start.resize(static_cast<std::size_t>(gray_.height) + 1);  // within capacity
 }
 
-void Tritree::finish(Mesh& mesh) {
+void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   const int w = gray_.width, h = gray_.height;
-  mesh.criterion_splits = criterion_splits_;
-  mesh.forced_splits = forced_splits_;
   if (layout_.strip()) {
     // The two triangles of the diagonal: corners (0,0), (W-1,0), (0,H-1), (W-1,H-1).
     begin_mesh(mesh);
@@ -93,34 +92,55 @@ void Tritree::finish(Mesh& mesh) {
     mesh.triangles.resize(2);  // within capacity
     mesh.triangles[0] = Triangle{0, 1, 3};
     mesh.triangles[1] = Triangle{0, 3, 2};
+    mesh.criterion_splits = mesh.forced_splits = 0;
     return;
   }
-  // Canonical order. A triangle's first (smallest) id is its topmost vertex,
-  // which lies in its own row of tiles: each row of tiles is counting-sorted
-  // by first id on its own, straight into the output.
-  const std::size_t n = leaf_count_;
-  mesh.triangles.resize(n);  // within capacity
-  const Triangle* rotated = tri_scratch_;
-  Triangle* out = mesh.triangles.data();
-  const int S = tile_;
+  // Where each row of tiles' leaves go, and the split counts.
+  std::size_t n = 0;
+  std::int64_t criterion = 0, forced = 0;
   for (int band = 0; band < layout_.tiles_y; ++band) {
-    const std::size_t l0 = band_start_[static_cast<std::size_t>(band)];
-    const std::size_t l1 = band_start_[static_cast<std::size_t>(band) + 1];
-    const int y_lo = band * S, y_hi = std::min(h, (band + 1) * S);
-    const std::int32_t id_lo = mesh.row_start[static_cast<std::size_t>(y_lo)];
-    const std::int32_t ids = mesh.row_start[static_cast<std::size_t>(y_hi)] - id_lo;
-    std::int32_t* count = bucket_;
-    std::fill(count, count + ids + 1, 0);
-    for (std::size_t i = l0; i < l1; ++i) ++count[rotated[i][0] - id_lo + 1];
-    count[0] = static_cast<std::int32_t>(l0);
-    for (std::int32_t v = 0; v < ids; ++v) count[v + 1] += count[v];
-    for (std::size_t i = l0; i < l1; ++i) out[count[rotated[i][0] - id_lo]++] = rotated[i];
-    // count[v] is now the end of fan v.
-    std::int32_t begin = static_cast<std::int32_t>(l0);
-    for (std::int32_t v = 0; v < ids; ++v) {
-      if (count[v] - begin > 1) sort_fan(out + begin, out + count[v]);
-      begin = count[v];
-    }
+    band_start_[static_cast<std::size_t>(band)] = n;
+    n += bands_[band].count;
+    criterion += bands_[band].criterion;
+    forced += bands_[band].forced;
+  }
+  mesh.criterion_splits = criterion;
+  mesh.forced_splits = forced;
+  mesh.triangles.resize(n);  // within capacity
+  Triangle* out = mesh.triangles.data();
+  if (pool != nullptr && pool->size() > 1) {
+    pool->run([&](int worker) {
+      for (int band = worker; band < layout_.tiles_y; band += pool->size()) sort_band(band, out, mesh);
+    });
+  } else {
+    for (int band = 0; band < layout_.tiles_y; ++band) sort_band(band, out, mesh);
+  }
+}
+
+// Canonical order. A triangle's first (smallest) id is its topmost vertex,
+// which lies in its own row of tiles: each row of tiles is counting-sorted by
+// first id on its own, straight into its part of the output, with its own
+// part of the buckets (its ids, plus one).
+void Tritree::sort_band(int band, Triangle* out, const Mesh& mesh) {
+  const int h = gray_.height, S = tile_;
+  const Band& b = bands_[band];
+  const Triangle* rotated = b.leaves;
+  const std::size_t count = b.count;
+  const std::size_t base = band_start_[static_cast<std::size_t>(band)];
+  const int y_lo = band * S, y_hi = std::min(h, (band + 1) * S);
+  const std::int32_t id_lo = mesh.row_start[static_cast<std::size_t>(y_lo)];
+  const std::int32_t ids = mesh.row_start[static_cast<std::size_t>(y_hi)] - id_lo;
+  std::int32_t* bucket = bucket_ + id_lo + band;
+  std::fill(bucket, bucket + ids + 1, 0);
+  for (std::size_t i = 0; i < count; ++i) ++bucket[rotated[i][0] - id_lo + 1];
+  bucket[0] = static_cast<std::int32_t>(base);
+  for (std::int32_t v = 0; v < ids; ++v) bucket[v + 1] += bucket[v];
+  for (std::size_t i = 0; i < count; ++i) out[bucket[rotated[i][0] - id_lo]++] = rotated[i];
+  // bucket[v] is now the end of fan v.
+  std::int32_t begin = static_cast<std::int32_t>(base);
+  for (std::int32_t v = 0; v < ids; ++v) {
+    if (bucket[v] - begin > 1) sort_fan(out + begin, out + bucket[v]);
+    begin = bucket[v];
   }
 }
 
