@@ -88,12 +88,8 @@ TEST(InterpolateMidpoints, MiddleburyMeshes) {
     const test::MiddleburyPair p = test::load_middlebury(scene);
     const ImageU8 gray = to_gray(p.left);
     for (int area : {16, 100, 1024}) {
-      TritreeParams tp;
-      tp.max_area_px2 = area;
       Tritree tree;
-      tree.configure(gray.width, gray.height, tp);
-      Mesh m;
-      tree.build(gray.view(), m);
+      const Mesh m = test::tritree_mesh(tree, gray, area);
       for (int invalid : {0, 20}) {
         const std::vector<std::int16_t> vd = random_disparities(rng, m.vertices.size(), invalid);
         expect_same_as_reference(tree, m, vd, tree.grid().layout.tiles_y / 2,

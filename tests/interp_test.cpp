@@ -16,6 +16,7 @@
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
 #include "support/data.hpp"
+#include "support/scenes.hpp"
 
 namespace tristereo {
 namespace {
@@ -198,12 +199,8 @@ TEST(Interpolate, EqualsReferenceOnTritreeMeshesOfMiddlebury) {
   for (const char* scene : {"tsukuba", "cones"}) {
     const ImageU8 gray = to_gray(read_image_u8(test::data_set_dir("middlebury") + "/" + scene + "/left.png"));
     for (int area : {16, 100, 1024}) {
-      TritreeParams tp;
-      tp.max_area_px2 = area;
       Tritree tree;
-      tree.configure(gray.width, gray.height, tp);
-      Mesh m;
-      tree.build(gray.view(), m);
+      const Mesh m = test::tritree_mesh(tree, gray, area);
       ASSERT_GT(m.triangles.size(), 2u);
       std::vector<std::int16_t> vd;
       std::uniform_int_distribution<int> dv(-1000, 1000);

@@ -56,6 +56,15 @@ ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise) {
   return r;
 }
 
+Mesh tritree_mesh(Tritree& tree, const ImageU8& gray, int max_area_px2) {
+  TritreeParams tp;
+  tp.max_area_px2 = max_area_px2;
+  tree.configure(gray.width, gray.height, tp);
+  Mesh m;
+  tree.build(gray.view(), m);
+  return m;
+}
+
 StereoParams random_params(Rng& rng, int max_ndisp) {
   StereoParams p;
   p.num_disp = rng.uniform(1, max_ndisp);

@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "src/tritree/tritree.hpp"
 #include "tristereo/image.hpp"
+#include "tristereo/mesh.hpp"
 #include "tristereo/params.hpp"
 #include "support/data.hpp"
 
@@ -49,6 +51,9 @@ class Rng {
 // both splits and stops), and its right view shifted by `shift` with noise.
 ImageU8 random_image(Rng& rng, int w, int h);
 ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise);
+// The mesh of `gray` with A_max = max_area_px2 (default threshold), from
+// `tree`, which is configured for the image and keeps the build's grid.
+Mesh tritree_mesh(Tritree& tree, const ImageU8& gray, int max_area_px2);
 // Random valid parameters (every field inside validate_params' ranges).
 StereoParams random_params(Rng& rng, int max_ndisp);
 
