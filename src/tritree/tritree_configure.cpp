@@ -130,8 +130,12 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   }
   // The 8-byte row-of-tiles starts before the 12-byte triangles: after an odd
   // number of triangles they were misaligned (UBSan, found by fuzz_pipeline).
-  band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
+  // The rows of tiles' pass-3 state (int64 counts) right after the moments,
+  // while the carving is 8-byte aligned; the size_t starts are 4 bytes each on
+  // 32-bit targets.
+  static_assert(sizeof(Band) % 8 == 0 && alignof(Band) <= 8, "Band keeps the carving 8-byte aligned");
   bands_ = reinterpret_cast<Band*>(take(bands * sizeof(Band)));
+  band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
   tri_scratch_ = reinterpret_cast<Triangle*>(take(band_leaves * sizeof(Triangle)));
   stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
