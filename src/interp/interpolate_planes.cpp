@@ -87,39 +87,13 @@ const SmallTriangleMasks& small_triangle_masks() {
 
 }  // namespace
 
-void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
-                           int tri_begin, int tri_end, ImageView<std::int16_t> disp_q4) {
-  const int w = mesh.width, h = mesh.height;
-  if (disp_q4.data == nullptr || vertex_disp_q4 == nullptr)
-    throw Error(ErrorCode::kInvalidArgument, "interpolate_triangles: null buffer");
-  if (disp_q4.width != w || disp_q4.height != h || disp_q4.channels != 1)
-    throw Error(ErrorCode::kSizeMismatch,
-                "disparity map is " + std::to_string(disp_q4.width) + "x" +
-                    std::to_string(disp_q4.height) + "x" + std::to_string(disp_q4.channels) +
-                    ", the mesh is " + std::to_string(w) + "x" + std::to_string(h) + "x1");
-  if (disp_q4.stride_bytes < static_cast<std::ptrdiff_t>(sizeof(std::int16_t)) * w)
-    throw Error(ErrorCode::kInvalidArgument,
-                "disparity map stride " + std::to_string(disp_q4.stride_bytes) +
-                    " bytes is below width * 2 = " + std::to_string(2 * w));
-  const int n_tri = static_cast<int>(mesh.triangles.size());
-  if (tri_begin < 0 || tri_end > n_tri || tri_begin > tri_end)
-    throw Error(ErrorCode::kInvalidArgument,
-                "triangle range [" + std::to_string(tri_begin) + ", " + std::to_string(tri_end) +
-                    ") is not inside [0, " + std::to_string(n_tri) + "]");
+namespace {
 
-  for (int t = tri_begin; t < tri_end; ++t) {
-    const Triangle& tri = mesh.triangles[static_cast<std::size_t>(t)];
-    interpolate_triangle(mesh.vertices[static_cast<std::size_t>(tri[0])],
-                         mesh.vertices[static_cast<std::size_t>(tri[1])],
-                         mesh.vertices[static_cast<std::size_t>(tri[2])], vertex_disp_q4[tri[0]],
-                         vertex_disp_q4[tri[1]], vertex_disp_q4[tri[2]], disp_q4);
-  }
-}
-
-void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::int16_t disp_a,
-                          std::int16_t disp_b, std::int16_t disp_c, ImageView<std::int16_t> disp_q4) {
+// One triangle; inlined into interpolate_triangles' loop.
+inline void plane_of_triangle(const SmallTriangleMasks& masks, const Vertex& a, const Vertex& b, const Vertex& c,
+                              std::int16_t disp_a, std::int16_t disp_b, std::int16_t disp_c,
+                              ImageView<std::int16_t> disp_q4) {
   const int w = disp_q4.width, h = disp_q4.height;
-  const SmallTriangleMasks& masks = small_triangle_masks();
   const std::int64_t da = disp_a, db = disp_b, dc = disp_c;
   const std::int64_t ux = b.x - a.x, uy = b.y - a.y, ud = db - da;
   const std::int64_t vx = c.x - a.x, vy = c.y - a.y, vd = dc - da;
@@ -170,6 +144,43 @@ void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std
     const std::int64_t n0 = area2 * da - nx * (x0 - a.x) - ny * (y - a.y);
     fill_span(disp_q4.row(y), x0, x1, 2 * n0 + area2, -2 * nx, den);
   });
+}
+
+}  // namespace
+
+void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::int16_t disp_a,
+                          std::int16_t disp_b, std::int16_t disp_c, ImageView<std::int16_t> disp_q4) {
+  plane_of_triangle(small_triangle_masks(), a, b, c, disp_a, disp_b, disp_c, disp_q4);
+}
+
+void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+                           int tri_begin, int tri_end, ImageView<std::int16_t> disp_q4) {
+  const int w = mesh.width, h = mesh.height;
+  if (disp_q4.data == nullptr || vertex_disp_q4 == nullptr)
+    throw Error(ErrorCode::kInvalidArgument, "interpolate_triangles: null buffer");
+  if (disp_q4.width != w || disp_q4.height != h || disp_q4.channels != 1)
+    throw Error(ErrorCode::kSizeMismatch,
+                "disparity map is " + std::to_string(disp_q4.width) + "x" +
+                    std::to_string(disp_q4.height) + "x" + std::to_string(disp_q4.channels) +
+                    ", the mesh is " + std::to_string(w) + "x" + std::to_string(h) + "x1");
+  if (disp_q4.stride_bytes < static_cast<std::ptrdiff_t>(sizeof(std::int16_t)) * w)
+    throw Error(ErrorCode::kInvalidArgument,
+                "disparity map stride " + std::to_string(disp_q4.stride_bytes) +
+                    " bytes is below width * 2 = " + std::to_string(2 * w));
+  const int n_tri = static_cast<int>(mesh.triangles.size());
+  if (tri_begin < 0 || tri_end > n_tri || tri_begin > tri_end)
+    throw Error(ErrorCode::kInvalidArgument,
+                "triangle range [" + std::to_string(tri_begin) + ", " + std::to_string(tri_end) +
+                    ") is not inside [0, " + std::to_string(n_tri) + "]");
+
+  const SmallTriangleMasks& masks = small_triangle_masks();
+  for (int t = tri_begin; t < tri_end; ++t) {
+    const Triangle& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    plane_of_triangle(masks, mesh.vertices[static_cast<std::size_t>(tri[0])],
+                         mesh.vertices[static_cast<std::size_t>(tri[1])],
+                         mesh.vertices[static_cast<std::size_t>(tri[2])], vertex_disp_q4[tri[0]],
+                         vertex_disp_q4[tri[1]], vertex_disp_q4[tri[2]], disp_q4);
+  }
 }
 
 }  // namespace tristereo
