@@ -5,8 +5,9 @@
 // busy neighbour on a shared VM host, a core at a lower clock. With chunks
 // taken on demand, a slowed worker simply takes fewer of them. Only work
 // whose result does not depend on which worker does it (and in what order)
-// may be split this way; the pipeline's rows, triangles and tritree regions
-// are such work, so the output stays identical at any thread count.
+// may be split this way; the pipeline's rows, rows of tiles and the fill's
+// invalid samples are such work (docs/threads.md lists every stage), so the
+// output stays identical at any thread count.
 //
 //   WorkChunks rows;
 //   rows.reset(0, height, 4);            // before run()
@@ -17,10 +18,10 @@
 //
 // HomeChunks adds locality: each worker owns a home, a fixed band of the
 // range, and takes its own items first; only then does it help the other
-// homes. Use it when the same items come back run after run (the tritree's
-// regions, round after round): a worker then mostly meets the data it
-// touched last time, still in its own core's caches, while a slow worker is
-// still covered by the others.
+// homes. Use it when the same items come back run after run (it served the
+// refinement rounds of the tritree before the RTIN one, which has none): a
+// worker then mostly meets the data it touched last time, still in its own
+// core's caches, while a slow worker is still covered by the others.
 #pragma once
 
 #include <algorithm>
