@@ -35,15 +35,8 @@ const std::map<std::string, std::string>& golden() {
 // The integer pipeline, with every kernel set this CPU runs, gives the digest.
 void check_integer(const GoldenCase& c, const std::string& digest) {
   for (KernelChoice k : available_kernel_sets()) {
-    PipelineConfig cfg;
-    cfg.max_width = c.left.width;
-    cfg.max_height = c.left.height;
-    cfg.params = c.params;
-    cfg.kernels = k;
-    cfg.threads = 2;
-    cfg.pin_threads = false;
     Pipeline pipe;
-    pipe.configure(cfg);
+    pipe.configure(test::unpinned_config(c.left.width, c.left.height, c.params, 2, k));
     EXPECT_EQ(digest_hex(pipe.process(c.left.view(), c.right.view())), digest)
         << c.name << " (integer, " << to_string(k) << ")";
   }

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scenes.hpp"
+
 #include "platform/thread_pool.hpp"
 #include "src/aggregate/path_matcher.hpp"
 #include "src/cost/match_context.hpp"
@@ -173,14 +175,8 @@ TEST(PathAggregation, PredecessorsFollowTheirDirection) {
 }
 
 StereoOutput run(const ImageU8& l, const ImageU8& r, const StereoParams& p) {
-  PipelineConfig c;
-  c.max_width = l.width;
-  c.max_height = l.height;
-  c.params = p;
-  c.threads = 2;
-  c.pin_threads = false;
   Pipeline pipe;
-  pipe.configure(c);
+  pipe.configure(test::unpinned_config(l.width, l.height, p, 2));
   return pipe.process(l.view(), r.view());
 }
 

@@ -56,6 +56,18 @@ ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise) {
   return r;
 }
 
+PipelineConfig unpinned_config(int width, int height, const StereoParams& params, int threads,
+                               KernelChoice kernels) {
+  PipelineConfig c;
+  c.max_width = width;
+  c.max_height = height;
+  c.params = params;
+  c.kernels = kernels;
+  c.threads = threads;
+  c.pin_threads = false;
+  return c;
+}
+
 Mesh tritree_mesh(Tritree& tree, const ImageU8& gray, int max_area_px2) {
   TritreeParams tp;
   tp.max_area_px2 = max_area_px2;

@@ -8,6 +8,7 @@
 #include "src/tritree/tritree.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/mesh.hpp"
+#include "tristereo/pipeline.hpp"
 #include "tristereo/params.hpp"
 #include "support/data.hpp"
 
@@ -54,6 +55,10 @@ ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise);
 // The mesh of `gray` with A_max = max_area_px2 (default threshold), from
 // `tree`, which is configured for the image and keeps the build's grid.
 Mesh tritree_mesh(Tritree& tree, const ImageU8& gray, int max_area_px2);
+// A pipeline configuration for a width x height frame with `threads`
+// unpinned workers (tests share the machine's CPUs).
+PipelineConfig unpinned_config(int width, int height, const StereoParams& params, int threads,
+                               KernelChoice kernels = KernelChoice::kAuto);
 // Random valid parameters (every field inside validate_params' ranges).
 StereoParams random_params(Rng& rng, int max_ndisp);
 
