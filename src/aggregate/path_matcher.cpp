@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <string>
+#include <thread>
 
 #include "src/dp/penalty.hpp"
 #include "src/memory/capacity_bytes.hpp"
@@ -85,11 +86,13 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
       pass_mins_[pass].push_back(untouched<std::uint16_t>(ring));
     }
   }
+  sum_ = untouched<std::uint16_t>(n * cost_stride_);
+  row_claim_.reset(new std::atomic<int>[static_cast<std::size_t>(max_height)]);
+  row_done_.reset(new std::atomic<int>[static_cast<std::size_t>(max_height)]);
   workers_.clear();
   workers_.resize(static_cast<std::size_t>(workers));
   for (Worker& w : workers_) {
     w.row_path = std::unique_ptr<std::uint16_t[]>(new std::uint16_t[2 * path_stride_ + 64]());
-    w.sum = untouched<std::uint16_t>(n * cost_stride_);
     w.scratch.resize(d);
     w.total.assign(cost_stride_ + 64, 0);
     if (by_rows) {
@@ -97,7 +100,6 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
       w.column_sums = untouched<std::uint16_t>(static_cast<std::size_t>(max_width) * cost_stride_);
       w.slot_row.assign(static_cast<std::size_t>(params.cost.window_h), -1);
     }
-    w.terms.assign(static_cast<std::size_t>(workers), nullptr);
     if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kSummedCosts) {
       // A row's right pixels xr = x - d_min - k, indexed W - 1 - x + k: 0 .. W + D - 2,
       // plus the kernels' read slack.
@@ -112,6 +114,9 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
 void PathMatcher::release() {
   costs_.reset();
   preds_.reset();
+  sum_.reset();
+  row_claim_.reset();
+  row_done_.reset();
   costs_len_ = preds_len_ = 0;
   max_samples_ = 0;
   ring_samples_ = 0;
@@ -127,8 +132,9 @@ void PathMatcher::release() {
 }
 
 std::size_t PathMatcher::working_memory_bytes() const {
-  const auto n = static_cast<std::size_t>(max_samples_);
-  std::size_t bytes = costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
+  const std::size_t rows = row_claim_ ? static_cast<std::size_t>(max_samples_ / max_width_) : 0;
+  std::size_t bytes = 2 * costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
+                      2 * rows * sizeof(std::atomic<int>) +
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
                       capacity_bytes(workers_);
   const auto ring = static_cast<std::size_t>(ring_samples_);
@@ -136,8 +142,8 @@ std::size_t PathMatcher::working_memory_bytes() const {
     bytes += pass_paths_[pass].size() * ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) +
                                          2 * sizeof(LargeArray<std::uint16_t>));
   for (const Worker& w : workers_)
-    bytes += (2 * path_stride_ + 64 + n * cost_stride_) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
-             capacity_bytes(w.total) + capacity_bytes(w.terms) + capacity_bytes(w.slot_row) +
+    bytes += (2 * path_stride_ + 64) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
+             capacity_bytes(w.total) + capacity_bytes(w.slot_row) +
              capacity_bytes(w.lr_cost) + capacity_bytes(w.lr_k) + capacity_bytes(w.row_k) +
              (w.pixel_rows ? (ring_len_ + static_cast<std::size_t>(max_width_) * cost_stride_) * sizeof(std::uint16_t) : 0);
   return bytes;
@@ -154,7 +160,7 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
   const auto side_tasks = [&] {
     for (int t = side_next_.fetch_add(1, std::memory_order_relaxed); t < sides;
          t = side_next_.fetch_add(1, std::memory_order_relaxed)) {
-      if (t == 0 && !samples.dense()) reach = find_predecessors(samples);
+      if (t == 0 && !samples.dense()) reach_ = reach = find_predecessors(samples);
       else (*beside)();
     }
   };
@@ -308,8 +314,14 @@ int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
   return preds_[static_cast<std::size_t>(i) * static_cast<std::size_t>(directions_ - 2) + static_cast<std::size_t>(r - 2)];
 }
 
+int PathMatcher::frame_ring(const SampleLayout& samples) const {
+  // Dense: the predecessors are the pixels of the row above or below.
+  const int reach = samples.dense() ? samples.width + 1 : reach_;
+  return std::max(1, std::min({samples.count(), reach + 1, ring_samples_}));
+}
+
 void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> gray,
-                           bool forward, int worker, bool accumulate) {
+                           bool forward, int worker) {
   Worker& wk = workers_[static_cast<std::size_t>(worker)];
   const KernelSet& ks = *kernels_;
   const int n = samples.count();
@@ -351,14 +363,15 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
   };
   const std::uint16_t* zero = zero_path_.data() + 1;
   std::uint16_t row_min = 0;
-  const int ring_n = ring_samples_;
+  const int ring_n = frame_ring(samples);
   int slot = forward ? ring_n - 1 : (n - 1) % ring_n + 1;  // slot of i, stepped before use
-  for (int step = 0; step < n; ++step) {
-    const int i = forward ? step : n - 1 - step;
+  int step = 0;
+  // Sample i's paths; `add`: S(i) holds the other pass's sums already.
+  const auto step_sample = [&](int i, bool add) {
     if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
     else slot = slot == 0 ? ring_n - 1 : slot - 1;
     const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
-    std::uint16_t* sum = wk.sum.get() + row(i, cost_stride_);
+    std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
     // Horizontal: the predecessor is the previous step's sample when it is on the same row.
     std::uint16_t* out = ring[step & 1];
     const int q = predecessor(samples, pass, i);
@@ -369,7 +382,8 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       prev = ring[(step & 1) ^ 1] + 1;
       prev_min = row_min;
     }
-    row_min = ks.path_step_u16(cost, prev, prev_min, p1, p2, d, out + 1, sum, accumulate ? 1 : 0);
+    row_min = ks.path_step_u16(cost, prev, prev_min, p1, p2, d, out + 1, sum, add ? 1 : 0);
+    ++step;
     for (int j = 0; j < others; ++j) {
       const int r = 2 * (j + 1) + pass;
       std::uint16_t* path = paths[j];
@@ -381,7 +395,7 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       std::uint16_t pm = 0, a1 = 0, a2 = 0;
       if (qr >= 0) {
         penalties(i, qr, &a1, &a2);
-        // |i - qr| < ring_n (checked by find_predecessors in sparse mode).
+        // |i - qr| < ring_n (frame_ring; checked by find_predecessors in sparse mode).
         int qs = slot + (qr - i);
         if (qs < 0) qs += ring_n;
         else if (qs >= ring_n) qs -= ring_n;
@@ -390,23 +404,41 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       }
       mins[j][slot] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
     }
+  };
+  for (int r = 0; r < samples.height; ++r) {
+    const int y = forward ? r : samples.height - 1 - r;
+    const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
+    if (v0 == v1) continue;
+    // The first pass at this row writes S; the second adds, once the first is
+    // done with the row (only where two workers meet does it wait).
+    std::atomic<int>& done = row_done_[static_cast<std::size_t>(y)];
+    const bool first = row_claim_[static_cast<std::size_t>(y)].fetch_add(1, std::memory_order_relaxed) == 0;
+    if (!first)
+      while (done.load(std::memory_order_acquire) == 0) std::this_thread::yield();
+    if (forward)
+      for (int i = v0; i < v1; ++i) step_sample(i, !first);
+    else
+      for (int i = v1 - 1; i >= v0; --i) step_sample(i, !first);
+    if (first) done.store(1, std::memory_order_release);
   }
 }
 
 void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                             ThreadPool& pool) {
-  if (!samples.dense() && preds_for_ != samples.mesh) check_reach(find_predecessors(samples));
+  if (!samples.dense() && preds_for_ != samples.mesh) {
+    reach_ = find_predecessors(samples);
+    check_reach(reach_);
+  }
   preds_for_ = nullptr;  // the next frame finds its own
-  for (Worker& w : workers_) w.has_sum = false;
+  for (int y = 0; y < samples.height; ++y) {
+    row_claim_[static_cast<std::size_t>(y)].store(0, std::memory_order_relaxed);
+    row_done_[static_cast<std::size_t>(y)].store(0, std::memory_order_relaxed);
+  }
   dirs_.reset(0, 2, 1);
   pool.run([&](int w) {
-    Worker& wk = workers_[static_cast<std::size_t>(w)];
     int p0 = 0, p1 = 0;
     while (dirs_.next(&p0, &p1))
-      for (int pass = p0; pass < p1; ++pass) {
-        run_pass(samples, left_gray, pass == 0, w, wk.has_sum);
-        wk.has_sum = true;
-      }
+      for (int pass = p0; pass < p1; ++pass) run_pass(samples, left_gray, pass == 0, w);
   });
 }
 
@@ -417,12 +449,7 @@ PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {
-  for (int k = 0; k < num_disp_; ++k) {
-    std::uint32_t s = 0;
-    for (const Worker& w : workers_)
-      if (w.has_sum) s += w.sum[row(i, cost_stride_) + static_cast<std::size_t>(k)];
-    out[k] = static_cast<std::uint16_t>(s);
-  }
+  std::copy_n(sum_.get() + row(i, cost_stride_), num_disp_, out);
 }
 
 PathMatcher::RowDecider::RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk,
@@ -437,11 +464,11 @@ void PathMatcher::RowDecider::begin_row(int y) {
     std::fill(wk_.lr_cost.begin(), wk_.lr_cost.begin() + (samples_.width + pm_.num_disp_ - 1), std::uint16_t{0xFFFF});
 }
 
-void PathMatcher::RowDecider::sample(int i, const std::uint16_t* const* terms, int count) {
+void PathMatcher::RowDecider::sample(int i, const std::uint16_t* s_row) {
   const int d = pm_.num_disp_;
   const int uniq = pm_.params_.validity.uniqueness_pct;
   std::uint16_t* total = wk_.total.data();
-  const int k = pm_.kernels_->sum_argmin_u16(terms, count, d, total);
+  const int k = pm_.kernels_->sum_argmin_u16(&s_row, 1, d, total);
   if (lr_) {
     const auto base = static_cast<std::size_t>(samples_.width - 1 - samples_.x_of(i));
     pm_.kernels_->lr_min_u16(total, d, wk_.lr_cost.data() + base, wk_.lr_k.data() + base);
@@ -501,12 +528,7 @@ PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPoo
         const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
         if (v0 == v1) continue;
         decide.begin_row(y);
-        for (int i = v0; i < v1; ++i) {
-          int t = 0;
-          for (const Worker& o : workers_)
-            if (o.has_sum) wk.terms[static_cast<std::size_t>(t++)] = o.sum.get() + row(i, cost_stride_);
-          decide.sample(i, wk.terms.data(), t);
-        }
+        for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
         decide.end_row();
       }
     rejected_unique.fetch_add(decide.rejected.uniqueness, std::memory_order_relaxed);

@@ -9,9 +9,12 @@
 //       + select: smallest argmin of S, sub-pixel, uniqueness, left-right
 //         check from S (lr_source = costs)
 //
-// The two passes are handed to the workers on demand; each worker adds its
-// paths into its own S buffer and the winner adds the workers' buffers. Integer sums
-// do not depend on the order, so the output is the same for any thread count.
+// The two passes are handed to the workers on demand and add their paths into
+// one S buffer: per row of samples, the pass that comes first writes its sums
+// and the second, once the first is done with the row, adds to them (two
+// workers meet in the middle rows; one worker runs the passes in turn). Integer
+// sums do not depend on the order, so the output is the same for any thread
+// count, and S costs one buffer, not one per worker.
 // Every buffer is sized at configure for max_width x max_height samples (dense
 // mode's worst case) and allocated without being touched, so a sparse frame
 // only pays for the pages its samples use. No heap allocation per frame.
@@ -72,7 +75,7 @@ class PathMatcher {
 
   // Inspection (tests): C, and the summed path costs of the last select().
   const std::uint16_t* cost_row(int i) const { return costs_.get() + row(i, cost_stride_); }
-  // S(i, k) summed over the workers (recomputed; not for the hot path).
+  // S(i, k) of the last aggregate().
   void summed_costs(int i, std::uint16_t* out) const;
   // Predecessor of sample i along direction r in the last aggregate(), -1 = none.
   int predecessor(const SampleLayout& samples, int r, int i) const;
@@ -87,7 +90,7 @@ class PathMatcher {
    public:
     RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk, std::int16_t* disp_q4);
     void begin_row(int y);
-    void sample(int i, const std::uint16_t* const* terms, int count);  // S = sum of the terms
+    void sample(int i, const std::uint16_t* total);  // S(i, .)
     void end_row();
     Rejected rejected;
 
@@ -104,7 +107,10 @@ class PathMatcher {
   int find_predecessors(const SampleLayout& samples);
   void check_reach(int reach) const;
   void run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, bool forward,
-                int worker, bool accumulate);
+                int worker);
+  // Ring slots this frame needs: one more than the largest id distance of a
+  // predecessor (fewer slots touch fewer pages and stay in cache).
+  int frame_ring(const SampleLayout& samples) const;
 
   StereoParams params_;
   const KernelSet* kernels_ = nullptr;
@@ -135,13 +141,15 @@ class PathMatcher {
   // rings of ring_samples_ samples: sample i is slot i mod ring_samples_.
   std::vector<LargeArray<std::uint16_t>> pass_paths_[2], pass_mins_[2];
   int ring_samples_ = 0;
+  int reach_ = 0;                    // find_predecessors' reach for preds_for_
   const Mesh* preds_for_ = nullptr;  // the mesh whose predecessors preds_ holds (this frame)
+  // S, and per image row which pass came first (claims) and whether it is done.
+  LargeArray<std::uint16_t> sum_;
+  std::unique_ptr<std::atomic<int>[]> row_claim_, row_done_;
   std::atomic<int> side_next_{0};
   struct Worker {
     // L_r of the horizontal direction: the previous sample's and this one's.
     std::unique_ptr<std::uint16_t[]> row_path;
-    LargeArray<std::uint16_t> sum;   // sum of this worker's directions
-    bool has_sum = false;
     CostScratch scratch;
     std::vector<std::uint16_t> total;
     // Census costs by rows (compute_costs): window_h rows of per-pixel costs,
@@ -149,7 +157,6 @@ class PathMatcher {
     LargeArray<std::uint16_t> pixel_rows;
     LargeArray<std::uint16_t> column_sums;
     std::vector<int> slot_row;
-    std::vector<const std::uint16_t*> terms;
     // Left-right check from S (select): the right view's running winner per
     // right pixel of the row (index W - 1 - xr + ... see select), and each
     // sample's k.
