@@ -61,7 +61,8 @@ std::int64_t chain_energy(const std::vector<int>& chain, int k, int nd,
 }
 
 // Costs and path sums of one frame through the integer PathMatcher, `workers`
-// threads (the matcher's sums are per worker: more than one exercises that).
+// threads (with more than one the two passes run at once and share S row by
+// row: more than one exercises that).
 void aggregate_frame(const ImageU8& l, const ImageU8& r, const SampleLayout& s, const StereoParams& p,
                      int workers, PathMatcher& pm) {
   const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
@@ -145,6 +146,41 @@ TEST(PathAggregation, MeshGraphEqualsBruteForce) {
     const Mesh mesh = reference::build_tritree(l, p.tritree);
     ASSERT_GT(mesh.vertices.size(), 8u);
     check_against_brute_force(l, r, &mesh, p);
+  }
+}
+
+// The passes share one S: per row, whichever comes first writes and the other
+// adds once it is done. Every sample's S must be the same whichever pass came
+// first where (1 worker: always the forward pass; 2 and 3: they meet
+// somewhere in the middle, at a row that depends on timing), in both modes,
+// on frames with many rows so the meeting row varies.
+TEST(PathAggregation, SummedCostsIdenticalForAnyWorkerCount) {
+  test::Rng rng(24);
+  const ImageU8 l = test::random_image(rng, 96, 80);
+  const ImageU8 r = test::shifted_view(rng, l, 3, 4);
+  for (const bool dense : {true, false}) {
+    StereoParams p;
+    p.num_disp = 16;
+    p.dense = dense;
+    p.tritree.max_area_px2 = 40;
+    p.paths.directions = 8;
+    const Mesh mesh = reference::build_tritree(l, p.tritree);
+    const SampleLayout s{dense ? nullptr : &mesh, l.width, l.height};
+    PathMatcher one;
+    aggregate_frame(l, r, s, p, 1, one);
+    std::vector<std::uint16_t> want(static_cast<std::size_t>(s.count()) * 16), got(16);
+    for (int i = 0; i < s.count(); ++i) one.summed_costs(i, want.data() + static_cast<std::size_t>(i) * 16);
+    for (const int workers : {2, 3}) {
+      for (int repeat = 0; repeat < 4; ++repeat) {
+        PathMatcher pm;
+        aggregate_frame(l, r, s, p, workers, pm);
+        for (int i = 0; i < s.count(); ++i) {
+          pm.summed_costs(i, got.data());
+          ASSERT_TRUE(std::equal(got.begin(), got.end(), want.begin() + static_cast<std::ptrdiff_t>(i) * 16))
+              << (dense ? "dense" : "mesh") << ", " << workers << " workers, sample " << i;
+        }
+      }
+    }
   }
 }
 
