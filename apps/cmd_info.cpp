@@ -7,6 +7,7 @@
 #include "apps/commands.hpp"
 #include "platform/cpu_features.hpp"
 #include "platform/gpio.hpp"
+#include "platform/huge_pages.hpp"
 #include "tristereo/kernels.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/version.hpp"
@@ -49,6 +50,9 @@ int cmd_info(int argc, char** argv) {
   for (int c : allowed_cpus()) std::cout << ' ' << c;
   std::cout << " (online: " << online_cpu_count() << ")\n";
   std::cout << "GPIO frame markers (libgpiod v1): " << (gpio_supported() ? "yes" : "no") << "\n";
+  const HugePagePolicy& huge = huge_page_policy();
+  std::cout << "huge pages for the large buffers: " << (huge.advise ? "advised" : "off") << " (" << huge.reason
+            << ")\n";
 
   // The real allocation, not an estimate: what configure() sizes is counted
   // by the pipeline itself. No frame is run.

@@ -16,8 +16,13 @@ process's user + system time against the profile's CPU time per frame, all
 threads) do not, and with --threads 1 their ratio is what the wall ratio is on
 an idle machine.
 
+--pause S sleeps S seconds before each match: a one-shot run after the machine
+sat idle. In a virtual machine whose balloon reports free pages (see
+`tristereo info`, "huge pages"), the host takes freed memory back within
+seconds, and a first touch of it costs more; back-to-back runs never see that.
+
 Usage: /usr/bin/python3 scripts/first_frame.py [--build build] [--runs 7]
-           [--threads N] [--data DIR] [--markdown]
+           [--threads N] [--pause S] [--data DIR] [--markdown]
 """
 import argparse
 import json
@@ -44,6 +49,8 @@ def main():
     ap.add_argument("--threads", type=int, default=0, help="workers (default 0: one per CPU)")
     ap.add_argument("--data", default=os.environ.get("TRISTEREO_DATA_DIR",
                                                      os.path.join(ROOT, "..", "shared", "data")))
+    ap.add_argument("--pause", type=float, default=0.0,
+                    help="seconds to sleep before each match (default 0: back to back)")
     ap.add_argument("--markdown", action="store_true", help="print the table as Markdown")
     a = ap.parse_args()
     exe = os.path.join(a.build, "tristereo")
@@ -58,6 +65,8 @@ def main():
             common = ["--ndisp", str(ndisp), "--threads", str(a.threads)]
             walls, firsts, frames, cpus, frame_cpus = [], [], [], [], []
             for _ in range(a.runs):
+                if a.pause > 0:
+                    time.sleep(a.pause)
                 r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
                 t0 = time.monotonic()
                 run([exe, "match", left, right, "--stats", stats] + common)
@@ -90,8 +99,9 @@ def main():
         print("  ".join(head))
         for r in rows:
             print("  ".join(f % v for f, v in zip(fmt, r)))
-    print("(%d paired runs per pair, threads %s; medians of the per-pair ratios)" % (
-        a.runs, a.threads if a.threads else "one per CPU"))
+    print("(%d paired runs per pair, threads %s, %s; medians of the per-pair ratios)" % (
+        a.runs, a.threads if a.threads else "one per CPU",
+        "%g s idle before each match" % a.pause if a.pause > 0 else "back to back"))
 
 
 if __name__ == "__main__":

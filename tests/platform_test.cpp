@@ -2,10 +2,12 @@
 // options and FunctionRef.
 #include <gtest/gtest.h>
 #include <sched.h>
+#include <unistd.h>
 #include <sys/mman.h>
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -16,6 +18,7 @@
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
 #include "platform/function_ref.hpp"
+#include "platform/huge_pages.hpp"
 #include "platform/realtime.hpp"
 #include "support/keep_alive.hpp"
 #include "tristereo/status.hpp"
@@ -292,6 +295,29 @@ TEST(FunctionRef, CallsWithoutCopyingTheCallable) {
   mutating(4);
   mutating(5);
   EXPECT_EQ(m.state, 9);
+}
+
+// The huge-page default reads the balloon's feature bits: only bit 5 (free
+// page reporting) of a bound virtio balloon device turns huge pages off.
+TEST(HugePages, OffOnlyForABalloonThatReportsFreePages) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("tristereo_sysfs_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  EXPECT_FALSE(balloon_reports_free_pages(root.string()));  // no /sys at all
+  const fs::path driver = root / "bus" / "virtio" / "drivers" / "virtio_balloon";
+  fs::create_directories(driver / "virtio3");
+  std::ofstream(driver / "bind") << "";
+  EXPECT_FALSE(balloon_reports_free_pages(root.string()));  // a device without features
+  const auto features = [&](const std::string& bits) { std::ofstream(driver / "virtio3" / "features") << bits << "\n"; };
+  features("0110000000000000000000000000000010000000000000000000000000000000");  // stats, deflate on OOM
+  EXPECT_FALSE(balloon_reports_free_pages(root.string()));
+  features("0110010100000000000000000000000010000000000000000000000000000000");  // + free page reporting
+  EXPECT_TRUE(balloon_reports_free_pages(root.string()));
+  features("01100");  // too short to hold bit 5
+  EXPECT_FALSE(balloon_reports_free_pages(root.string()));
+  fs::remove_all(root);
+  // This process's own policy says why, whichever it is.
+  EXPECT_FALSE(huge_page_policy().reason.empty());
 }
 
 }  // namespace

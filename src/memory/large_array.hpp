@@ -18,8 +18,9 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
-#include <string>
 #include <type_traits>
+
+#include "platform/huge_pages.hpp"
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -36,17 +37,10 @@ using LargeArray = std::unique_ptr<T[], FreeDelete>;
 
 constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
-// False when the environment sets TRISTEREO_HUGE_PAGES=0: where the kernel
-// compacts memory to find a huge page on a fault (THP "defrag" = madvise, the
-// default), a first frame on a fragmented system can stall for that; this
-// keeps every buffer on ordinary pages (docs/performance.md, "Working memory").
-inline bool huge_pages_wanted() {
-  static const bool wanted = [] {
-    const char* v = std::getenv("TRISTEREO_HUGE_PAGES");
-    return v == nullptr || std::string(v) != "0";
-  }();
-  return wanted;
-}
+// platform/huge_pages.hpp decides: huge pages unless the environment says
+// TRISTEREO_HUGE_PAGES=0 or the machine is a VM whose balloon reports free
+// pages to the host (there a huge page fault after idle costs far more).
+inline bool huge_pages_wanted() { return huge_page_policy().advise; }
 
 // Advises the 2 MiB-aligned part of [p, p + bytes) for transparent huge pages
 // (the buffers reserved elsewhere, e.g. std::vector capacities). Advice only:
