@@ -644,7 +644,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
-    number_vertices(mesh);
+    number_vertices(mesh, workers > 1 ? pool : nullptr);
     // The plain tiles of each row of tiles into the row's own region, rows
     // of tiles spread over the workers; then the few general tiles (last
     // column and row), which also record the stretched leaves, in order.

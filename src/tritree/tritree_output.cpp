@@ -30,52 +30,102 @@ void sort_fan(Triangle* begin, Triangle* end) {
 
 // Vertices: every corner of a leaf is a tile corner or the midpoint of a
 // split triangle, i.e. a grid point with need(m) (need(m) implies that every
-// ancestor split too). So the vertex ids come from one scan of the need grid,
-// mapped to real pixels (a monotone map: raster order is kept).
-void Tritree::number_vertices(Mesh& mesh) {
+// ancestor split too). So the vertex ids come from a scan of the need grid,
+// mapped to real pixels (a monotone map: raster order is kept): each row of
+// tiles counts its vertices, the counts' prefix sums give each its first id,
+// then each numbers its own rows (both steps on the pool when there is one).
+
+// The vertices of virtual row vy among grid points vx0 .. vx0 + 7, as bits
+// (bit k = point vx0 + k): need bits gathered eight at a time (the multiply
+// moves byte k's bit 0 to bit 56 + k of a little-endian word, with no
+// carries), plus the tile corners on tile rows.
+unsigned Tritree::vertex_bits(int vy, int vx0) const {
+  const int row_len = layout_.vw + 1, S = tile_;
+  const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
+  unsigned bits;
+  if (vx0 + 8 <= row_len) {
+    std::uint64_t word;
+    std::memcpy(&word, need + vx0, 8);
+    bits = static_cast<unsigned>(((word & 0x0101010101010101ull) * 0x0102040810204080ull) >> 56);
+  } else {
+    bits = 0;
+    for (int k = 0; vx0 + k < row_len; ++k) bits |= (need[vx0 + k] & 1u) << k;
+  }
+  if (vy % S == 0) {  // tile corners are vertices; S >= 2, so at most every other point
+    for (int k = (S - vx0 % S) % S; k < 8 && vx0 + k < row_len; k += S) bits |= 1u << k;
+  }
+  return bits;
+}
+
+// Virtual rows of row of tiles `band`: [band S, next band's first), the last
+// one through vh.
+void Tritree::band_rows(int band, int* vy0, int* vy1) const {
+  *vy0 = band * tile_;
+  *vy1 = band + 1 == layout_.tiles_y ? layout_.vh + 1 : (band + 1) * tile_;
+}
+
+void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
   const int w = gray_.width, h = gray_.height;  // mesh: begin_mesh() done
   const RtinLayout& L = layout_;
-  const int S = tile_;
   const int row_len = L.vw + 1;
-  std::int32_t id = 0;
-  int next_y = 0;  // next real row whose row_start is unset
-  for (int vy = 0; vy <= L.vh; ++vy) {
-    const int y = L.real_y(vy);
-    for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
-    const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
-    std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
-    const bool tile_row = vy % S == 0;
-    // Eight grid points at a time: their need bits gathered into one byte
-    // (bit k = point vx0 + k; the multiply moves byte k's bit 0 to bit 56 + k
-    // of a little-endian word, with no carries), then the set bits in order.
-    for (int vx0 = 0; vx0 < row_len; vx0 += 8) {
-      unsigned bits;
-      if (vx0 + 8 <= row_len) {
-        std::uint64_t word;
-        std::memcpy(&word, need + vx0, 8);
-        bits = static_cast<unsigned>(((word & 0x0101010101010101ull) * 0x0102040810204080ull) >> 56);
-      } else {
-        bits = 0;
-        for (int k = 0; vx0 + k < row_len; ++k) bits |= (need[vx0 + k] & 1u) << k;
-      }
-      if (tile_row) {  // tile corners are vertices; S >= 2, so at most every other point
-        for (int k = (S - vx0 % S) % S; k < 8 && vx0 + k < row_len; k += S) bits |= 1u << k;
-      }
-      while (bits != 0) {
-        const int x = L.real_x(vx0 + __builtin_ctz(bits));
-        bits &= bits - 1;
-        ids[x] = id++;
-        mesh.vertices.push_back(Vertex{x, y});  // within capacity
+  const int bands = L.tiles_y;
+  // bucket_ (the canonical sort's, not in use yet) holds each band's count, then its first id.
+  std::int32_t* first_id = bucket_;
+  const auto count_band = [&](int band) {
+    int vy0, vy1;
+    band_rows(band, &vy0, &vy1);
+    std::int32_t n = 0;
+    for (int vy = vy0; vy < vy1; ++vy)
+      for (int vx0 = 0; vx0 < row_len; vx0 += 8) n += __builtin_popcount(vertex_bits(vy, vx0));
+    first_id[band] = n;
+  };
+  const auto number_band = [&](int band) {
+    int vy0, vy1;
+    band_rows(band, &vy0, &vy1);
+    std::int32_t id = first_id[band];
+    Vertex* out = mesh.vertices.data();
+    int next_y = vy0;  // next real row whose row_start is unset (the band's first row is never moved)
+    for (int vy = vy0; vy < vy1; ++vy) {
+      const int y = L.real_y(vy);
+      for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
+      std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
+      for (int vx0 = 0; vx0 < row_len; vx0 += 8) {
+        for (unsigned bits = vertex_bits(vy, vx0); bits != 0; bits &= bits - 1) {
+          const int x = L.real_x(vx0 + __builtin_ctz(bits));
+          ids[x] = id;
+          out[id++] = Vertex{x, y};
+        }
       }
     }
+  };
+  const bool parallel = pool != nullptr && pool->size() > 1 && bands > 1;
+  if (parallel) {
+    pool->run([&](int worker) {
+      for (int band = worker; band < bands; band += pool->size()) count_band(band);
+    });
+  } else {
+    for (int band = 0; band < bands; ++band) count_band(band);
   }
-  for (; next_y <= h; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
+  std::int32_t total = 0;
+  for (int band = 0; band < bands; ++band) {
+    const std::int32_t n = first_id[band];
+    first_id[band] = total;
+    total += n;
+  }
+  mesh.vertices.resize(static_cast<std::size_t>(total));  // within capacity
+  if (parallel) {
+    pool->run([&](int worker) {
+      for (int band = worker; band < bands; band += pool->size()) number_band(band);
+    });
+  } else {
+    for (int band = 0; band < bands; ++band) number_band(band);
+  }
+  for (int y = L.real_y(L.vh) + 1; y <= h; ++y) mesh.row_start[static_cast<std::size_t>(y)] = total;
 }
 
 void Tritree::begin_mesh(Mesh& mesh) const {
   mesh.width = gray_.width;
   mesh.height = gray_.height;
-  mesh.vertices.clear();
   mesh.row_start.resize(static_cast<std::size_t>(gray_.height) + 1);  // within capacity
 }
 
@@ -84,6 +134,7 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   if (layout_.strip()) {
     // The two triangles of the diagonal: corners (0,0), (W-1,0), (0,H-1), (W-1,H-1).
     begin_mesh(mesh);
+    mesh.vertices.clear();
     mesh.vertices.push_back(Vertex{0, 0});
     mesh.vertices.push_back(Vertex{w - 1, 0});
     mesh.vertices.push_back(Vertex{0, h - 1});
