@@ -6,8 +6,8 @@
 // memory"). Inside a virtual machine whose virtio balloon does free page
 // reporting, the host takes back every free 2 MiB block a few seconds after it
 // is freed, and a huge page fault on such a block waits for the host to back
-// it again: the same 96 MiB took 180-220 ms after 20 s of idle, 6x the 4 KiB
-// faults, which that reporting leaves alone. So the default is huge pages
+// it again: the same 96 MiB took 171-222 ms after 20-30 s of idle, 4-6x the
+// 4 KiB faults, which that reporting leaves alone (scripts/first_touch.c). So the default is huge pages
 // unless such a balloon is bound; TRISTEREO_HUGE_PAGES=1 or =0 in the
 // environment decides instead.
 #pragma once
