@@ -234,6 +234,61 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
   }
 }
 
+namespace {
+
+// find_predecessors' scan over the edges for kDirections path directions
+// (known at compile time, so the 4-direction scan has no diagonal loop).
+template <int kDirections>
+int scan_mesh_edges(const Mesh& mesh, std::int32_t* preds) {
+  constexpr auto per = static_cast<std::size_t>(kDirections - 2);
+  const Vertex* v = mesh.vertices.data();
+  const auto offer = [&](int p, int q, int px, int py, int first_dir) {
+    const int dx = px - v[q].x, dy = py - v[q].y;
+    std::int32_t* best_of_p = preds + static_cast<std::size_t>(p) * per;
+    // Vertical (directions 2, 3): the dot product is |dy| > 0, and the larger
+    // cosine is the smaller |dx| / |dy|, compared by cross-multiplication
+    // (both below 2^12: exact in 32 bits).
+    {
+      std::int32_t& best = best_of_p[first_dir - 2];
+      if (best < 0) {
+        best = q;
+      } else {
+        const int bdx = px - v[best].x, bdy = py - v[best].y;
+        const int lhs = std::abs(dx * bdy), rhs = std::abs(bdx * dy);
+        if (lhs < rhs || (lhs == rhs && q < best)) best = q;
+      }
+    }
+    for (int r = first_dir + 2; r < kDirections; r += 2) {
+      const PathDirection u = kPathDirections[r];
+      if (dx * u.dx + dy * u.dy <= 0) continue;
+      std::int32_t& best = best_of_p[r - 2];
+      if (best < 0) {
+        best = q;
+        continue;
+      }
+      const int bdx = px - v[best].x, bdy = py - v[best].y;
+      if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best)) best = q;
+    }
+  };
+  int reach = 0;  // the largest id distance of an edge between two rows
+  for (const Triangle& t : mesh.triangles) {
+    const Vertex c[3] = {v[t[0]], v[t[1]], v[t[2]]};
+    for (int e = 0; e < 3; ++e) {
+      const int e1 = e == 2 ? 0 : e + 1;
+      int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>(e1)];
+      Vertex va = c[e], vb = c[e1];
+      if (va.y == vb.y) continue;
+      if (va.y > vb.y) std::swap(a, b), std::swap(va, vb);  // a above b
+      reach = std::max(reach, b - a);
+      offer(b, a, vb.x, vb.y, 2);  // forward directions (2, 4, 6): from above
+      offer(a, b, va.x, va.y, 3);  // backward directions (3, 5, 7): from below
+    }
+  }
+  return reach;
+}
+
+}  // namespace
+
 // Sparse mode: the predecessor of p along a vertical or diagonal direction u is
 // the mesh neighbour q on the side u comes from (q above p when u points
 // down) with (p - q) . u > 0 that follows u best (largest cosine), ties to the
@@ -245,45 +300,7 @@ int PathMatcher::find_predecessors(const SampleLayout& samples) {
   const auto per = static_cast<std::size_t>(directions_ - 2);
   std::int32_t* preds = preds_.get();
   std::fill(preds, preds + static_cast<std::size_t>(n) * per, -1);
-  const Vertex* v = samples.mesh->vertices.data();
-  auto offer = [&](int p, int q, int first_dir) {
-    const int dx = v[p].x - v[q].x, dy = v[p].y - v[q].y;
-    // Vertical (directions 2, 3): the dot product is |dy| > 0, and the larger
-    // cosine is the smaller |dx| / |dy|, compared by cross-multiplication
-    // (both below 2^12: exact in 32 bits).
-    {
-      std::int32_t& best = preds[static_cast<std::size_t>(p) * per + static_cast<std::size_t>(first_dir - 2)];
-      if (best < 0) {
-        best = q;
-      } else {
-        const int bdx = v[p].x - v[best].x, bdy = v[p].y - v[best].y;
-        const int lhs = std::abs(dx * bdy), rhs = std::abs(bdx * dy);
-        if (lhs < rhs || (lhs == rhs && q < best)) best = q;
-      }
-    }
-    for (int r = first_dir + 2; r < directions_; r += 2) {
-      const PathDirection u = kPathDirections[r];
-      if (dx * u.dx + dy * u.dy <= 0) continue;
-      std::int32_t& best = preds[static_cast<std::size_t>(p) * per + static_cast<std::size_t>(r - 2)];
-      if (best < 0) {
-        best = q;
-        continue;
-      }
-      const int bdx = v[p].x - v[best].x, bdy = v[p].y - v[best].y;
-      if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best)) best = q;
-    }
-  };
-  int reach = 0;  // the largest id distance of an edge between two rows
-  for (const Triangle& t : samples.mesh->triangles)
-    for (int e = 0; e < 3; ++e) {
-      int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-      if (v[a].y == v[b].y) continue;
-      if (v[a].y > v[b].y) std::swap(a, b);  // a above b
-      reach = std::max(reach, b - a);
-      offer(b, a, 2);  // forward directions (2, 4, 6): from above
-      offer(a, b, 3);  // backward directions (3, 5, 7): from below
-    }
-  return reach;
+  return directions_ == 4 ? scan_mesh_edges<4>(*samples.mesh, preds) : scan_mesh_edges<8>(*samples.mesh, preds);
 }
 
 // The rings of run_pass hold ring_samples_ samples: enough for every tritree
