@@ -6,7 +6,12 @@
 //    of row y are the contiguous range [row_start[y], row_start[y + 1]);
 //  - each triangle lists its vertex ids with positive orientation
 //    ((b - a) x (c - a) > 0 in pixel coordinates, x right, y down), rotated so
-//    the smallest id comes first; triangles sorted lexicographically.
+//    the smallest id comes first;
+//  - triangles in the hierarchy's order (docs/model.md section 1, "Output
+//    order"): tiles in raster order, and in each tile its two halves, each
+//    read depth first, a split triangle's child (C, A, m) before (B, C, m).
+//    The mesher emits them in that order, so no sort is needed; sort a copy
+//    if you want them lexicographically.
 #pragma once
 
 #include <array>

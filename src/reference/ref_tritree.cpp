@@ -241,7 +241,6 @@ class Builder {
       std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
       mesh.triangles.push_back(ids);
     }
-    std::sort(mesh.triangles.begin(), mesh.triangles.end());
     mesh.forced_splits = forced_splits_;
     mesh.criterion_splits = criterion_splits_;
     return mesh;

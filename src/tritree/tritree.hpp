@@ -133,7 +133,6 @@ class Tritree {
   void emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh, ThreadPool* pool);
-  void sort_band(int band, Triangle* out, const Mesh& mesh);
   void number_vertices(Mesh& mesh, ThreadPool* pool);
   unsigned vertex_bits(int vy, int vx0) const;
   void band_rows(int band, int* vy0, int* vy1) const;
@@ -176,11 +175,11 @@ class Tritree {
   // (level l: side 2^(l+1)), and of one level's side triangles.
   // (one per pass-1 worker, at most kMaxTileWorkers).
   std::array<TileScratch, kMaxTileWorkers> scratch_{};
-  // Pass 3: vertex ids, the leaves as rotated triangles, the sort by first id.
+  // Pass 3: vertex ids, the leaves as rotated triangles.
   std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices
   Band* bands_ = nullptr;                 // one per row of tiles
   std::size_t* band_start_ = nullptr;     // where each row of tiles' leaves go in the mesh
-  std::int32_t* bucket_ = nullptr;        // counting sort by first id
+  std::int32_t* band_first_id_ = nullptr; // vertex numbering: each row of tiles' count, then first id
   Triangle* tri_scratch_ = nullptr;       // leaves in emission order, S^2 x tiles_x per row of tiles
   Triangle* stretched_ = nullptr;         // stretched leaves (TritreeGrid::stretched)
   std::size_t stretched_count_ = 0;

@@ -71,8 +71,9 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   tile_ = tile_side_for(params.max_area_px2);
   // One block, carved in order of alignment: the moments of one tile per
   // pass-1 worker (level l holds the halves of the squares of side 2^(l+1),
-  // then one level's side triangles), the row-of-tiles starts, the leaves, the vertex ids and sort
-  // buckets, the need grid (the virtual grid has at most W x H points).
+  // then one level's side triangles), the row-of-tiles starts, the leaves,
+  // the vertex ids and the rows of tiles' first ids, the need grid (the
+  // virtual grid has at most W x H points).
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
   for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
   // The plain tiles' intensity moments, in the same layout (16 bytes each).
@@ -88,7 +89,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t bytes = kMaxTileWorkers * (moments * sizeof(PixelMoments) +
                                                  intensity_moments * sizeof(IntensityMoments)) +
                             (band_leaves + stretched) * sizeof(Triangle) + bands * sizeof(Band) +
-                            bands * sizeof(std::size_t) + (2 * pixels + bands + 1) * sizeof(std::int32_t) + pixels;
+                            bands * sizeof(std::size_t) + (pixels + bands + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
   arena_bytes_ = (bytes + 7) / 8 * 8;
   char* next = reinterpret_cast<char*>(arena_.get());
@@ -139,7 +140,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   tri_scratch_ = reinterpret_cast<Triangle*>(take(band_leaves * sizeof(Triangle)));
   stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
-  bucket_ = reinterpret_cast<std::int32_t*>(take((pixels + bands + 1) * sizeof(std::int32_t)));
+  band_first_id_ = reinterpret_cast<std::int32_t*>(take((bands + 1) * sizeof(std::int32_t)));
   need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
 
   params_ = params;

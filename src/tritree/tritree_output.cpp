@@ -1,6 +1,7 @@
-// Tritree output: the canonical mesh (include/tristereo/mesh.hpp) from the
-// leaves: vertex ids by one scan of the vertex marks, triangles rotated to
-// their smallest id and counting-sorted by it, each fan sorted by insertion.
+// Tritree output: the mesh in its canonical form (include/tristereo/mesh.hpp)
+// from the leaves: vertex ids by one scan of the vertex marks; the triangles,
+// rotated to their smallest id as pass 3 emits them, are already in the
+// hierarchy's order, so each row of tiles' region is copied into place.
 #include <algorithm>
 #include <cstring>
 
@@ -8,25 +9,6 @@
 #include "src/tritree/tritree.hpp"
 
 namespace tristereo {
-
-namespace {
-
-// A fan (triangles sharing their first id) has about six triangles: an
-// insertion sort on (second, third) id beats std::sort's set-up.
-void sort_fan(Triangle* begin, Triangle* end) {
-  for (Triangle* i = begin + 1; i < end; ++i) {
-    const Triangle t = *i;
-    Triangle* j = i;
-    for (; j > begin; --j) {
-      const Triangle& prev = *(j - 1);
-      if (prev[1] < t[1] || (prev[1] == t[1] && prev[2] < t[2])) break;
-      *j = prev;
-    }
-    *j = t;
-  }
-}
-
-}  // namespace
 
 // Vertices: every corner of a leaf is a tile corner or the midpoint of a
 // split triangle, i.e. a grid point with need(m) (need(m) implies that every
@@ -69,8 +51,8 @@ void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
   const RtinLayout& L = layout_;
   const int row_len = L.vw + 1;
   const int bands = L.tiles_y;
-  // bucket_ (the canonical sort's, not in use yet) holds each band's count, then its first id.
-  std::int32_t* first_id = bucket_;
+  // Each band's count, then its first id.
+  std::int32_t* first_id = band_first_id_;
   const auto count_band = [&](int band) {
     int vy0, vy1;
     band_rows(band, &vy0, &vy1);
@@ -159,39 +141,18 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
   mesh.forced_splits = forced;
   mesh.triangles.resize(n);  // within capacity
   Triangle* out = mesh.triangles.data();
+  // Rows of tiles in order, each its tiles left to right (the plain ones come
+  // first in a row and the general ones last): the hierarchy's order.
+  const auto copy_band = [&](int band) {
+    const Band& b = bands_[band];
+    std::copy_n(b.leaves, b.count, out + band_start_[static_cast<std::size_t>(band)]);
+  };
   if (pool != nullptr && pool->size() > 1) {
     pool->run([&](int worker) {
-      for (int band = worker; band < layout_.tiles_y; band += pool->size()) sort_band(band, out, mesh);
+      for (int band = worker; band < layout_.tiles_y; band += pool->size()) copy_band(band);
     });
   } else {
-    for (int band = 0; band < layout_.tiles_y; ++band) sort_band(band, out, mesh);
-  }
-}
-
-// Canonical order. A triangle's first (smallest) id is its topmost vertex,
-// which lies in its own row of tiles: each row of tiles is counting-sorted by
-// first id on its own, straight into its part of the output, with its own
-// part of the buckets (its ids, plus one).
-void Tritree::sort_band(int band, Triangle* out, const Mesh& mesh) {
-  const int h = gray_.height, S = tile_;
-  const Band& b = bands_[band];
-  const Triangle* rotated = b.leaves;
-  const std::size_t count = b.count;
-  const std::size_t base = band_start_[static_cast<std::size_t>(band)];
-  const int y_lo = band * S, y_hi = std::min(h, (band + 1) * S);
-  const std::int32_t id_lo = mesh.row_start[static_cast<std::size_t>(y_lo)];
-  const std::int32_t ids = mesh.row_start[static_cast<std::size_t>(y_hi)] - id_lo;
-  std::int32_t* bucket = bucket_ + id_lo + band;
-  std::fill(bucket, bucket + ids + 1, 0);
-  for (std::size_t i = 0; i < count; ++i) ++bucket[rotated[i][0] - id_lo + 1];
-  bucket[0] = static_cast<std::int32_t>(base);
-  for (std::int32_t v = 0; v < ids; ++v) bucket[v + 1] += bucket[v];
-  for (std::size_t i = 0; i < count; ++i) out[bucket[rotated[i][0] - id_lo]++] = rotated[i];
-  // bucket[v] is now the end of fan v.
-  std::int32_t begin = static_cast<std::int32_t>(base);
-  for (std::int32_t v = 0; v < ids; ++v) {
-    if (bucket[v] - begin > 1) sort_fan(out + begin, out + bucket[v]);
-    begin = bucket[v];
+    for (int band = 0; band < layout_.tiles_y; ++band) copy_band(band);
   }
 }
 
