@@ -229,6 +229,36 @@ TEST(PixelMoments, PlaneSseEqualsBruteForceOnRandomTrianglesAndImages) {
   EXPECT_GT(keeps, 500);
 }
 
+// plane_sse_of_fixed_shape for square side s and shape k of the corners
+// table below ('\\' halves, '/' halves, side triangles top, right, bottom,
+// left), u and v as the template arguments the plain tiles use.
+template <int s>
+std::uint64_t fixed_shape_sse_of_side(int k, const IntensityMoments& m, const ShapeMoments& g, int ax, int ay,
+                                      int ia, int ib, int ic) {
+  constexpr int h = s / 2;
+  switch (k) {
+    case 0: return plane_sse_of_fixed_shape<s, 0, s, s>(m, g, ax, ay, ia, ib, ic);
+    case 1: return plane_sse_of_fixed_shape<s, s, 0, s>(m, g, ax, ay, ia, ib, ic);
+    case 2: return plane_sse_of_fixed_shape<s, 0, 0, s>(m, g, ax, ay, ia, ib, ic);
+    case 3: return plane_sse_of_fixed_shape<0, s, -s, s>(m, g, ax, ay, ia, ib, ic);
+    case 4: return plane_sse_of_fixed_shape<s, 0, h, h>(m, g, ax, ay, ia, ib, ic);
+    case 5: return plane_sse_of_fixed_shape<0, s, -h, h>(m, g, ax, ay, ia, ib, ic);
+    case 6: return plane_sse_of_fixed_shape<-s, 0, -h, -h>(m, g, ax, ay, ia, ib, ic);
+    default: return plane_sse_of_fixed_shape<0, -s, h, -h>(m, g, ax, ay, ia, ib, ic);
+  }
+}
+
+std::uint64_t fixed_shape_sse(int s, int k, const IntensityMoments& m, const ShapeMoments& g, int ax, int ay,
+                              int ia, int ib, int ic) {
+  switch (s) {
+    case 2: return fixed_shape_sse_of_side<2>(k, m, g, ax, ay, ia, ib, ic);
+    case 4: return fixed_shape_sse_of_side<4>(k, m, g, ax, ay, ia, ib, ic);
+    case 8: return fixed_shape_sse_of_side<8>(k, m, g, ax, ay, ia, ib, ic);
+    case 16: return fixed_shape_sse_of_side<16>(k, m, g, ax, ay, ia, ib, ic);
+    default: return fixed_shape_sse_of_side<32>(k, m, g, ax, ay, ia, ib, ic);
+  }
+}
+
 TEST(PixelMoments, ShapeSseEqualsBruteForceAwayFromTheLastRowAndColumn) {
   // The plain tiles' test: geometric sums taken once per shape (at a far
   // placement, as Tritree::configure does), four intensity sums per triangle,
@@ -248,7 +278,8 @@ TEST(PixelMoments, ShapeSseEqualsBruteForceAwayFromTheLastRowAndColumn) {
         {{x0, y0}, {x1, y0}, {x0, y1}}, {{x1, y0}, {x1, y1}, {x0, y1}},  // '/' halves
         {{x0, y0}, {x1, y0}, {cx, cy}}, {{x1, y0}, {x1, y1}, {cx, cy}},  // side triangles
         {{x1, y1}, {x0, y1}, {cx, cy}}, {{x0, y1}, {x0, y0}, {cx, cy}}};
-    const Vertex* v = corners[rng.uniform(0, 7)];
+    const int shape = rng.uniform(0, 7);
+    const Vertex* v = corners[shape];
     ASSERT_GT(area2_of(v[0], v[1], v[2]), 0);
     ShapeMoments g;
     g.ux = v[1].x - v[0].x, g.uy = v[1].y - v[0].y, g.vx = v[2].x - v[0].x, g.vy = v[2].y - v[0].y;
@@ -273,6 +304,11 @@ TEST(PixelMoments, ShapeSseEqualsBruteForceAwayFromTheLastRowAndColumn) {
                                  img.at(v[2].x, v[2].y)),
               expected)
         << "square side " << s << " at " << x0 << "," << y0 << " in " << w << "x" << h;
+    // The plain tiles' form with the shape's u and v as template arguments.
+    ASSERT_EQ(fixed_shape_sse(s, shape, m, g, v[0].x - ox, v[0].y - oy, img.at(v[0].x, v[0].y),
+                              img.at(v[1].x, v[1].y), img.at(v[2].x, v[2].y)),
+              expected)
+        << "fixed shape " << shape << ", side " << s;
     const std::uint64_t mse_q8 = mse_threshold_q8(400);
     splits += plane_fit_fails(expected, n_px, g.area2, mse_q8) ? 1 : 0;
     ++checked;

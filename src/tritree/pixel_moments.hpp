@@ -108,6 +108,10 @@ struct IntensityMoments {
 struct ShapeMoments {
   std::int32_t ux = 0, uy = 0, vx = 0, vy = 0, area2 = 0;
   std::int32_t n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+  // plane_fit_fails' right-hand side for this shape, mse_q8 * n * area2^2,
+  // once the threshold is known (Tritree::configure): the test is then
+  // SSE * 256 > fail_above_q8.
+  std::uint64_t fail_above_q8 = 0;
 };
 
 // plane_sse() for a triangle of shape g with first corner (ax, ay) (relative
@@ -128,6 +132,26 @@ inline std::uint64_t plane_sse_of_shape(const IntensityMoments& m, const ShapeMo
   const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
   return u(nx * nx) * u(g.sxx) + 2 * u(nx * ny) * u(g.sxy) + u(ny * ny) * u(g.syy) +
          2 * u(a2) * (u(nx) * u(sxj) + u(ny) * u(syj)) + u(a2 * a2) * u(sjj);
+}
+
+// plane_sse_of_shape() for a shape whose u = B - A and v = C - A are known at
+// compile time (the RTIN shapes of a plain tile of known side): the normal's
+// products by 0, +-1 and powers of two fold away. g supplies the geometric
+// sums only (its u, v and area2 must equal the template's).
+template <int kUx, int kUy, int kVx, int kVy>
+inline std::uint64_t plane_sse_of_fixed_shape(const IntensityMoments& m, const ShapeMoments& g, std::int32_t ax,
+                                              std::int32_t ay, std::int32_t ia, std::int32_t ib, std::int32_t ic) {
+  constexpr std::int64_t kArea2 = std::int64_t{kUx} * kVy - std::int64_t{kUy} * kVx;
+  static_assert(kArea2 > 0, "positive orientation");
+  const std::int64_t ui = ib - ia, vi = ic - ia;
+  const std::int64_t nx = kUy * vi - ui * kVy;
+  const std::int64_t ny = ui * kVx - kUx * vi;
+  const std::int64_t sxj = (std::int64_t{m.sxi} - std::int64_t{ax} * m.si) - std::int64_t{ia} * g.sx;
+  const std::int64_t syj = (std::int64_t{m.syi} - std::int64_t{ay} * m.si) - std::int64_t{ia} * g.sy;
+  const std::int64_t sjj = std::int64_t{m.sii} - 2 * std::int64_t{ia} * m.si + std::int64_t{g.n} * ia * ia;
+  const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
+  return u(nx * nx) * u(g.sxx) + 2 * u(nx * ny) * u(g.sxy) + u(ny * ny) * u(g.syy) +
+         2 * u(kArea2) * (u(nx) * u(sxj) + u(ny) * u(syj)) + u(kArea2 * kArea2) * u(sjj);
 }
 
 }  // namespace tristereo

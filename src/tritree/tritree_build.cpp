@@ -300,29 +300,25 @@ void Tritree::tile_bottom_up(int tx0, int ty0, const TileScratch& sc) {
 
 // A plain tile (inside the virtual grid, away from its last row and column:
 // nothing crossing, stretched or on the image border): the same as
-// tile_bottom_up<true>, written out for speed. Its 2 x 2 squares own their
-// top-left 2 x 2 pixels; a half of area 2 px^2 owns a corner and edge or
-// hypotenuse midpoints only, whose residuals are closed forms.
+// tile_bottom_up<true>, written out for speed, with the tile side S known at
+// compile time (so the levels unroll and every shape's u and v are
+// constants). Its 2 x 2 squares own their top-left 2 x 2 pixels; a half of
+// area 2 px^2 owns a corner and edge or hypotenuse midpoints only, whose
+// residuals are closed forms.
+template <int S>
 void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
-  const int S = tile_;
   const int two_amax = 2 * params_.max_area_px2;
   const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
   std::uint8_t* need = need_;
   const std::uint8_t* img = gray_.data;
   const std::ptrdiff_t istride = gray_.stride_bytes;
-  const auto pix = [&](int x, int y) -> std::int32_t { return img[y * istride + x]; };
   const std::uint64_t mse = mse_q8_;
-  // Shape g with first corner (xa, ya), its other corners from the shape.
-  const auto fails = [&](const IntensityMoments& m, const ShapeMoments& g, int xa, int ya) {
-    const std::int32_t ia = pix(xa, ya), ib = pix(xa + g.ux, ya + g.uy), ic = pix(xa + g.vx, ya + g.vy);
-    return plane_fit_fails(plane_sse_of_shape(m, g, xa - tx0, ya - ty0, ia, ib, ic), g.n, g.area2, mse);
-  };
 
   // Side 2.
   {
     const bool test = 4 <= two_amax;
-    const bool keep_moments = 8 <= two_amax;  // the side triangles of side 4 are tested
-    const int n = S / 2;
+    const bool keep_moments = S >= 4 && 8 <= two_amax;  // the side triangles of side 4 are tested
+    constexpr int n = S / 2;
     IntensityMoments* out = sc.half_i[0];
     for (int j = 0; j < n; ++j) {
       const int y = ty0 + 2 * j;
@@ -371,76 +367,115 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
       }
     }
   }
+  if constexpr (S >= 4) plain_level<S, 4>(tx0, ty0, sc);
+}
 
-  // Sides 4 .. S.
-  for (int l = 1; (2 << l) <= S; ++l) {
-    const int s = 2 << l, h = s / 2, n = S / s, qn = 2 * n;
-    const std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
-    const bool test_sides = side_area2 <= two_amax;
-    const bool test_halves = half_area2 <= two_amax;
-    const std::array<ShapeMoments, 4>& side_g = side_shape_[static_cast<std::size_t>(l)];
-    const std::array<ShapeMoments, 4>& half_g = half_shape_[static_cast<std::size_t>(l)];
-    const IntensityMoments* quads = sc.half_i[static_cast<std::size_t>(l - 1)];
-    IntensityMoments* halves = sc.half_i[static_cast<std::size_t>(l)];
-    IntensityMoments* sides = sc.side_i;
-    const auto q = [&](int i, int j, int dx, int dy, int part) -> const IntensityMoments& {
-      return quads[((2 * j + dy) * qn + 2 * i + dx) * 2 + part];
-    };
-    const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
-    // Side triangles: need at the side midpoints.
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) {
-        const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
-        const int qx0 = x0 + h / 2, qx1 = cx + h / 2, qy0 = y0 + h / 2, qy1 = cy + h / 2;  // quadrant centres
-        const bool nq00 = at(qx0, qy0) & kNeed, nq10 = at(qx1, qy0) & kNeed;
-        const bool nq01 = at(qx0, qy1) & kNeed, nq11 = at(qx1, qy1) & kNeed;
-        bool w[4] = {true, true, true, true};
-        if (test_sides) {
-          IntensityMoments* m = sides + (j * n + i) * 4;
-          m[0] = q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0);
-          m[1] = q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0);
-          m[2] = q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1);
-          m[3] = q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1);
-          w[0] = fails(m[0], side_g[0], x0, y0);
-          w[1] = fails(m[1], side_g[1], x1, y0);
-          w[2] = fails(m[2], side_g[2], x1, y1);
-          w[3] = fails(m[3], side_g[3], x0, y1);
-        }
-        at(cx, y0) |= static_cast<std::uint8_t>((w[0] || nq00 || nq10 ? kNeed : 0) | (w[0] ? 2 : 0));
-        at(x1, cy) |= static_cast<std::uint8_t>((w[1] || nq10 || nq11 ? kNeed : 0) | (w[1] ? 4 : 0));
-        at(cx, y1) |= static_cast<std::uint8_t>((w[2] || nq11 || nq01 ? kNeed : 0) | (w[2] ? 4 : 0));
-        at(x0, cy) |= static_cast<std::uint8_t>((w[3] || nq01 || nq00 ? kNeed : 0) | (w[3] ? 2 : 0));
+namespace {
+
+// The plane test of a plain tile's triangle of shape g (u = B - A = (kUx,
+// kUy), v = C - A = (kVx, kVy)) with first corner (xa, ya).
+template <int kUx, int kUy, int kVx, int kVy>
+inline bool fixed_shape_fails(const IntensityMoments& m, const ShapeMoments& g, const std::uint8_t* img,
+                              std::ptrdiff_t istride, int tx0, int ty0, int xa, int ya) {
+  const std::int32_t ia = img[ya * istride + xa];
+  const std::int32_t ib = img[(ya + kUy) * istride + xa + kUx];
+  const std::int32_t ic = img[(ya + kVy) * istride + xa + kVx];
+  return plane_sse_of_fixed_shape<kUx, kUy, kVx, kVy>(m, g, xa - tx0, ya - ty0, ia, ib, ic) * 256 >
+         g.fail_above_q8;
+}
+
+constexpr int log2_of(int v) { return v <= 1 ? 0 : 1 + log2_of(v / 2); }
+
+}  // namespace
+
+// Level s (4 .. S) of a plain tile: the side triangles of its squares (from
+// their quadrants' halves), then the squares' halves; then level 2 s.
+template <int S, int s>
+void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
+  constexpr int h = s / 2, n = S / s, qn = 2 * n, l = log2_of(s) - 1;
+  const int two_amax = 2 * params_.max_area_px2;
+  const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
+  std::uint8_t* need = need_;
+  const std::uint8_t* img = gray_.data;
+  const std::ptrdiff_t istride = gray_.stride_bytes;
+  constexpr std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
+  const bool test_sides = side_area2 <= two_amax;
+  const bool test_halves = half_area2 <= two_amax;
+  const std::array<ShapeMoments, 4>& side_g = side_shape_[l];
+  const std::array<ShapeMoments, 4>& half_g = half_shape_[l];
+  const IntensityMoments* quads = sc.half_i[l - 1];
+  IntensityMoments* halves = sc.half_i[l];
+  IntensityMoments* sides = sc.side_i;
+  const auto q = [&](int i, int j, int dx, int dy, int part) -> const IntensityMoments& {
+    return quads[((2 * j + dy) * qn + 2 * i + dx) * 2 + part];
+  };
+  const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
+  // Side triangles: need at the side midpoints.
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
+      const int qx0 = x0 + h / 2, qx1 = cx + h / 2, qy0 = y0 + h / 2, qy1 = cy + h / 2;  // quadrant centres
+      const bool nq00 = at(qx0, qy0) & kNeed, nq10 = at(qx1, qy0) & kNeed;
+      const bool nq01 = at(qx0, qy1) & kNeed, nq11 = at(qx1, qy1) & kNeed;
+      bool w[4] = {true, true, true, true};
+      if (test_sides) {
+        IntensityMoments* m = sides + (j * n + i) * 4;
+        m[0] = q(i, j, 0, 0, 0) + q(i, j, 1, 0, 0);
+        m[1] = q(i, j, 1, 0, 1) + q(i, j, 1, 1, 0);
+        m[2] = q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1);
+        m[3] = q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1);
+        // Corners in clockwise order from A, then the centre (corners()).
+        w[0] = fixed_shape_fails<s, 0, h, h>(m[0], side_g[0], img, istride, tx0, ty0, x0, y0);
+        w[1] = fixed_shape_fails<0, s, -h, h>(m[1], side_g[1], img, istride, tx0, ty0, x1, y0);
+        w[2] = fixed_shape_fails<-s, 0, -h, -h>(m[2], side_g[2], img, istride, tx0, ty0, x1, y1);
+        w[3] = fixed_shape_fails<0, -s, h, -h>(m[3], side_g[3], img, istride, tx0, ty0, x0, y1);
       }
+      at(cx, y0) |= static_cast<std::uint8_t>((w[0] || nq00 || nq10 ? kNeed : 0) | (w[0] ? 2 : 0));
+      at(x1, cy) |= static_cast<std::uint8_t>((w[1] || nq10 || nq11 ? kNeed : 0) | (w[1] ? 4 : 0));
+      at(cx, y1) |= static_cast<std::uint8_t>((w[2] || nq11 || nq01 ? kNeed : 0) | (w[2] ? 4 : 0));
+      at(x0, cy) |= static_cast<std::uint8_t>((w[3] || nq01 || nq00 ? kNeed : 0) | (w[3] ? 2 : 0));
     }
-    // Halves: need at the centres (the sides' sums are only kept when the
-    // halves are tested, which implies the sides were).
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) {
-        const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
-        const bool bs = RtinLayout::backslash(x0, y0, s);
-        const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
-        const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
-        bool wa = true, wb = true;
-        if (test_halves) {
-          const IntensityMoments* m = sides + (j * n + i) * 4;
-          IntensityMoments* out = halves + (j * n + i) * 2;
-          if (bs) {
-            out[0] = m[0] + m[1];
-            out[1] = m[2] + m[3];
-            wa = fails(out[0], half_g[0], x0, y0);
-            wb = fails(out[1], half_g[1], x0, y0);
-          } else {
-            out[0] = m[0] + m[3];
-            out[1] = m[1] + m[2];
-            wa = fails(out[0], half_g[2], x0, y0);
-            wb = fails(out[1], half_g[3], x1, y0);
-          }
+  }
+  // Halves: need at the centres (the sides' sums are only kept when the
+  // halves are tested, which implies the sides were).
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int x0 = tx0 + i * s, y0 = ty0 + j * s, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
+      const bool bs = RtinLayout::backslash(x0, y0, s);
+      const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
+      const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
+      bool wa = true, wb = true;
+      if (test_halves) {
+        const IntensityMoments* m = sides + (j * n + i) * 4;
+        IntensityMoments* out = halves + (j * n + i) * 2;
+        if (bs) {
+          out[0] = m[0] + m[1];
+          out[1] = m[2] + m[3];
+          wa = fixed_shape_fails<s, 0, s, s>(out[0], half_g[0], img, istride, tx0, ty0, x0, y0);
+          wb = fixed_shape_fails<s, s, 0, s>(out[1], half_g[1], img, istride, tx0, ty0, x0, y0);
+        } else {
+          out[0] = m[0] + m[3];
+          out[1] = m[1] + m[2];
+          wa = fixed_shape_fails<s, 0, 0, s>(out[0], half_g[2], img, istride, tx0, ty0, x0, y0);
+          wb = fixed_shape_fails<0, s, -s, s>(out[1], half_g[3], img, istride, tx0, ty0, x1, y0);
         }
-        const bool own_a = wa || n_top || (bs ? n_right : n_left);
-        const bool own_b = wb || n_bottom || (bs ? n_left : n_right);
-        at(cx, cy) |= static_cast<std::uint8_t>((own_a || own_b ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
       }
+      const bool own_a = wa || n_top || (bs ? n_right : n_left);
+      const bool own_b = wb || n_bottom || (bs ? n_left : n_right);
+      at(cx, cy) |= static_cast<std::uint8_t>((own_a || own_b ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
     }
+  }
+  if constexpr (2 * s <= S) plain_level<S, 2 * s>(tx0, ty0, sc);
+}
+
+void Tritree::tile_plain_any(int tx0, int ty0, const TileScratch& sc) {
+  switch (tile_) {
+    case 2: tile_plain<2>(tx0, ty0, sc); break;
+    case 4: tile_plain<4>(tx0, ty0, sc); break;
+    case 8: tile_plain<8>(tx0, ty0, sc); break;
+    case 16: tile_plain<16>(tx0, ty0, sc); break;
+    case 32: tile_plain<32>(tx0, ty0, sc); break;
+    default: tile_plain<64>(tx0, ty0, sc); break;  // A_max <= 1024: S <= 64
   }
 }
 
@@ -621,7 +656,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         if (x0 + S < layout_.vw && y0 + S < layout_.vh) {
-          tile_plain(x0, y0, sc);
+          tile_plain_any(x0, y0, sc);
         } else {
           tile_bottom_up<false>(x0, y0, sc);
         }

@@ -114,19 +114,26 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     }
     sc.side_i = mi;
   }
-  // Shape moments by the fill rule itself, on a square far from any border.
+  // Shape moments by the fill rule itself, on a square far from any border,
+  // each with its threshold (the model's right-hand side, mse_q8 n area2^2).
+  const std::uint64_t mse_q8 = mse_threshold_q8(params.psnr_deci_db);
+  const auto with_limit = [mse_q8](ShapeMoments g) {
+    const auto a2 = static_cast<std::uint64_t>(g.area2);
+    g.fail_above_q8 = mse_q8 * static_cast<std::uint64_t>(g.n) * a2 * a2;
+    return g;
+  };
   for (int l = 0; (2 << l) <= tile_; ++l) {
     const int s = 2 << l, o = 2 * kMaxAreaLimitPx2;
     for (int k = 0; k < 4; ++k) {
       int x[3], y[3];
       corners(Tri{false, s, o, o, k}, x, y);
-      side_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = shape_moments(x, y);
+      side_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = with_limit(shape_moments(x, y));
     }
     for (int k = 0; k < 4; ++k) {
       // '\\' squares have X0/s + Y0/s even: (o, o) with o/s even, '/' ones (o + s, o).
       int x[3], y[3];
       corners(Tri{true, s, k < 2 ? o : o + s, o, k & 1}, x, y);
-      half_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = shape_moments(x, y);
+      half_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = with_limit(shape_moments(x, y));
     }
   }
   // The 8-byte row-of-tiles starts before the 12-byte triangles: after an odd
@@ -144,7 +151,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
 
   params_ = params;
-  mse_q8_ = mse_threshold_q8(params.psnr_deci_db);
+  mse_q8_ = mse_q8;
   max_height_ = max_height;
   max_width_ = max_width;
 }
