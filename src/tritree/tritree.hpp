@@ -132,8 +132,6 @@ class Tritree {
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   template <bool kPlain>
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
-  template <int kLen2>
-  void emit_plain(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh, ThreadPool* pool);

@@ -515,6 +515,50 @@ void Tritree::carry_up(int x, int y) {
 
 // ---------------------------------------------------------------- pass 3
 
+namespace {
+
+// A plain tile's descent (emit<true>, written out): everything it reads and
+// writes is in locals, so the leaf stores cannot make the compiler reload the
+// tree's members.
+struct PlainEmit {
+  const std::uint8_t* need;
+  std::size_t need_stride;
+  const std::int32_t* ids;
+  std::size_t id_stride;
+  Triangle* out;
+  std::int64_t criterion, forced;
+};
+
+// A leaf's ids, rotated to start at the smallest (orientation kept).
+inline Triangle rotated(std::int32_t ia, std::int32_t ib, std::int32_t ic) {
+  if (ia < ib && ia < ic) return Triangle{ia, ib, ic};
+  if (ib < ic) return Triangle{ib, ic, ia};
+  return Triangle{ic, ia, ib};
+}
+
+// Triangle (a, b, c), hypotenuse a-b of squared length kLen2 (known at
+// compile time: it halves at every level, so the descent unrolls), corners'
+// vertex ids ia, ib, ic: a split looks up one id (its midpoint's), a leaf none.
+template <int kLen2>
+inline void emit_plain(PlainEmit& e, int ax, int ay, int bx, int by, int cx, int cy, std::int32_t ia,
+                       std::int32_t ib, std::int32_t ic) {
+  if constexpr (kLen2 >= 8) {
+    const int mx = (ax + bx) >> 1, my = (ay + by) >> 1;
+    const std::uint8_t c = e.need[static_cast<std::size_t>(my) * e.need_stride + static_cast<std::size_t>(mx)];
+    if (c & kNeed) {
+      const bool apex_after = cy > my || (cy == my && cx > mx);
+      (c & (apex_after ? 2 : 4) ? e.criterion : e.forced) += 1;
+      const std::int32_t im = e.ids[static_cast<std::size_t>(my) * e.id_stride + static_cast<std::size_t>(mx)];
+      emit_plain<kLen2 / 2>(e, cx, cy, ax, ay, mx, my, ic, ia, im);
+      emit_plain<kLen2 / 2>(e, bx, by, cx, cy, mx, my, ib, ic, im);
+      return;
+    }
+  }
+  *e.out++ = rotated(ia, ib, ic);
+}
+
+}  // namespace
+
 // Triangle (a, b, c) with hypotenuse a-b (virtual corners): split when it is
 // crossing, or when it can (virtual area2 >= 4) and need(midpoint); the
 // children are (c, a, m) and (b, c, m). kPlain: a plain tile (all inside).
@@ -552,25 +596,6 @@ void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   emit_leaf<kPlain>(b, ax, ay, bx, by, cx, cy);
 }
 
-// emit<true> with the hypotenuse's squared length kLen2 known at compile time
-// (it halves at every level): a plain tile's whole descent inlines into a few
-// functions, with no length test per triangle.
-template <int kLen2>
-void Tritree::emit_plain(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
-  if constexpr (kLen2 >= 8) {
-    const int mx = (ax + bx) >> 1, my = (ay + by) >> 1;
-    const std::uint8_t c = need_[static_cast<std::size_t>(my) * (layout_.vw + 1) + mx];
-    if (c & kNeed) {
-      const bool apex_after = cy > my || (cy == my && cx > mx);
-      (c & (apex_after ? 2 : 4) ? b.criterion : b.forced) += 1;
-      emit_plain<kLen2 / 2>(b, cx, cy, ax, ay, mx, my);
-      emit_plain<kLen2 / 2>(b, bx, by, cx, cy, mx, my);
-      return;
-    }
-  }
-  emit_leaf<true>(b, ax, ay, bx, by, cx, cy);
-}
-
 // A leaf: its corners' vertex ids (numbered before this pass), rotated to
 // start at the smallest (orientation kept).
 template <bool kPlain>
@@ -580,28 +605,28 @@ void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy)
     return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
                   : vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
   };
-  const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
-  Triangle& t = b.leaves[b.count++];
-  if (ia < ib && ia < ic) {
-    t = Triangle{ia, ib, ic};
-  } else if (ib < ic) {
-    t = Triangle{ib, ic, ia};
-  } else {
-    t = Triangle{ic, ia, ib};
-  }
-  if (!kPlain && layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = t;
+  b.leaves[b.count++] = rotated(id(ax, ay), id(bx, by), id(cx, cy));
+  if (!kPlain && layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = b.leaves[b.count - 1];
 }
 
 // A plain tile's half: the descent for its tile side.
 void Tritree::emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
+  const auto w = static_cast<std::size_t>(gray_.width);
+  PlainEmit e{need_, static_cast<std::size_t>(layout_.vw) + 1, vertex_id_, w, b.leaves + b.count, 0, 0};
+  const std::int32_t ia = vertex_id_[static_cast<std::size_t>(ay) * w + static_cast<std::size_t>(ax)];
+  const std::int32_t ib = vertex_id_[static_cast<std::size_t>(by) * w + static_cast<std::size_t>(bx)];
+  const std::int32_t ic = vertex_id_[static_cast<std::size_t>(cy) * w + static_cast<std::size_t>(cx)];
   switch (tile_) {
-    case 2: emit_plain<2 * 2 * 2>(b, ax, ay, bx, by, cx, cy); break;
-    case 4: emit_plain<2 * 4 * 4>(b, ax, ay, bx, by, cx, cy); break;
-    case 8: emit_plain<2 * 8 * 8>(b, ax, ay, bx, by, cx, cy); break;
-    case 16: emit_plain<2 * 16 * 16>(b, ax, ay, bx, by, cx, cy); break;
-    case 32: emit_plain<2 * 32 * 32>(b, ax, ay, bx, by, cx, cy); break;
-    default: emit_plain<2 * 64 * 64>(b, ax, ay, bx, by, cx, cy); break;  // A_max <= 1024: S <= 64
+    case 2: emit_plain<2 * 2 * 2>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
+    case 4: emit_plain<2 * 4 * 4>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
+    case 8: emit_plain<2 * 8 * 8>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
+    case 16: emit_plain<2 * 16 * 16>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
+    case 32: emit_plain<2 * 32 * 32>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
+    default: emit_plain<2 * 64 * 64>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;  // A_max <= 1024: S <= 64
   }
+  b.count = static_cast<std::size_t>(e.out - b.leaves);
+  b.criterion += e.criterion;
+  b.forced += e.forced;
 }
 
 void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
