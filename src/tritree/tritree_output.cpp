@@ -53,12 +53,20 @@ void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
   const int bands = L.tiles_y;
   // Each band's count, then its first id.
   std::int32_t* first_id = band_first_id_;
+  // A row's vertices: its need bits (a plain byte sum, which the compiler
+  // vectorises) plus, on a tile row, the tile corners (never a midpoint, so
+  // their need bit is clear).
+  const int S = tile_;
   const auto count_band = [&](int band) {
     int vy0, vy1;
     band_rows(band, &vy0, &vy1);
     std::int32_t n = 0;
-    for (int vy = vy0; vy < vy1; ++vy)
-      for (int vx0 = 0; vx0 < row_len; vx0 += 8) n += __builtin_popcount(vertex_bits(vy, vx0));
+    for (int vy = vy0; vy < vy1; ++vy) {
+      const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
+      std::uint32_t bits = 0;
+      for (int x = 0; x < row_len; ++x) bits += need[x] & 1u;
+      n += static_cast<std::int32_t>(bits) + (vy % S == 0 ? (row_len - 1) / S + 1 : 0);
+    }
     first_id[band] = n;
   };
   const auto number_band = [&](int band) {
