@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 namespace tristereo {
 
@@ -115,17 +116,22 @@ struct ShapeMoments {
 };
 
 // plane_sse() for a triangle of shape g with first corner (ax, ay) (relative
-// to the tile origin of m) and corner intensities ia, ib, ic. With
-// J = I - ia and (x', y') = P - A, r = n_x x' + n_y y' + area2 J, so
+// to the tile origin of m) and corner intensities ia, ib, ic, the shape's edge
+// vectors u = B - A and v = C - A given as (ux, uy, vx, vy): ints, or
+// std::integral_constant when they are known at compile time (the products
+// by 0, +-1 and powers of two then fold away). With J = I - ia and
+// (x', y') = P - A, r = n_x x' + n_y y' + area2 J, so
 //   SSE = n_x^2 Sx'x' + 2 n_x n_y Sx'y' + n_y^2 Sy'y'
 //       + 2 area2 (n_x Sx'J + n_y Sy'J) + area2^2 SJJ.
 // The same uint64 wrap-around argument as plane_sse(): exact below 2^64.
-inline std::uint64_t plane_sse_of_shape(const IntensityMoments& m, const ShapeMoments& g, std::int32_t ax,
-                                        std::int32_t ay, std::int32_t ia, std::int32_t ib, std::int32_t ic) {
+template <class Ux, class Uy, class Vx, class Vy>
+inline std::uint64_t plane_sse_with_edges(const IntensityMoments& m, const ShapeMoments& g, std::int32_t ax,
+                                          std::int32_t ay, std::int32_t ia, std::int32_t ib, std::int32_t ic,
+                                          Ux ux, Uy uy, Vx vx, Vy vy) {
+  const std::int64_t a2 = std::int64_t{ux} * vy - std::int64_t{uy} * vx;
   const std::int64_t ui = ib - ia, vi = ic - ia;
-  const std::int64_t nx = g.uy * vi - ui * g.vy;
-  const std::int64_t ny = ui * g.vx - g.ux * vi;
-  const std::int64_t a2 = g.area2;
+  const std::int64_t nx = uy * vi - ui * vy;
+  const std::int64_t ny = ui * vx - ux * vi;
   const std::int64_t sxj = (std::int64_t{m.sxi} - std::int64_t{ax} * m.si) - std::int64_t{ia} * g.sx;
   const std::int64_t syj = (std::int64_t{m.syi} - std::int64_t{ay} * m.si) - std::int64_t{ia} * g.sy;
   const std::int64_t sjj = std::int64_t{m.sii} - 2 * std::int64_t{ia} * m.si + std::int64_t{g.n} * ia * ia;
@@ -134,24 +140,21 @@ inline std::uint64_t plane_sse_of_shape(const IntensityMoments& m, const ShapeMo
          2 * u(a2) * (u(nx) * u(sxj) + u(ny) * u(syj)) + u(a2 * a2) * u(sjj);
 }
 
-// plane_sse_of_shape() for a shape whose u = B - A and v = C - A are known at
-// compile time (the RTIN shapes of a plain tile of known side): the normal's
-// products by 0, +-1 and powers of two fold away. g supplies the geometric
-// sums only (its u, v and area2 must equal the template's).
+// The shape's edges from g itself.
+inline std::uint64_t plane_sse_of_shape(const IntensityMoments& m, const ShapeMoments& g, std::int32_t ax,
+                                        std::int32_t ay, std::int32_t ia, std::int32_t ib, std::int32_t ic) {
+  return plane_sse_with_edges(m, g, ax, ay, ia, ib, ic, g.ux, g.uy, g.vx, g.vy);
+}
+
+// The edges known at compile time (the RTIN shapes of a plain tile of known
+// side): g supplies the geometric sums only (its u and v must be these).
 template <int kUx, int kUy, int kVx, int kVy>
 inline std::uint64_t plane_sse_of_fixed_shape(const IntensityMoments& m, const ShapeMoments& g, std::int32_t ax,
                                               std::int32_t ay, std::int32_t ia, std::int32_t ib, std::int32_t ic) {
-  constexpr std::int64_t kArea2 = std::int64_t{kUx} * kVy - std::int64_t{kUy} * kVx;
-  static_assert(kArea2 > 0, "positive orientation");
-  const std::int64_t ui = ib - ia, vi = ic - ia;
-  const std::int64_t nx = kUy * vi - ui * kVy;
-  const std::int64_t ny = ui * kVx - kUx * vi;
-  const std::int64_t sxj = (std::int64_t{m.sxi} - std::int64_t{ax} * m.si) - std::int64_t{ia} * g.sx;
-  const std::int64_t syj = (std::int64_t{m.syi} - std::int64_t{ay} * m.si) - std::int64_t{ia} * g.sy;
-  const std::int64_t sjj = std::int64_t{m.sii} - 2 * std::int64_t{ia} * m.si + std::int64_t{g.n} * ia * ia;
-  const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
-  return u(nx * nx) * u(g.sxx) + 2 * u(nx * ny) * u(g.sxy) + u(ny * ny) * u(g.syy) +
-         2 * u(kArea2) * (u(nx) * u(sxj) + u(ny) * u(syj)) + u(kArea2 * kArea2) * u(sjj);
+  static_assert(std::int64_t{kUx} * kVy - std::int64_t{kUy} * kVx > 0, "positive orientation");
+  return plane_sse_with_edges(m, g, ax, ay, ia, ib, ic, std::integral_constant<int, kUx>{},
+                              std::integral_constant<int, kUy>{}, std::integral_constant<int, kVx>{},
+                              std::integral_constant<int, kVy>{});
 }
 
 }  // namespace tristereo
