@@ -128,9 +128,7 @@ class Tritree {
     std::int64_t criterion = 0, forced = 0;
   };
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
-  template <bool kPlain>
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
-  template <bool kPlain>
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void begin_mesh(Mesh& mesh) const;

@@ -517,7 +517,7 @@ void Tritree::carry_up(int x, int y) {
 
 namespace {
 
-// A plain tile's descent (emit<true>, written out): everything it reads and
+// A plain tile's descent (emit() without the general tiles' cases): everything it reads and
 // writes is in locals, so the leaf stores cannot make the compiler reload the
 // tree's members.
 struct PlainEmit {
@@ -559,21 +559,19 @@ inline void emit_plain(PlainEmit& e, int ax, int ay, int bx, int by, int cx, int
 
 }  // namespace
 
-// Triangle (a, b, c) with hypotenuse a-b (virtual corners): split when it is
-// crossing, or when it can (virtual area2 >= 4) and need(midpoint); the
-// children are (c, a, m) and (b, c, m). kPlain: a plain tile (all inside).
-template <bool kPlain>
+// A general tile's triangle (a, b, c) with hypotenuse a-b (virtual corners):
+// dropped when outside, split when crossing, or when it can (virtual area2
+// >= 4) and need(midpoint); the children are (c, a, m) and (b, c, m). Plain
+// tiles take emit_plain instead.
 void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
-  if (!kPlain) {
-    const int xs[3] = {ax, bx, cx}, ys[3] = {ay, by, cy};
-    const Where w = where(xs, ys);
-    if (w == Where::kOutside) return;
-    if (w == Where::kCrossing) {
-      const int mx = (ax + bx) / 2, my = (ay + by) / 2;
-      emit<false>(b, cx, cy, ax, ay, mx, my);
-      emit<false>(b, bx, by, cx, cy, mx, my);
-      return;
-    }
+  const int xs[3] = {ax, bx, cx}, ys[3] = {ay, by, cy};
+  const Where w = where(xs, ys);
+  if (w == Where::kOutside) return;
+  if (w == Where::kCrossing) {
+    const int mx = (ax + bx) / 2, my = (ay + by) / 2;
+    emit(b, cx, cy, ax, ay, mx, my);
+    emit(b, bx, by, cx, cy, mx, my);
+    return;
   }
   const int dx = bx - ax, dy = by - ay;
   if (dx * dx + dy * dy >= 8) {
@@ -582,31 +580,24 @@ void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
     if (c & kNeed) {
       const bool apex_after = cy > my || (cy == my && cx > mx);
       (c & (apex_after ? 2 : 4) ? b.criterion : b.forced) += 1;
-      if (kPlain && dx * dx + dy * dy == 8) {  // children of area 1: leaves
-        emit_leaf<true>(b, cx, cy, ax, ay, mx, my);
-        emit_leaf<true>(b, bx, by, cx, cy, mx, my);
-        return;
-      }
-      // Once a tile is known plain, so are its parts; a general tile's parts may be.
-      emit<kPlain>(b, cx, cy, ax, ay, mx, my);
-      emit<kPlain>(b, bx, by, cx, cy, mx, my);
+      emit(b, cx, cy, ax, ay, mx, my);
+      emit(b, bx, by, cx, cy, mx, my);
       return;
     }
   }
-  emit_leaf<kPlain>(b, ax, ay, bx, by, cx, cy);
+  emit_leaf(b, ax, ay, bx, by, cx, cy);
 }
 
-// A leaf: its corners' vertex ids (numbered before this pass), rotated to
-// start at the smallest (orientation kept).
-template <bool kPlain>
+// A general tile's leaf: its real corners' vertex ids (numbered before this
+// pass), rotated to start at the smallest (orientation kept); a stretched one
+// is recorded for the interpolation too.
 void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   const int w = gray_.width;
   const auto id = [&](int x, int y) {
-    return kPlain ? vertex_id_[static_cast<std::size_t>(y) * w + x]
-                  : vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
+    return vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
   };
   b.leaves[b.count++] = rotated(id(ax, ay), id(bx, by), id(cx, cy));
-  if (!kPlain && layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = b.leaves[b.count - 1];
+  if (layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = b.leaves[b.count - 1];
 }
 
 // A plain tile's half: the descent for its tile side.
@@ -638,16 +629,16 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
       emit_plain_tile(b, x1, y1, tx0, ty0, x1, ty0);   // upper right
       emit_plain_tile(b, tx0, ty0, x1, y1, tx0, y1);   // lower left
     } else {
-      emit<false>(b, x1, y1, tx0, ty0, x1, ty0);
-      emit<false>(b, tx0, ty0, x1, y1, tx0, y1);
+      emit(b, x1, y1, tx0, ty0, x1, ty0);
+      emit(b, tx0, ty0, x1, y1, tx0, y1);
     }
   } else {
     if (plain) {
       emit_plain_tile(b, x1, ty0, tx0, y1, tx0, ty0);  // upper left
       emit_plain_tile(b, tx0, y1, x1, ty0, x1, y1);    // lower right
     } else {
-      emit<false>(b, x1, ty0, tx0, y1, tx0, ty0);
-      emit<false>(b, tx0, y1, x1, ty0, x1, y1);
+      emit(b, x1, ty0, tx0, y1, tx0, ty0);
+      emit(b, tx0, y1, x1, ty0, x1, y1);
     }
   }
 }
