@@ -184,6 +184,56 @@ TEST(PathAggregation, SummedCostsIdenticalForAnyWorkerCount) {
   }
 }
 
+// match() decides each row inside the pass that completes its S; it must give
+// what aggregate() then select() gives (one worker: every row is decided in
+// the backward pass; two and three: in both, split where they meet), with the
+// same rejection counts, in both modes, with the uniqueness test and the
+// left-right check from S both rejecting samples.
+TEST(PathAggregation, MatchDecidesLikeSelectAfterAggregate) {
+  test::Rng rng(25);
+  const ImageU8 l = test::random_image(rng, 96, 80);
+  const ImageU8 r = test::shifted_view(rng, l, 3, 4);
+  for (const bool dense : {true, false}) {
+    StereoParams p;
+    p.num_disp = 16;
+    p.dense = dense;
+    p.tritree.max_area_px2 = 40;
+    p.validity.uniqueness_pct = 15;
+    p.validity.lr_source = LrSource::kSummedCosts;
+    p.validity.lr_max_diff_q4 = 8;
+    const Mesh mesh = reference::build_tritree(l, p.tritree);
+    const SampleLayout s{dense ? nullptr : &mesh, l.width, l.height};
+    const auto n = static_cast<std::size_t>(s.count());
+    std::vector<std::int16_t> want(n), got(n);
+    PathMatcher ref;
+    aggregate_frame(l, r, s, p, 1, ref);
+    ThreadPool one;
+    const PathMatcher::Rejected want_rej = ref.select(s, one, want.data());
+    ASSERT_GT(want_rej.uniqueness, 0) << "the test frame must exercise the uniqueness test";
+    ASSERT_GT(want_rej.left_right, 0) << "the test frame must exercise the left-right check";
+    for (const int workers : {1, 2, 3}) {
+      for (int repeat = 0; repeat < 3; ++repeat) {
+        const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
+        MatchContext ctx(l.width, l.height, p, ks);
+        ctx.begin_frame(l.view(), r.view());
+        CensusScratch cs;
+        cs.resize(l.width);
+        ctx.prepare_right_rows(0, l.height, &cs);
+        PathMatcher pm;
+        pm.configure(l.width, l.height, p, ks, workers);
+        ThreadPool pool;
+        if (workers > 1) pool.start(workers, {}, false);
+        pm.compute_costs(ctx, s, pool);
+        std::fill(got.begin(), got.end(), std::int16_t{0});
+        const PathMatcher::Rejected rej = pm.match(s, l.view(), pool, got.data());
+        EXPECT_EQ(rej.uniqueness, want_rej.uniqueness) << workers << " workers";
+        EXPECT_EQ(rej.left_right, want_rej.left_right) << workers << " workers";
+        ASSERT_EQ(got, want) << (dense ? "dense" : "mesh") << ", " << workers << " workers";
+      }
+    }
+  }
+}
+
 TEST(PathAggregation, PredecessorsFollowTheirDirection) {
   std::mt19937 rng(23);
   const ImageU8 l = random_image(rng, 40, 30);

@@ -338,7 +338,7 @@ int PathMatcher::frame_ring(const SampleLayout& samples) const {
 }
 
 void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> gray,
-                           bool forward, int worker) {
+                           bool forward, int worker, RowDecider* decide) {
   Worker& wk = workers_[static_cast<std::size_t>(worker)];
   const KernelSet& ks = *kernels_;
   const int n = samples.count();
@@ -436,12 +436,24 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       for (int i = v0; i < v1; ++i) step_sample(i, !first);
     else
       for (int i = v1 - 1; i >= v0; --i) step_sample(i, !first);
-    if (first) done.store(1, std::memory_order_release);
+    if (first) {
+      done.store(1, std::memory_order_release);
+    } else if (decide != nullptr) {
+      decide->begin_row(y);
+      for (int i = v0; i < v1; ++i) decide->sample(i, sum_.get() + row(i, cost_stride_));
+      decide->end_row();
+    }
   }
 }
 
 void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                             ThreadPool& pool) {
+  (void)aggregate_rows(samples, left_gray, pool, nullptr);
+}
+
+PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
+                                                  ImageView<const std::uint8_t> left_gray, ThreadPool& pool,
+                                                  std::int16_t* disp_q4) {
   if (!samples.dense() && preds_for_ != samples.mesh) {
     reach_ = find_predecessors(samples);
     check_reach(reach_);
@@ -452,17 +464,25 @@ void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::ui
     row_done_[static_cast<std::size_t>(y)].store(0, std::memory_order_relaxed);
   }
   dirs_.reset(0, 2, 1);
+  std::atomic<int> rejected_unique{0}, rejected_lr{0};
   pool.run([&](int w) {
+    RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
     int p0 = 0, p1 = 0;
     while (dirs_.next(&p0, &p1))
-      for (int pass = p0; pass < p1; ++pass) run_pass(samples, left_gray, pass == 0, w);
+      for (int pass = p0; pass < p1; ++pass)
+        run_pass(samples, left_gray, pass == 0, w, disp_q4 != nullptr ? &decide : nullptr);
+    rejected_unique.fetch_add(decide.rejected.uniqueness, std::memory_order_relaxed);
+    rejected_lr.fetch_add(decide.rejected.left_right, std::memory_order_relaxed);
   });
+  Rejected r;
+  r.uniqueness = rejected_unique.load();
+  r.left_right = rejected_lr.load();
+  return r;
 }
 
 PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                                          ThreadPool& pool, std::int16_t* disp_q4) {
-  aggregate(samples, left_gray, pool);
-  return select(samples, pool, disp_q4);
+  return aggregate_rows(samples, left_gray, pool, disp_q4);
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {

@@ -64,7 +64,10 @@ class PathMatcher {
     int left_right = 0;
   };
   Rejected select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4);
-  // aggregate() then select().
+  // aggregate() then select(), with the same result, but each row decided as
+  // soon as its S is complete, by the worker that completed it (while the
+  // row's sums are still in its cache: a separate select() reads all of S back
+  // from memory).
   Rejected match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                  ThreadPool& pool, std::int16_t* disp_q4);
 
@@ -106,8 +109,13 @@ class PathMatcher {
   // Returns the largest id distance of a mesh edge between two rows.
   int find_predecessors(const SampleLayout& samples);
   void check_reach(int reach) const;
+  // One pass; with `decide`, every row this pass completes (it comes second
+  // there) is decided right away.
   void run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, bool forward,
-                int worker);
+                int worker, RowDecider* decide);
+  // aggregate(), deciding the rows on the way when disp_q4 is given.
+  Rejected aggregate_rows(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
+                          ThreadPool& pool, std::int16_t* disp_q4);
   // Ring slots this frame needs: one more than the largest id distance of a
   // predecessor (fewer slots touch fewer pages and stay in cache).
   int frame_ring(const SampleLayout& samples) const;
