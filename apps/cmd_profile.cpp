@@ -44,6 +44,10 @@ namespace tristereo::cli {
 
 namespace {
 
+// GPIO stage lines, counted from the first line after the frame line: the
+// slots docs/profiling.md documents (kept when the report gained stages).
+constexpr int kLineTritree = 0, kLineMatching = 1, kLineInterpolation = 3, kLineMeshOutput = 4;
+
 const char* kProfileHelp = R"(usage: tristereo profile [options]
 
 Runs the pipeline on a stream of frames and reports the per-frame latency of each
@@ -65,7 +69,8 @@ Real time and markers:
   --realtime [PRIO]    SCHED_FIFO at PRIO (1..99, default 80) for the frame loop and the
                        workers, and mlockall; needs root or CAP_SYS_NICE + CAP_IPC_LOCK
   --gpio CHIP:LINE[,CHIP:LINE...]   frame line high during each frame; further lines
-                       high during the stages, in report order
+                       high during tritree, matching, (dp: low), interpolation,
+                       mesh output
   --mesh-output        time writing the mesh as binary PLY (to a temp file) as a stage
 Reports:
   --csv FILE           one row per measured frame (ms)
@@ -426,15 +431,16 @@ int cmd_profile(int argc, char** argv) {
     rt_guard.on = true;
   }
 
-  // GPIO stage lines: slot 1 + ProfileStage index; the matching interval
-  // (cost aggregation and DP interleave per row) drives the cost-aggregation line.
+  // GPIO stage lines (docs/profiling.md): slot 1 tritree, 2 the matching
+  // interval (cost aggregation and DP interleave per row), 3 dp (stays low),
+  // 4 interpolation, 5 mesh output; the fill has no line.
   struct MarkerListener : StageListener {
     FrameMarkerDriver* driver;
     explicit MarkerListener(FrameMarkerDriver* d) : driver(d) {}
     void on_stage(PipelineStage s, bool begin) noexcept override {
-      int stage = static_cast<int>(ProfileStage::kTritree);
-      if (s == PipelineStage::kMatching) stage = static_cast<int>(ProfileStage::kCostAggregation);
-      if (s == PipelineStage::kInterpolation) stage = static_cast<int>(ProfileStage::kInterpolation);
+      int stage = kLineTritree;
+      if (s == PipelineStage::kMatching) stage = kLineMatching;
+      if (s == PipelineStage::kInterpolation) stage = kLineInterpolation;
       if (begin)
         driver->stage_begin(stage);
       else
@@ -448,7 +454,6 @@ int cmd_profile(int argc, char** argv) {
   FrameLog log(static_cast<std::size_t>(frames));
   RssTrace rss(frames, RssTrace::interval_for(frames, kRssSamples));
   ProgressLine progress(quiet);
-  constexpr int kMeshStage = static_cast<int>(ProfileStage::kMeshOutput);
 
   std::vector<ImageView<const std::uint8_t>> lefts, rights;
   for (std::size_t k = 0; k < ring.size(); ++k) {
@@ -471,11 +476,11 @@ int cmd_profile(int argc, char** argv) {
     const StereoOutput& out = pipeline.process(lefts[slot], rights[slot]);
     std::int64_t mesh_ns = 0;
     if (mesh_output) {
-      markers.stage_begin(kMeshStage);
+      markers.stage_begin(kLineMeshOutput);
       const std::int64_t m0 = monotonic_ns();
       write_mesh_ply(ply->path(), out.mesh, out.vertex_disp_q4, lefts[slot], nullptr, true);
       mesh_ns = monotonic_ns() - m0;
-      markers.stage_end(kMeshStage);
+      markers.stage_end(kLineMeshOutput);
     }
     markers.frame_end();
     const std::int64_t t1 = monotonic_ns();
@@ -487,8 +492,9 @@ int cmd_profile(int argc, char** argv) {
       s.stage_ns[static_cast<int>(ProfileStage::kTritree)] = t.tritree_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kCostAggregation)] = t.cost_aggregation_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kDp)] = t.dp_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kFill)] = t.fill_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kInterpolation)] = t.interpolation_ns;
-      s.stage_ns[kMeshStage] = mesh_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kMeshOutput)] = mesh_ns;
       s.total_ns = t1 - t0;
       s.cpu_ns = cpu1 - cpu0;
       log.push(s);

@@ -171,6 +171,7 @@ Output make_output(const StereoOutput& o, const FrameTimings& t) {
   r.timings_ms["tritree"] = t.tritree_ns / 1e6;
   r.timings_ms["cost_aggregation"] = t.cost_aggregation_ns / 1e6;
   r.timings_ms["dp"] = t.dp_ns / 1e6;
+  r.timings_ms["fill"] = t.fill_ns / 1e6;
   r.timings_ms["interpolation"] = t.interpolation_ns / 1e6;
   r.timings_ms["total"] = t.total_ns / 1e6;
   r.forced_splits = o.mesh.forced_splits;

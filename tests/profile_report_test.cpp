@@ -229,20 +229,21 @@ TEST(FramesCsv, HeaderRowsAndExactValues) {
   std::istringstream in(os.str());
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
-  EXPECT_EQ(line, "frame,tritree_ms,cost_aggregation_ms,dp_ms,interpolation_ms,total_ms,cpu_ms");
+  EXPECT_EQ(line, "frame,tritree_ms,cost_aggregation_ms,dp_ms,fill_ms,interpolation_ms,total_ms,cpu_ms");
   std::vector<std::vector<std::string>> rows;
   while (std::getline(in, line)) rows.push_back(split(line, ','));
   ASSERT_EQ(rows.size(), 4u);
-  for (const auto& r : rows) ASSERT_EQ(r.size(), 7u);
+  for (const auto& r : rows) ASSERT_EQ(r.size(), 8u);
   EXPECT_EQ(rows[0][0], "0");
   EXPECT_EQ(rows[3][0], "3");
   EXPECT_EQ(rows[0][1], "1.000000");  // tritree of frame 0: 1 ms + 0 ns
   EXPECT_EQ(rows[2][3], "9.000002");  // dp (k = 2) of frame 2: 9 ms + 2 ns
-  EXPECT_EQ(rows[1][4], "8.000003");  // interpolation (k = 3) of frame 1
-  // total of frame 0: 1+2+3+4+5 ms + (0+1+2+3+4) ns + 7 ns (mesh stage is in
-  // the total even when its column is not written).
-  EXPECT_EQ(rows[0][5], "15.000017");
-  EXPECT_EQ(rows[0][6], "30.000034");
+  EXPECT_EQ(rows[1][4], "8.000003");  // fill (k = 3) of frame 1
+  EXPECT_EQ(rows[1][5], "10.000004");  // interpolation (k = 4) of frame 1
+  // total of frame 0: 1+2+3+4+5+6 ms + (0+1+2+3+4+5) ns + 7 ns (mesh stage is
+  // in the total even when its column is not written).
+  EXPECT_EQ(rows[0][6], "21.000022");
+  EXPECT_EQ(rows[0][7], "42.000044");
 }
 
 TEST(FramesCsv, MeshOutputColumnAndNegativeNs) {
@@ -255,10 +256,10 @@ TEST(FramesCsv, MeshOutputColumnAndNegativeNs) {
   std::ostringstream os;
   write_frames_csv(os, log, /*mesh_output=*/true);
   EXPECT_EQ(os.str(),
-            "frame,tritree_ms,cost_aggregation_ms,dp_ms,interpolation_ms,mesh_output_ms,total_ms,"
-            "cpu_ms\n0,0.000000,0.000000,0.000000,0.000000,123.456789,-0.000001,0.000000\n");
-  EXPECT_EQ(frames_csv_columns(true).size(), 8u);
-  EXPECT_EQ(frames_csv_columns(false).size(), 7u);
+            "frame,tritree_ms,cost_aggregation_ms,dp_ms,fill_ms,interpolation_ms,mesh_output_ms,total_ms,"
+            "cpu_ms\n0,0.000000,0.000000,0.000000,0.000000,0.000000,123.456789,-0.000001,0.000000\n");
+  EXPECT_EQ(frames_csv_columns(true).size(), 9u);
+  EXPECT_EQ(frames_csv_columns(false).size(), 8u);
 }
 
 TEST(ProfileReport, SummaryNumbers) {
@@ -266,15 +267,16 @@ TEST(ProfileReport, SummaryNumbers) {
   const ProfileReport r =
       make_profile_report(make_config(false, 10), log,
                           /*wall_ns=*/500000000, /*peak_rss=*/3 << 20, kMachine);
-  ASSERT_EQ(r.stages.size(), 4u);
+  ASSERT_EQ(r.stages.size(), 5u);
   EXPECT_EQ(r.stages[0].name, "tritree");
-  EXPECT_EQ(r.stages[3].name, "interpolation");
+  EXPECT_EQ(r.stages[3].name, "fill");
+  EXPECT_EQ(r.stages[4].name, "interpolation");
   // dp (k = 2): 3, 6, ..., 30 ms (+2 ns): p50 of 10 values = mean of 5th and 6th.
   EXPECT_NEAR(r.stages[2].stats.p50_ms, 16.5 + 2e-6, 1e-9);
   EXPECT_NEAR(r.stages[2].stats.min_ms, 3.000002, 1e-12);
   EXPECT_NEAR(r.stages[2].stats.max_ms, 30.000002, 1e-12);
   EXPECT_EQ(r.total.count, 10u);
-  EXPECT_NEAR(r.total.mean_ms, 15.0 * 5.5 + 17e-6, 1e-9);
+  EXPECT_NEAR(r.total.mean_ms, 21.0 * 5.5 + 22e-6, 1e-9);
   EXPECT_NEAR(r.cpu.mean_ms, 2 * r.total.mean_ms, 1e-9);
   EXPECT_NEAR(r.fps_from_mean, 1000.0 / r.total.mean_ms, 1e-9);
   EXPECT_DOUBLE_EQ(r.wall_s, 0.5);
@@ -283,9 +285,9 @@ TEST(ProfileReport, SummaryNumbers) {
   EXPECT_EQ(r.machine.cpu_model, kMachine.cpu_model);
 
   const ProfileReport with_mesh = make_profile_report(make_config(true, 10), log, 1, 0, kMachine);
-  ASSERT_EQ(with_mesh.stages.size(), 5u);
-  EXPECT_EQ(with_mesh.stages[4].name, "mesh_output");
-  EXPECT_NEAR(with_mesh.stages[4].stats.max_ms, 50.000004, 1e-12);
+  ASSERT_EQ(with_mesh.stages.size(), 6u);
+  EXPECT_EQ(with_mesh.stages[5].name, "mesh_output");
+  EXPECT_NEAR(with_mesh.stages[5].stats.max_ms, 60.000005, 1e-12);
 }
 
 TEST(ProfileReport, RejectsEmptyLogAndBadWallTime) {
@@ -329,8 +331,8 @@ TEST(ProfileJson, ParsesBackWithConfigStagesAndFps) {
   EXPECT_EQ(j["machine"]["online_cpus"].number, 4);
 
   const Json& stages = j["stages"];
-  ASSERT_EQ(stages.members.size(), 5u);
-  for (const char* name : {"tritree", "cost_aggregation", "dp", "interpolation", "mesh_output"}) {
+  ASSERT_EQ(stages.members.size(), 6u);
+  for (const char* name : {"tritree", "cost_aggregation", "dp", "fill", "interpolation", "mesh_output"}) {
     const Json& s = stages[name];
     ASSERT_EQ(s.kind, Json::kObject) << name;
     for (const char* field :
@@ -386,7 +388,7 @@ TEST(ProfileTable, ListsEveryStageAndFps) {
   std::ostringstream os;
   write_profile_table(os, r);
   const std::string t = os.str();
-  for (const char* name : {"tritree", "cost_aggregation", "dp", "interpolation", "mesh_output",
+  for (const char* name : {"tritree", "cost_aggregation", "dp", "fill", "interpolation", "mesh_output",
                            "total", "cpu (process)"})
     EXPECT_NE(t.find(std::string("\n") + name + " "), std::string::npos) << name << " in\n" << t;
   EXPECT_NE(t.find("3.00 wall"), std::string::npos) << t;  // 3 frames in 1 s

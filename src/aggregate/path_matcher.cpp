@@ -149,20 +149,14 @@ std::size_t PathMatcher::working_memory_bytes() const {
   return bytes;
 }
 
-void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples,
-                                ThreadPool& pool, const FunctionRef<void()>* beside) {
-  // Side tasks first, one per worker as they arrive: the predecessors (they
-  // only read the mesh, and write preds_), then the caller's.
-  const int sides = (samples.dense() ? 0 : 1) + (beside != nullptr ? 1 : 0);
-  side_next_.store(0, std::memory_order_relaxed);
+void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool) {
+  // The predecessors first, on the first worker to arrive (they only read the
+  // mesh, and write preds_), while the others start on the rows.
+  side_next_.store(samples.dense() ? 1 : 0, std::memory_order_relaxed);
   int reach = 0;
   preds_for_ = nullptr;
   const auto side_tasks = [&] {
-    for (int t = side_next_.fetch_add(1, std::memory_order_relaxed); t < sides;
-         t = side_next_.fetch_add(1, std::memory_order_relaxed)) {
-      if (t == 0 && !samples.dense()) reach_ = reach = find_predecessors(samples);
-      else (*beside)();
-    }
+    if (side_next_.fetch_add(1, std::memory_order_relaxed) == 0) reach_ = reach = find_predecessors(samples);
   };
   if (params_.cost.kind == CostKind::kCensus) {
     // Larger chunks: each chunk recomputes the window's rows above and below it.

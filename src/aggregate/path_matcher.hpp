@@ -31,7 +31,6 @@
 #include "platform/work_chunks.hpp"
 #include "src/aggregate/samples.hpp"
 #include "src/cost/match_context.hpp"
-#include "platform/function_ref.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "tristereo/params.hpp"
 
@@ -46,12 +45,10 @@ class PathMatcher {
 
   // C(i, k) = ctx.aggregate_sample at sample i (ctx prepared for the frame).
   // Sparse mode: the mesh predecessors too, on one worker while the others
-  // start on the rows, and `beside` (if given: work of the caller's that only
-  // needs the mesh) on another: both are serial work that would otherwise
-  // leave workers idle. Throws Error (after every worker is done) for a mesh
-  // whose edges reach beyond the path rings.
-  void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool,
-                     const FunctionRef<void()>* beside = nullptr);
+  // start on the rows (serial work that would otherwise leave workers idle).
+  // Throws Error (after every worker is done) for a mesh whose edges reach
+  // beyond the path rings.
+  void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool);
   // Predecessors along each direction, then the path costs and their sums.
   // left_gray: the frame's reference image (for the intensity-adaptive P2).
   void aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,

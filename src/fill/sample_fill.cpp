@@ -11,6 +11,20 @@ namespace tristereo {
 namespace {
 // Pending samples per chunk of a round: a chunk costs microseconds.
 constexpr int kPendingPerChunk = 2048;
+// Triangles per chunk of a mesh fill's first walk (the one over all of them).
+constexpr int kTrianglesPerChunk = 32768;
+
+// base[i] = min(base[i], v) against other workers doing the same to *p (relaxed: the
+// pool's join orders the walk before the round's writes).
+struct atomic_min_at {
+  std::int32_t* base;
+  void operator()(int i, std::int32_t v) const {
+    std::int32_t* p = base + i;
+    std::int32_t cur = __atomic_load_n(p, __ATOMIC_RELAXED);
+    while (v < cur && !__atomic_compare_exchange_n(p, &cur, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+    }
+  }
+};
 
 template <class T>
 LargeArray<T> untouched(std::size_t n) {
@@ -22,69 +36,37 @@ void SampleFill::configure(int max_samples, int max_triangles) {
   max_samples_ = max_samples;
   max_triangles_ = max_triangles;
   const auto n = static_cast<std::size_t>(max_samples);
-  offsets_ = untouched<std::int32_t>(n + 1);
-  neighbours_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles) * 6);
   pending_ = untouched<std::int32_t>(n);
   candidate_ = untouched<std::int32_t>(n);
-}
-
-// CSR of the mesh's undirected edges, each stored once per triangle side (an
-// interior edge twice: harmless under min).
-void SampleFill::build_adjacency(const SampleLayout& samples) {
-  const int n = samples.count();
-  std::int32_t* off = offsets_.get();
-  std::fill(off, off + n + 1, 0);
-  for (const Triangle& t : samples.mesh->triangles)
-    for (int e = 0; e < 3; ++e) off[t[static_cast<std::size_t>(e)] + 1] += 2;
-  for (int i = 0; i < n; ++i) off[i + 1] += off[i];
-  std::int32_t* fill_at = candidate_.get();  // reused as insertion cursors
-  std::copy(off, off + n, fill_at);
-  for (const Triangle& t : samples.mesh->triangles)
-    for (int e = 0; e < 3; ++e) {
-      const int a = t[static_cast<std::size_t>(e)];
-      neighbours_[static_cast<std::size_t>(fill_at[a]++)] = t[static_cast<std::size_t>((e + 1) % 3)];
-      neighbours_[static_cast<std::size_t>(fill_at[a]++)] = t[static_cast<std::size_t>((e + 2) % 3)];
-    }
-}
-
-void SampleFill::prepare(const SampleLayout& samples) {
-  prepared_for_ = nullptr;
-  if (samples.dense()) return;
-  build_adjacency(samples);
-  prepared_for_ = samples.mesh;
+  live_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles));
+  chunk_live_.assign(static_cast<std::size_t>(max_triangles / kTrianglesPerChunk + 1), 0);
 }
 
 int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool) {
-  const bool prepared = !samples.dense() && prepared_for_ == samples.mesh;
-  prepared_for_ = nullptr;  // one frame's
   const int n = samples.count();
   int pending = 0;
   for (int i = 0; i < n; ++i)
     if (disp_q4[i] == kInvalidDispQ4) pending_[static_cast<std::size_t>(pending++)] = i;
   if (pending == 0) return 0;
-  if (!samples.dense() && !prepared) build_adjacency(samples);
+  return samples.dense() ? fill_grid(samples, disp_q4, pool, pending) : fill_mesh(samples, disp_q4, pool, pending);
+}
+
+int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending) {
   std::int32_t* cand = candidate_.get();
   const int w = samples.width, h = samples.height;
-  // Candidates from neighbours valid at the start of the round, for pending[j0, j1).
+  // Candidates from the 8 neighbours valid at the start of the round, for pending[j0, j1).
   const auto candidates = [&](int j0, int j1) {
     for (int j = j0; j < j1; ++j) {
       const int i = pending_[static_cast<std::size_t>(j)];
       int best = INT_MAX;
-      auto offer = [&](int q) {
-        const int v = disp_q4[q];
-        if (v != kInvalidDispQ4 && v < best) best = v;
-      };
-      if (samples.dense()) {
-        const int x = i % w, y = i / w;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int qx = x + dx, qy = y + dy;
-            if ((dx != 0 || dy != 0) && qx >= 0 && qx < w && qy >= 0 && qy < h) offer(qy * w + qx);
-          }
-      } else {
-        for (int e = offsets_[static_cast<std::size_t>(i)]; e < offsets_[static_cast<std::size_t>(i) + 1]; ++e)
-          offer(neighbours_[static_cast<std::size_t>(e)]);
-      }
+      const int x = i % w, y = i / w;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if ((dx == 0 && dy == 0) || qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
+          const int v = disp_q4[qy * w + qx];
+          if (v != kInvalidDispQ4 && v < best) best = v;
+        }
       cand[j] = best;
     }
   };
@@ -114,6 +96,80 @@ int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadP
     filled += now;
     pending = kept;
     if (now == 0 || pending == 0) break;
+  }
+  return filled;
+}
+
+int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending) {
+  const Triangle* tris = samples.mesh->triangles.data();
+  const auto n_tris = static_cast<std::int32_t>(samples.mesh->triangles.size());
+  std::int32_t* live = live_.get();
+  std::int32_t* cand = candidate_.get();
+  for (int j = 0; j < pending; ++j) cand[pending_[static_cast<std::size_t>(j)]] = INT_MAX;
+  // Offers along triangle t's edges to its corners invalid at the start of the
+  // round; false when all three are valid (t can never carry a value again).
+  const auto walk = [&](std::int32_t t, auto offer) {
+    const Triangle& tr = tris[t];
+    const int a = tr[0], b = tr[1], c = tr[2];
+    const int da = disp_q4[a], db = disp_q4[b], dc = disp_q4[c];
+    const bool ia = da == kInvalidDispQ4, ib = db == kInvalidDispQ4, ic = dc == kInvalidDispQ4;
+    if (!(ia || ib || ic)) return false;
+    const int va = ia ? INT_MAX : da, vb = ib ? INT_MAX : db, vc = ic ? INT_MAX : dc;
+    if (ia) offer(a, std::min(vb, vc));
+    if (ib) offer(b, std::min(va, vc));
+    if (ic) offer(c, std::min(va, vb));
+    return true;
+  };
+  const auto offer_alone = [cand](int i, int v) {
+    if (v < cand[i]) cand[i] = v;
+  };
+  // The first round walks every triangle and keeps those with an invalid
+  // corner (a quarter to a third of them); each later one walks what the one
+  // before kept. With a pool, the first walk goes by chunks, each keeping its
+  // triangles in its own stretch of live_, joined up after.
+  int n_live = 0;
+  const int chunks = (n_tris + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
+  if (pool != nullptr && pool->size() > 1 && chunks >= 2) {
+    chunks_.reset(0, chunks, 1);
+    pool->run([&](int) {
+      int c0 = 0, c1 = 0;
+      while (chunks_.next(&c0, &c1)) {
+        const std::int32_t t0 = c0 * kTrianglesPerChunk, t1 = std::min(n_tris, t0 + kTrianglesPerChunk);
+        std::int32_t kept = t0;
+        for (std::int32_t t = t0; t < t1; ++t)
+          if (walk(t, atomic_min_at{cand})) live[kept++] = t;
+        chunk_live_[static_cast<std::size_t>(c0)] = kept - t0;
+      }
+    });
+    for (int c = 0; c < chunks; ++c) {
+      const std::int32_t* from = live + static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
+      n_live = static_cast<int>(std::copy(from, from + chunk_live_[static_cast<std::size_t>(c)], live + n_live) - live);
+    }
+  } else {
+    for (std::int32_t t = 0; t < n_tris; ++t)
+      if (walk(t, offer_alone)) live[n_live++] = t;
+  }
+  int filled = 0;
+  for (;;) {
+    // Write after the whole walk, so a round only sees the previous round's
+    // values; then keep the samples still unfilled.
+    int kept = 0, now = 0;
+    for (int j = 0; j < pending; ++j) {
+      const int i = pending_[static_cast<std::size_t>(j)];
+      if (cand[i] != INT_MAX) {
+        disp_q4[i] = static_cast<std::int16_t>(cand[i]);
+        ++now;
+      } else {
+        pending_[static_cast<std::size_t>(kept++)] = i;
+      }
+    }
+    filled += now;
+    pending = kept;
+    if (now == 0 || pending == 0) break;
+    int still = 0;
+    for (int k = 0; k < n_live; ++k)
+      if (walk(live[k], offer_alone)) live[still++] = live[k];
+    n_live = still;
   }
   return filled;
 }

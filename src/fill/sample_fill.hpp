@@ -25,31 +25,31 @@ class SampleFill {
  public:
   // Buffers for up to max_samples samples and max_triangles mesh triangles.
   void configure(int max_samples, int max_triangles);
-  // Builds the mesh adjacency ahead of fill() (sparse mode; it only needs the
-  // mesh, so it can run beside the matching). The next fill() of the same mesh
-  // uses it; any other fill() builds its own.
-  void prepare(const SampleLayout& samples);
   // Fills disp_q4[0 .. samples.count()) in place (kInvalidDispQ4 = invalid).
-  // Returns the number of samples filled. With a pool (called from its owner
-  // thread), each round's candidates are found by its workers in chunks; the
-  // result is the same for any pool.
+  // Returns the number of samples filled. Meshes: each round walks the
+  // triangles that still have an invalid corner (no adjacency is built: the
+  // first round's walk over all triangles costs less than building one, and
+  // the list shrinks fast). With a pool (called from its owner thread), the
+  // first walk (meshes) or each round's candidates (dense grids) are shared
+  // by its workers in chunks. The result is the same for any pool.
   int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr);
   // Heap bytes the configured fill holds.
   std::size_t working_memory_bytes() const {
-    return (3 * static_cast<std::size_t>(max_samples_) + 1 + 6 * static_cast<std::size_t>(max_triangles_)) *
+    return (2 * static_cast<std::size_t>(max_samples_) + static_cast<std::size_t>(max_triangles_)) *
            sizeof(std::int32_t);
   }
 
  private:
-  void build_adjacency(const SampleLayout& samples);
+  int fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending);
+  int fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending);
   int max_samples_ = 0;
   int max_triangles_ = 0;
-  const Mesh* prepared_for_ = nullptr;  // prepare()'s mesh, until the next fill()
   WorkChunks chunks_;                   // a round's pending samples, handed out on demand
-  LargeArray<std::int32_t> offsets_;    // CSR over samples (sparse)
-  LargeArray<std::int32_t> neighbours_;
   LargeArray<std::int32_t> pending_;    // invalid samples still to fill
-  LargeArray<std::int32_t> candidate_;  // this round's smallest neighbour
+  LargeArray<std::int32_t> candidate_;  // this round's smallest neighbour (grid: by pending index;
+                                        // mesh: by sample id)
+  LargeArray<std::int32_t> live_;       // mesh: triangles with an invalid corner
+  std::vector<std::int32_t> chunk_live_;  // mesh, with a pool: how many each chunk of the first walk kept
 };
 
 }  // namespace tristereo

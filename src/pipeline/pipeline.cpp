@@ -235,11 +235,7 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
   });
   const std::int64_t t_prepared = monotonic_ns();
   if (config.params.optimizer == Optimizer::kPaths) {
-    // The fill's mesh adjacency needs only the mesh: built beside the costs.
-    const auto adjacency = [&] { fill.prepare(samples); };
-    const FunctionRef<void()> beside = adjacency;
-    const bool fills = config.params.validity.fill != FillMode::kNone && !samples.dense();
-    paths.compute_costs(match, samples, pool, fills ? &beside : nullptr);
+    paths.compute_costs(match, samples, pool);
     const std::int64_t t_costs = monotonic_ns();
     const PathMatcher::Rejected rejected = paths.match(samples, lg, pool, sample_disp);
     *cost_ns += t_costs - t0;

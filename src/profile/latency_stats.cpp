@@ -75,6 +75,8 @@ const char* profile_stage_name(ProfileStage stage) {
       return "cost_aggregation";
     case ProfileStage::kDp:
       return "dp";
+    case ProfileStage::kFill:
+      return "fill";
     case ProfileStage::kInterpolation:
       return "interpolation";
     case ProfileStage::kMeshOutput:
