@@ -380,6 +380,44 @@ batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, co
 }
 #endif
 
+// ---- smallest u16 lane. It ends every path step and feeds the next one's
+// penalties, so its latency is on the path's dependency chain: halving lanes
+// with shifts takes log2(lanes) dependent shuffle + min pairs; AVX2 has
+// phminposuw for the last 8, AArch64 a single across-vector min.
+template <class A>
+std::uint16_t hmin_u16(batch<std::uint16_t, A> x, const xsimd::generic&) {
+  constexpr std::size_t lanes = batch<std::uint16_t, A>::size;
+  if constexpr (lanes > 8) x = min_u16(x, shift_down_u16<8>(x, A{}), A{});
+  x = min_u16(x, shift_down_u16<4>(x, A{}), A{});
+  x = min_u16(x, shift_down_u16<2>(x, A{}), A{});
+  x = min_u16(x, shift_down_u16<1>(x, A{}), A{});
+  alignas(64) std::uint16_t lane[lanes];
+  x.store_aligned(lane);
+  return lane[0];
+}
+#if XSIMD_WITH_AVX2
+template <class A>
+std::uint16_t hmin_u16(const batch<std::uint16_t, A>& x, const xsimd::avx2&) {
+  const __m256i v = x;
+  const __m128i m = _mm_min_epu16(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+  return static_cast<std::uint16_t>(_mm_cvtsi128_si32(_mm_minpos_epu16(m)));
+}
+#endif
+#if XSIMD_WITH_NEON64
+template <class A>
+std::uint16_t hmin_u16(const batch<std::uint16_t, A>& x, const xsimd::neon64&) {
+  return vminvq_u16(x);
+}
+#elif XSIMD_WITH_NEON
+template <class A>
+std::uint16_t hmin_u16(const batch<std::uint16_t, A>& x, const xsimd::neon&) {
+  uint16x4_t m = vmin_u16(vget_low_u16(x), vget_high_u16(x));
+  m = vpmin_u16(m, m);
+  m = vpmin_u16(m, m);
+  return vget_lane_u16(m, 0);
+}
+#endif
+
 }  // namespace detail
 
 // ---------------------------------------------------------------- public escapes
@@ -438,6 +476,11 @@ batch<std::uint16_t, A> broadcast_last_u16(const batch<std::uint16_t, A>& a) {
 template <class A>
 batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a) {
   return detail::broadcast_first_u16(a, A{});
+}
+// The smallest lane of a.
+template <class A>
+std::uint16_t hmin_u16(const batch<std::uint16_t, A>& a) {
+  return detail::hmin_u16(a, A{});
 }
 
 // Widens unsigned lanes to twice their width: lo gets elements 0 .. n/2-1,

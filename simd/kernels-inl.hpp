@@ -591,19 +591,6 @@ batch<std::uint16_t, A> min_plus_scan_u16(batch<std::uint16_t, A> x,
   return x;
 }
 
-// Smallest lane.
-template <class A>
-std::uint16_t horizontal_min_u16(batch<std::uint16_t, A> x) {
-  constexpr std::size_t lanes = batch<std::uint16_t, A>::size;
-  if constexpr (lanes > 8) x = escape::min_u16(x, escape::shift_down_u16<8>(x));
-  x = escape::min_u16(x, escape::shift_down_u16<4>(x));
-  x = escape::min_u16(x, escape::shift_down_u16<2>(x));
-  x = escape::min_u16(x, escape::shift_down_u16<1>(x));
-  alignas(64) std::uint16_t lane[lanes];
-  x.store_aligned(lane);
-  return lane[0];
-}
-
 // prev split into full batches read in place and one 0xFFFF-padded tail batch
 // (0xFFFF never wins a min and never lowers min prev below a real lane's).
 template <class A>
@@ -666,7 +653,7 @@ void DpStepU16<Arch>::call(const std::uint16_t* cost_q4, const std::uint16_t* pr
     x.store_aligned(fwd + b * lanes);
     carry = escape::broadcast_last_u16(x);
   }
-  const b16 min_g(detail::horizontal_min_u16(low));
+  const b16 min_g(escape::hmin_u16(low));
 
   // Backward scan (j >= k), g = min of both, out = cost + g - min g (wraps
   // mod 2^16 like the scalar kernel if the caller's bound is exceeded).
@@ -713,7 +700,7 @@ int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, i
     t.store_aligned(terms + b * lanes);
     low = escape::min_u16(low, t);
   }
-  const std::uint16_t m = detail::horizontal_min_u16(low);
+  const std::uint16_t m = escape::hmin_u16(low);
   if (m == detail::kU16Max) return dp_pointer_u16_scalar(prev, penalty, n, k);
   // Smallest index whose term equals m, without branches: min over
   // (term == m ? j : 0xFFFF). Pad lanes hold 0xFFFF terms, never m.
@@ -724,7 +711,7 @@ int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, i
     const b16 j = iota + b16(static_cast<std::uint16_t>(b * lanes));
     first = escape::min_u16(first, xsimd::select(b16::load_aligned(terms + b * lanes) == vm, j, none));
   }
-  return detail::horizontal_min_u16(first);
+  return escape::hmin_u16(first);
 }
 
 
@@ -829,7 +816,7 @@ std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint
     (accumulate ? b16::load_unaligned(sum + k) + v : v).store_unaligned(sum + k);
     low = escape::min_u16(low, v);
   }
-  std::uint16_t m = detail::horizontal_min_u16(low);
+  std::uint16_t m = escape::hmin_u16(low);
   if (k < n) {
     const std::uint16_t t = path_step_u16_scalar(cost + k, prev + k, prev_min, p1, p2, n - k,
                                                  out + k, sum + k, accumulate);
@@ -852,7 +839,7 @@ int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n
     low = escape::min_u16(low, acc);
   }
   const int full = k;
-  std::uint16_t m = detail::horizontal_min_u16(low);
+  std::uint16_t m = escape::hmin_u16(low);
   for (int j = full; j < n; ++j) {
     std::uint32_t s = 0;
     for (int i = 0; i < count; ++i) s += terms[i][j];
@@ -867,7 +854,7 @@ int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n
   for (int j = 0; j < full; j += lanes)
     first = escape::min_u16(first, xsimd::select(b16::load_unaligned(total + j) == vm,
                                                  iota + b16(static_cast<std::uint16_t>(j)), none));
-  int best = detail::horizontal_min_u16(first);
+  int best = escape::hmin_u16(first);
   if (best == detail::kU16Max) {
     best = full;
     while (total[best] != m) ++best;
@@ -891,7 +878,7 @@ std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k
     const b16 dist = xsimd::ssub(idx, vk) | xsimd::ssub(vk, idx);
     low = escape::min_u16(low, xsimd::select(xsimd::ssub(dist, one) != zero, b16::load_unaligned(total + j), none));
   }
-  std::uint16_t m = detail::horizontal_min_u16(low);
+  std::uint16_t m = escape::hmin_u16(low);
   for (; j < n; ++j)
     if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];
   return m;
