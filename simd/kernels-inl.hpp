@@ -560,6 +560,17 @@ alignas(64) constexpr std::uint16_t kCount[kCountLanes + 1] = {
 alignas(64) constexpr std::uint16_t kCountDown[kCountLanes] = {
     32, 31, 30, 29, 28, 27, 26, 25, 24, 23, 22, 21, 20, 19, 18, 17,
     16, 15, 14, 13, 12, 11, 10, 9,  8,  7,  6,  5,  4,  3,  2,  1};
+// kAround[kAroundCentre + i] = 0xFFFF for |i| <= 1, else 0: loaded at
+// kAroundCentre - k + j, lane l is all ones exactly when |j + l - k| <= 1
+// (0 <= k < 256, 0 <= j < 256, up to 32 lanes).
+constexpr int kAroundCentre = 256;
+struct AroundTable {
+  alignas(64) std::uint16_t v[2 * kAroundCentre + kCountLanes] = {};
+  constexpr AroundTable() {
+    v[kAroundCentre - 1] = v[kAroundCentre] = v[kAroundCentre + 1] = 0xFFFF;
+  }
+};
+constexpr AroundTable kAround{};
 // Largest penalty whose ramp (up to 16 steps) fits u16 without saturating.
 constexpr std::uint32_t kMaxRampPenalty = 0xFFFF / 16;
 
@@ -775,6 +786,48 @@ void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const st
   }
 }
 
+namespace detail {
+// CensusCostsRowU16 with the plane count known: the planes' left descriptors
+// stay broadcast in registers across the pixel's disparity blocks.
+template <class Arch, int P>
+void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width,
+                      int n, std::size_t stride, std::uint16_t* out) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  for (int x = 0; x < width; ++x) {
+    b16 l[P];
+    const std::uint16_t* r[P];
+    for (int p = 0; p < P; ++p) {
+      l[p] = b16(left[p][x]);
+      r[p] = right_rev[p] - x;
+    }
+    std::uint16_t* o = out + static_cast<std::size_t>(x) * stride;
+    for (int k = 0; k < n; k += lanes) {
+      b16 acc = escape::popcount_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
+      for (int p = 1; p < P; ++p) acc = acc + escape::popcount_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
+      if (k + lanes <= n) {
+        acc.store_unaligned(o + k);
+      } else {
+        alignas(64) std::uint16_t tmp[lanes];
+        acc.store_aligned(tmp);
+        std::memcpy(o + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
+      }
+    }
+  }
+}
+}  // namespace detail
+
+template <class Arch>
+void CensusCostsRowU16<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                   int planes, int width, int n, std::size_t stride, std::uint16_t* out) {
+  switch (planes) {
+    case 1: detail::census_costs_row<Arch, 1>(right_rev, left, width, n, stride, out); break;
+    case 2: detail::census_costs_row<Arch, 2>(right_rev, left, width, n, stride, out); break;
+    case 3: detail::census_costs_row<Arch, 3>(right_rev, left, width, n, stride, out); break;
+    default: detail::census_costs_row<Arch, 4>(right_rev, left, width, n, stride, out); break;
+  }
+}
+
 // Each block's sum stays in a register while the rows are added.
 template <class Arch>
 void SumRowsU16<Arch>::call(const std::uint16_t* const* rows, int count, std::size_t n,
@@ -862,22 +915,16 @@ int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n
   return best;
 }
 
-// Lane j takes part when |j - k| >= 2, i.e. when the saturating |j - k| - 1
-// is not 0 (indices and k are <= 256: no wrap in u16).
+// Lanes j with |j - k| <= 1 are ORed to 0xFFFF (kAround), which never wins.
 template <class Arch>
 std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  const b16 iota = b16::load_aligned(detail::kCount);
-  const b16 vk(static_cast<std::uint16_t>(k)), one(std::uint16_t{1}), zero(std::uint16_t{0});
-  const b16 none(detail::kU16Max);
+  const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
   b16 low(detail::kU16Max);
   int j = 0;
-  for (; j + lanes <= n; j += lanes) {
-    const b16 idx = iota + b16(static_cast<std::uint16_t>(j));
-    const b16 dist = xsimd::ssub(idx, vk) | xsimd::ssub(vk, idx);
-    low = escape::min_u16(low, xsimd::select(xsimd::ssub(dist, one) != zero, b16::load_unaligned(total + j), none));
-  }
+  for (; j + lanes <= n; j += lanes)
+    low = escape::min_u16(low, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
   std::uint16_t m = escape::hmin_u16(low);
   for (; j < n; ++j)
     if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];

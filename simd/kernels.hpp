@@ -83,6 +83,12 @@ struct CensusWindowU16 {
 };
 
 template <class Arch>
+struct CensusCostsRowU16 {
+  static void call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int planes,
+                   int width, int n, std::size_t stride, std::uint16_t* out);
+};
+
+template <class Arch>
 struct SumRowsU16 {
   static void call(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
 };
@@ -123,6 +129,7 @@ struct LrMinU16 {
   KEYWORD template struct DpPointerU16<ARCH>;                 \
   KEYWORD template struct CensusRowU16<ARCH>;                 \
   KEYWORD template struct CensusWindowU16<ARCH>;              \
+  KEYWORD template struct CensusCostsRowU16<ARCH>;            \
   KEYWORD template struct SumRowsU16<ARCH>;                   \
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct SumArgminU16<ARCH>;                \

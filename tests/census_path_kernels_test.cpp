@@ -98,6 +98,48 @@ TEST_P(CensusPathKernels, CensusWindowEqualsScalar) {
   }
 }
 
+// A whole row of per-pixel costs: the SIMD set against the scalar twin, and
+// the scalar twin against census_window_u16 per pixel (its definition), for
+// 1..4 planes, widths around the lane counts and D from 1 to 256. The stride
+// leaves a gap after each pixel's D values that must stay untouched.
+TEST_P(CensusPathKernels, CensusCostsRowEqualsScalarAndWindows) {
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<int> bits(0, 0xFFFF);
+  for (int n = 1; n <= 256; n += (n < 40 ? 1 : 13)) {
+    for (int planes = 1; planes <= 4; ++planes) {
+      const int width = 1 + (n * 7 + planes * 5) % 40;
+      const std::size_t stride = static_cast<std::size_t>(n) + 3;
+      // Reversed runs: pixel x reads run[k - x] for k < n (+ slack), x < width.
+      std::vector<std::vector<std::uint16_t>> run(static_cast<std::size_t>(planes)), left(run.size());
+      std::vector<const std::uint16_t*> rp, lp;
+      for (int p = 0; p < planes; ++p) {
+        auto& r = run[static_cast<std::size_t>(p)];
+        r.resize(static_cast<std::size_t>(width + n + kSlack));
+        for (auto& v : r) v = static_cast<std::uint16_t>((p + n) % 5 == 0 ? 0xFFFF : bits(rng));
+        auto& l = left[static_cast<std::size_t>(p)];
+        l.resize(static_cast<std::size_t>(width));
+        for (auto& v : l) v = static_cast<std::uint16_t>(bits(rng));
+        rp.push_back(r.data() + width);  // pixel 0's run; pixel x's starts x before
+        lp.push_back(l.data());
+      }
+      std::vector<std::uint16_t> a(stride * static_cast<std::size_t>(width), 0x5A5A), b = a, c = a;
+      simd().census_costs_row_u16(rp.data(), lp.data(), planes, width, n, stride, a.data());
+      scalar().census_costs_row_u16(rp.data(), lp.data(), planes, width, n, stride, b.data());
+      ASSERT_EQ(a, b) << "n=" << n << " planes=" << planes << " width=" << width;
+      for (int x = 0; x < width; ++x) {
+        std::vector<const std::uint16_t*> rx;
+        std::vector<std::uint16_t> lx;
+        for (int p = 0; p < planes; ++p) {
+          rx.push_back(rp[static_cast<std::size_t>(p)] - x);
+          lx.push_back(lp[static_cast<std::size_t>(p)][x]);
+        }
+        census_window_u16_scalar(rx.data(), lx.data(), planes, n, c.data() + static_cast<std::size_t>(x) * stride);
+      }
+      ASSERT_EQ(b, c) << "n=" << n << " planes=" << planes << " width=" << width;
+    }
+  }
+}
+
 TEST_P(CensusPathKernels, PathStepEqualsScalar) {
   std::mt19937 rng(13);
   for (int n = 1; n <= 256; ++n) {
@@ -227,12 +269,21 @@ TEST_P(CensusPathKernels, LrMinEqualsScalar) {
 TEST_P(CensusPathKernels, MinOutsideEqualsScalar) {
   std::mt19937 rng(16);
   for (int n = 1; n <= 256; ++n) {
-    std::uniform_int_distribution<int> v(0, 65535);
+    std::uniform_int_distribution<int> v(1, 65535);
     std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack);
     for (auto& x : total) x = static_cast<std::uint16_t>(v(rng));
-    for (int k = 0; k < n; ++k)
+    for (int k = 0; k < n; ++k) {
       ASSERT_EQ(simd().min_outside_u16(total.data(), n, k), scalar().min_outside_u16(total.data(), n, k))
           << "n=" << n << " k=" << k;
+      // The smallest values right at k - 1 .. k + 1: they must be left out.
+      std::vector<std::uint16_t> dip = total;
+      for (int j = std::max(0, k - 1); j <= std::min(n - 1, k + 1); ++j) dip[static_cast<std::size_t>(j)] = 0;
+      const std::uint16_t want = scalar().min_outside_u16(dip.data(), n, k);
+      ASSERT_EQ(simd().min_outside_u16(dip.data(), n, k), want) << "n=" << n << " k=" << k << " (dip)";
+      if (n > 3 && (k >= 2 || k + 2 < n)) {
+        ASSERT_GT(want, 0) << "the dip must not be the answer";
+      }
+    }
   }
 }
 

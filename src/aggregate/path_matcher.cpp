@@ -203,7 +203,7 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
     const auto slot = static_cast<std::size_t>(y % slots);
     std::uint16_t* r = wk.pixel_rows.get() + slot * row_len;
     if (wk.slot_row[slot] != y) {
-      ctx.census_pixel_costs(y, r, cost_stride_, wk.scratch);
+      ctx.census_pixel_costs(y, r, cost_stride_);
       wk.slot_row[slot] = y;
     }
     return r;

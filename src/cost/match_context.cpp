@@ -119,7 +119,7 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   if (!kernels.accumulate_abs_diff_u16 || !kernels.accumulate_abs_diff_weighted_u32 ||
       !kernels.aggregate_window_box_u16 || !kernels.aggregate_window_weighted_u32 ||
       !kernels.normalize_costs_u16 || !kernels.normalize_costs_u32 || !kernels.dp_step ||
-      !kernels.census_row_u16 || !kernels.census_window_u16)
+      !kernels.census_row_u16 || !kernels.census_window_u16 || !kernels.census_costs_row_u16)
     fail(std::string("kernel set '") + (kernels.name ? kernels.name : "?") + "' is incomplete");
 
   const CostParams& c = params.cost;
@@ -238,20 +238,16 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* cen
   }
 }
 
-void MatchContext::census_pixel_costs(int y, std::uint16_t* out, std::size_t stride,
-                                      CostScratch& scratch) const {
-  const std::uint16_t** right = scratch.census_right_.data();
-  std::uint16_t* left = scratch.census_left_.data();
-  for (int x = 0; x < width_; ++x) {
-    for (int p = 0; p < census_planes_; ++p) {
-      right[p] = right_census_rev_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_ +
-                 rev_offset(x);
-      left[p] = left_census_[(static_cast<std::size_t>(p) * max_height_ + y) * census_stride_ +
-                             static_cast<std::size_t>(x)];
-    }
-    kernels_->census_window_u16(right, left, census_planes_, params_.num_disp,
-                                out + static_cast<std::size_t>(x) * stride);
+void MatchContext::census_pixel_costs(int y, std::uint16_t* out, std::size_t stride) const {
+  const std::uint16_t* right[4];
+  const std::uint16_t* left[4];
+  for (int p = 0; p < census_planes_; ++p) {
+    // rev_offset(x) = rev_offset(0) - x: the kernel steps back one per pixel.
+    right[p] = right_census_rev_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_ +
+               rev_offset(0);
+    left[p] = left_census_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * census_stride_;
   }
+  kernels_->census_costs_row_u16(right, left, census_planes_, width_, params_.num_disp, stride, out);
 }
 
 // Mean Hamming distance over the clipped window, in Q4 (0 .. 16 * bits).

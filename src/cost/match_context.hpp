@@ -108,8 +108,8 @@ class MatchContext {
   // stride holds H(x, y, k) = sum over the planes of popcount(CL xor CR), k in
   // [0, D). The box mean over a window is then sums of these rows (what
   // aggregate_sample computes per sample, docs/model.md section 2). The rows
-  // y reads must be prepared; scratch sized for num_disp().
-  void census_pixel_costs(int y, std::uint16_t* out, std::size_t stride, CostScratch& scratch) const;
+  // y reads must be prepared.
+  void census_pixel_costs(int y, std::uint16_t* out, std::size_t stride) const;
   int census_planes() const { return census_planes_; }
   // Census descriptor plane p of left pixel (x, y) of the current frame.
   std::uint16_t left_census(int p, int x, int y) const {

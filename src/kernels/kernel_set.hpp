@@ -98,6 +98,16 @@ struct KernelSet {
   void (*census_window_u16)(const std::uint16_t* const* right_rev, const std::uint16_t* left,
                             int count, int n, std::uint16_t* sum) = nullptr;
 
+  // Per-pixel Hamming costs of a whole row (the census cost's first step, one
+  // call per row instead of one census_window_u16 per pixel):
+  //   out[x * stride + k] = sum_{p < planes} popcount(left[p][x] ^ right_rev[p][k - x])
+  // for x in [0, width), k in [0, n): right_rev[p] is pixel 0's reversed run,
+  // pixel x's starts x elements before it. 1 <= planes <= 4, stride >= n; the
+  // runs may be read up to 64 elements past n.
+  void (*census_costs_row_u16)(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                               int planes, int width, int n, std::size_t stride,
+                               std::uint16_t* out) = nullptr;
+
   // sum[j] = sum_{i < count} rows[i][j] (mod 2^16), j in [0, n): the census
   // cost's box sums, over a window's rows and then its columns. count >= 1.
   void (*sum_rows_u16)(const std::uint16_t* const* rows, int count, std::size_t n,

@@ -18,6 +18,7 @@ const KernelSet& scalar_kernel_set() {
     s.dp_pointer_u16 = dp_pointer_u16_scalar;
     s.census_row_u16 = census_row_u16_scalar;
     s.census_window_u16 = census_window_u16_scalar;
+    s.census_costs_row_u16 = census_costs_row_u16_scalar;
     s.path_step_u16 = path_step_u16_scalar;
     s.sum_argmin_u16 = sum_argmin_u16_scalar;
     s.lr_min_u16 = lr_min_u16_scalar;

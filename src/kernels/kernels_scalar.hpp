@@ -37,6 +37,8 @@ void census_row_u16_scalar(const std::uint16_t* const* rows, int win_w, int win_
                            std::uint16_t* const* planes);
 void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* left,
                               int count, int n, std::uint16_t* sum);
+void census_costs_row_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                 int planes, int width, int n, std::size_t stride, std::uint16_t* out);
 void sum_rows_u16_scalar(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
 std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_t* prev,
                                    std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
