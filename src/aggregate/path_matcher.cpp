@@ -264,6 +264,12 @@ int scan_mesh_edges(const Mesh& mesh, std::int32_t* preds) {
       if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best)) best = q;
     }
   };
+  // Every triangle has positive orientation, so an edge inside the mesh is
+  // listed once going down (its first vertex above) and once going up, by its
+  // two triangles; an edge on the border only once: going down on the right
+  // border x = W - 1, going up on the left one, x = 0 (the mesh covers the
+  // image, Mesh's contract). Each edge is offered once: going down, or going
+  // up on x = 0.
   int reach = 0;  // the largest id distance of an edge between two rows
   for (const Triangle& t : mesh.triangles) {
     const Vertex c[3] = {v[t[0]], v[t[1]], v[t[2]]};
@@ -271,8 +277,11 @@ int scan_mesh_edges(const Mesh& mesh, std::int32_t* preds) {
       const int e1 = e == 2 ? 0 : e + 1;
       int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>(e1)];
       Vertex va = c[e], vb = c[e1];
-      if (va.y == vb.y) continue;
-      if (va.y > vb.y) std::swap(a, b), std::swap(va, vb);  // a above b
+      if (va.y >= vb.y) {
+        if (va.y == vb.y || va.x != 0 || vb.x != 0) continue;
+        std::swap(a, b), std::swap(va, vb);
+      }
+      // a above b
       reach = std::max(reach, b - a);
       offer(b, a, vb.x, vb.y, 2);  // forward directions (2, 4, 6): from above
       offer(a, b, va.x, va.y, 3);  // backward directions (3, 5, 7): from below
