@@ -730,39 +730,49 @@ int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, i
 // Pixels are compared as int16 lanes (values 0..255), where every target has a
 // native signed compare; each neighbour ORs its bit into its plane's lanes.
 // The last width % lanes pixels go to the scalar twin.
+// One plane at a time, so its 16 bits accumulate in one register (a plane
+// array indexed by bit number would live on the stack). The width's last
+// partial block is redone as the full block ending at the last pixel (same
+// values written twice) when the row is at least a block wide.
 template <class Arch>
 void CensusRowU16<Arch>::call(const std::uint16_t* const* rows, int win_w, int win_h, int width,
                               std::uint16_t* const* planes) {
   using bs = xsimd::batch<std::int16_t, Arch>;
   constexpr int lanes = static_cast<int>(bs::size);
+  if (width < lanes) {
+    census_row_u16_scalar(rows, win_w, win_h, width, planes);
+    return;
+  }
   const int rx = win_w / 2, ry = win_h / 2;
-  const int n_planes = (win_w * win_h - 1 + 15) / 16;
-  const bs zero(static_cast<std::int16_t>(0));
-  int x = 0;
-  for (; x + lanes <= width; x += lanes) {
-    const bs centre = bs::load_unaligned(reinterpret_cast<const std::int16_t*>(rows[ry] + x));
-    bs acc[4] = {zero, zero, zero, zero};
-    int b = 0;
-    for (int dy = 0; dy < win_h; ++dy) {
-      const auto* row = reinterpret_cast<const std::int16_t*>(rows[dy] + x);
-      for (int dx = -rx; dx <= rx; ++dx) {
-        if (dy == ry && dx == 0) continue;
-        const bs v = bs::load_unaligned(row + dx);
-        const bs bit(static_cast<std::int16_t>(static_cast<std::uint16_t>(1u << (b & 15))));
-        acc[b >> 4] = acc[b >> 4] | xsimd::select(v < centre, bit, zero);
-        ++b;
-      }
+  const int bits = win_w * win_h - 1;
+  // The neighbours in bit order (raster order, centre skipped): row, offset.
+  const std::int16_t* nb_row[63];
+  int nb_dx[63];
+  for (int dy = 0, b = 0; dy < win_h; ++dy)
+    for (int dx = -rx; dx <= rx; ++dx) {
+      if (dy == ry && dx == 0) continue;
+      nb_row[b] = reinterpret_cast<const std::int16_t*>(rows[dy]);
+      nb_dx[b] = dx;
+      ++b;
     }
-    for (int p = 0; p < n_planes; ++p)
-      acc[p].store_unaligned(reinterpret_cast<std::int16_t*>(planes[p] + x));
-  }
-  if (x < width) {
-    const std::uint16_t* tail_rows[9];
-    std::uint16_t* tail_planes[4];
-    for (int j = 0; j < win_h; ++j) tail_rows[j] = rows[j] + x;
-    for (int p = 0; p < n_planes; ++p) tail_planes[p] = planes[p] + x;
-    census_row_u16_scalar(tail_rows, win_w, win_h, width - x, tail_planes);
-  }
+  const auto* centre_row = reinterpret_cast<const std::int16_t*>(rows[ry]);
+  const bs zero(static_cast<std::int16_t>(0));
+  const auto block = [&](int x) {
+    const bs centre = bs::load_unaligned(centre_row + x);
+    for (int p = 0, b0 = 0; b0 < bits; ++p, b0 += 16) {
+      bs acc = zero;
+      const int b1 = std::min(bits, b0 + 16);
+      for (int b = b0; b < b1; ++b) {
+        const bs v = bs::load_unaligned(nb_row[b] + x + nb_dx[b]);
+        const bs bit(static_cast<std::int16_t>(static_cast<std::uint16_t>(1u << (b - b0))));
+        acc = acc | xsimd::select(v < centre, bit, zero);
+      }
+      acc.store_unaligned(reinterpret_cast<std::int16_t*>(planes[p] + x));
+    }
+  };
+  int x = 0;
+  for (; x + lanes <= width; x += lanes) block(x);
+  if (x < width) block(width - lanes);
 }
 
 // The D sums stay in a register per block while the window's entries are
