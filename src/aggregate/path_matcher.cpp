@@ -386,15 +386,20 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
   const int ring_n = frame_ring(samples);
   int slot = forward ? ring_n - 1 : (n - 1) % ring_n + 1;  // slot of i, stepped before use
   int step = 0;
-  // Sample i's paths; `add`: S(i) holds the other pass's sums already.
-  const auto step_sample = [&](int i, bool add) {
+  // Predecessors: the horizontal one is the row's previous sample in the
+  // pass's order; a mesh's others come from find_predecessors' table.
+  const bool dense = samples.dense();
+  const std::int32_t* preds = preds_.get();
+  const auto per = static_cast<std::size_t>(directions_ - 2);
+  // Sample i's paths; `add`: S(i) holds the other pass's sums already;
+  // `q`: its horizontal predecessor, -1 for none.
+  const auto step_sample = [&](int i, bool add, int q) {
     if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
     else slot = slot == 0 ? ring_n - 1 : slot - 1;
     const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
     std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
     // Horizontal: the predecessor is the previous step's sample when it is on the same row.
     std::uint16_t* out = ring[step & 1];
-    const int q = predecessor(samples, pass, i);
     const std::uint16_t* prev = zero;
     std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
     if (q >= 0) {
@@ -410,7 +415,8 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       std::uint16_t* o = path + row(slot, path_stride_);
       o[0] = kGuard;
       o[d + 1] = kGuard;
-      const int qr = predecessor(samples, r, i);
+      const int qr = dense ? predecessor(samples, r, i)
+                           : preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(r - 2)];
       const std::uint16_t* pr = zero;
       std::uint16_t pm = 0, a1 = 0, a2 = 0;
       if (qr >= 0) {
@@ -436,9 +442,9 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     if (!first)
       while (done.load(std::memory_order_acquire) == 0) std::this_thread::yield();
     if (forward)
-      for (int i = v0; i < v1; ++i) step_sample(i, !first);
+      for (int i = v0; i < v1; ++i) step_sample(i, !first, i > v0 ? i - 1 : -1);
     else
-      for (int i = v1 - 1; i >= v0; --i) step_sample(i, !first);
+      for (int i = v1 - 1; i >= v0; --i) step_sample(i, !first, i + 1 < v1 ? i + 1 : -1);
     if (first) {
       done.store(1, std::memory_order_release);
     } else if (decide != nullptr) {
