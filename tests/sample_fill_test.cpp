@@ -87,16 +87,21 @@ TEST(FillThreads, IdenticalForAnyPoolAndToTheRounds) {
         ASSERT_GT(mesh.triangles.size(), 65536u);
       }
       for (int workers : {0, 1, 2, 3}) {
-        SampleFill fill;
-        fill.configure(w * h, 2 * w * h);
-        ThreadPool pool;
-        if (workers > 0) pool.start(workers, {}, /*pin=*/false);
-        // Twice on one SampleFill: a fill must not depend on the one before.
-        for (int again = 0; again < 2; ++again) {
-          std::vector<std::int16_t> got = d;
-          const int filled = fill.fill(samples, got.data(), workers > 0 ? &pool : nullptr);
-          ASSERT_EQ(filled, expected_filled) << (dense ? "dense" : "mesh") << " workers " << workers;
-          ASSERT_EQ(got, expected) << (dense ? "dense" : "mesh") << " workers " << workers;
+        // Configured for the pool's workers, and for fewer (then it fills alone).
+        for (const int configured : {std::max(workers, 1), 1}) {
+          SampleFill fill;
+          fill.configure(w * h, 2 * w * h, configured);
+          ThreadPool pool;
+          if (workers > 0) pool.start(workers, {}, /*pin=*/false);
+          // Twice on one SampleFill: a fill must not depend on the one before.
+          for (int again = 0; again < 2; ++again) {
+            std::vector<std::int16_t> got = d;
+            const int filled = fill.fill(samples, got.data(), workers > 0 ? &pool : nullptr);
+            ASSERT_EQ(filled, expected_filled)
+                << (dense ? "dense" : "mesh") << " workers " << workers << " configured " << configured;
+            ASSERT_EQ(got, expected) << (dense ? "dense" : "mesh") << " workers " << workers << " configured "
+                                     << configured;
+          }
         }
       }
     }

@@ -14,17 +14,7 @@ constexpr int kPendingPerChunk = 2048;
 // Triangles per chunk of a mesh fill's first walk (the one over all of them).
 constexpr int kTrianglesPerChunk = 32768;
 
-// base[i] = min(base[i], v) against other workers doing the same to *p (relaxed: the
-// pool's join orders the walk before the round's writes).
-struct atomic_min_at {
-  std::int32_t* base;
-  void operator()(int i, std::int32_t v) const {
-    std::int32_t* p = base + i;
-    std::int32_t cur = __atomic_load_n(p, __ATOMIC_RELAXED);
-    while (v < cur && !__atomic_compare_exchange_n(p, &cur, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
-    }
-  }
-};
+
 
 template <class T>
 LargeArray<T> untouched(std::size_t n) {
@@ -32,12 +22,14 @@ LargeArray<T> untouched(std::size_t n) {
 }
 }  // namespace
 
-void SampleFill::configure(int max_samples, int max_triangles) {
+void SampleFill::configure(int max_samples, int max_triangles, int workers) {
   max_samples_ = max_samples;
   max_triangles_ = max_triangles;
   const auto n = static_cast<std::size_t>(max_samples);
   pending_ = untouched<std::int32_t>(n);
   candidate_ = untouched<std::int32_t>(n);
+  worker_candidate_.clear();
+  for (int w = 1; w < workers; ++w) worker_candidate_.push_back(untouched<std::int32_t>(n));
   live_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles));
   chunk_live_.assign(static_cast<std::size_t>(max_triangles / kTrianglesPerChunk + 1), 0);
 }
@@ -126,21 +118,35 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   // The first round walks every triangle and keeps those with an invalid
   // corner (a quarter to a third of them); each later one walks what the one
   // before kept. With a pool, the first walk goes by chunks, each keeping its
-  // triangles in its own stretch of live_, joined up after.
+  // triangles in its own stretch of live_, joined up after; each worker offers
+  // into its own candidates, merged after (a corner can be in two workers'
+  // chunks; an atomic min per offer cost more than the walk it shared).
   int n_live = 0;
   const int chunks = (n_tris + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
-  if (pool != nullptr && pool->size() > 1 && chunks >= 2) {
+  const int workers = pool != nullptr ? std::min(pool->size(), static_cast<int>(worker_candidate_.size()) + 1) : 1;
+  if (workers > 1 && chunks >= 2) {
     chunks_.reset(0, chunks, 1);
-    pool->run([&](int) {
+    pool->run([&](int w) {
+      if (w >= workers) return;
+      std::int32_t* own = w == 0 ? cand : worker_candidate_[static_cast<std::size_t>(w - 1)].get();
+      if (w > 0)
+        for (int j = 0; j < pending; ++j) own[pending_[static_cast<std::size_t>(j)]] = INT_MAX;
+      const auto offer_own = [own](int i, int v) {
+        if (v < own[i]) own[i] = v;
+      };
       int c0 = 0, c1 = 0;
       while (chunks_.next(&c0, &c1)) {
         const std::int32_t t0 = c0 * kTrianglesPerChunk, t1 = std::min(n_tris, t0 + kTrianglesPerChunk);
         std::int32_t kept = t0;
         for (std::int32_t t = t0; t < t1; ++t)
-          if (walk(t, atomic_min_at{cand})) live[kept++] = t;
+          if (walk(t, offer_own)) live[kept++] = t;
         chunk_live_[static_cast<std::size_t>(c0)] = kept - t0;
       }
     });
+    for (int j = 0; j < pending; ++j) {
+      const auto i = static_cast<std::size_t>(pending_[static_cast<std::size_t>(j)]);
+      for (int w = 1; w < workers; ++w) cand[i] = std::min(cand[i], worker_candidate_[static_cast<std::size_t>(w - 1)][i]);
+    }
     for (int c = 0; c < chunks; ++c) {
       const std::int32_t* from = live + static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
       n_live = static_cast<int>(std::copy(from, from + chunk_live_[static_cast<std::size_t>(c)], live + n_live) - live);

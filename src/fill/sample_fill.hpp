@@ -23,8 +23,9 @@ class ThreadPool;
 
 class SampleFill {
  public:
-  // Buffers for up to max_samples samples and max_triangles mesh triangles.
-  void configure(int max_samples, int max_triangles);
+  // Buffers for up to max_samples samples and max_triangles mesh triangles,
+  // filled by up to `workers` workers.
+  void configure(int max_samples, int max_triangles, int workers = 1);
   // Fills disp_q4[0 .. samples.count()) in place (kInvalidDispQ4 = invalid).
   // Returns the number of samples filled. Meshes: each round walks the
   // triangles that still have an invalid corner (no adjacency is built: the
@@ -35,7 +36,8 @@ class SampleFill {
   int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr);
   // Heap bytes the configured fill holds.
   std::size_t working_memory_bytes() const {
-    return (2 * static_cast<std::size_t>(max_samples_) + static_cast<std::size_t>(max_triangles_)) *
+    return ((2 + worker_candidate_.size()) * static_cast<std::size_t>(max_samples_) +
+            static_cast<std::size_t>(max_triangles_)) *
            sizeof(std::int32_t);
   }
 
@@ -50,6 +52,7 @@ class SampleFill {
                                         // mesh: by sample id)
   LargeArray<std::int32_t> live_;       // mesh: triangles with an invalid corner
   std::vector<std::int32_t> chunk_live_;  // mesh, with a pool: how many each chunk of the first walk kept
+  std::vector<LargeArray<std::int32_t>> worker_candidate_;  // mesh, with a pool: workers 1.. offer here
 };
 
 }  // namespace tristereo

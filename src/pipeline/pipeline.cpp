@@ -147,7 +147,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads);
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
-  m.fill.configure(max_px, 2 * max_px);
+  m.fill.configure(max_px, 2 * max_px, threads);
   const bool lr = sp.validity.lr_max_diff_q4 >= 0 && sp.validity.lr_source == LrSource::kMirroredPass;
   const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
   m.mirror_left = ImageU8{};
