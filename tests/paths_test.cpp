@@ -60,11 +60,10 @@ std::int64_t chain_energy(const std::vector<int>& chain, int k, int nd,
   return best;
 }
 
-// Costs and path sums of one frame through the integer PathMatcher, `workers`
-// threads (with more than one the two passes run at once and share S row by
-// row: more than one exercises that).
-void aggregate_frame(const ImageU8& l, const ImageU8& r, const SampleLayout& s, const StereoParams& p,
-                     int workers, PathMatcher& pm) {
+// One frame's costs at the samples in the integer PathMatcher, configured for
+// `workers` (the pool started with them when more than one).
+void frame_costs(const ImageU8& l, const ImageU8& r, const SampleLayout& s, const StereoParams& p,
+                 int workers, PathMatcher& pm, ThreadPool& pool) {
   const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
   MatchContext ctx(l.width, l.height, p, ks);
   ctx.begin_frame(l.view(), r.view());
@@ -72,9 +71,16 @@ void aggregate_frame(const ImageU8& l, const ImageU8& r, const SampleLayout& s, 
   cs.resize(l.width);
   ctx.prepare_right_rows(0, l.height, &cs);
   pm.configure(l.width, l.height, p, ks, workers);
-  ThreadPool pool;
   if (workers > 1) pool.start(workers, {}, false);
   pm.compute_costs(ctx, s, pool);
+}
+
+// Costs and path sums of one frame, `workers` threads (with more than one the
+// two passes run at once and share S row by row: more than one exercises that).
+void aggregate_frame(const ImageU8& l, const ImageU8& r, const SampleLayout& s, const StereoParams& p,
+                     int workers, PathMatcher& pm) {
+  ThreadPool pool;
+  frame_costs(l, r, s, p, workers, pm, pool);
   pm.aggregate(s, l.view(), pool);
 }
 
@@ -154,15 +160,21 @@ TEST(PathAggregation, MeshGraphEqualsBruteForce) {
 // first where (1 worker: always the forward pass; 2 and 3: they meet
 // somewhere in the middle, at a row that depends on timing), in both modes,
 // on frames with many rows so the meeting row varies.
+// The 96 x 80 frames of the worker-count tests: 16 levels, a fine mesh.
+StereoParams worker_test_params(bool dense) {
+  StereoParams p;
+  p.num_disp = 16;
+  p.dense = dense;
+  p.tritree.max_area_px2 = 40;
+  return p;
+}
+
 TEST(PathAggregation, SummedCostsIdenticalForAnyWorkerCount) {
   test::Rng rng(24);
   const ImageU8 l = test::random_image(rng, 96, 80);
   const ImageU8 r = test::shifted_view(rng, l, 3, 4);
   for (const bool dense : {true, false}) {
-    StereoParams p;
-    p.num_disp = 16;
-    p.dense = dense;
-    p.tritree.max_area_px2 = 40;
+    StereoParams p = worker_test_params(dense);
     p.paths.directions = 8;
     const Mesh mesh = reference::build_tritree(l, p.tritree);
     const SampleLayout s{dense ? nullptr : &mesh, l.width, l.height};
@@ -194,10 +206,7 @@ TEST(PathAggregation, MatchDecidesLikeSelectAfterAggregate) {
   const ImageU8 l = test::random_image(rng, 96, 80);
   const ImageU8 r = test::shifted_view(rng, l, 3, 4);
   for (const bool dense : {true, false}) {
-    StereoParams p;
-    p.num_disp = 16;
-    p.dense = dense;
-    p.tritree.max_area_px2 = 40;
+    StereoParams p = worker_test_params(dense);
     p.validity.uniqueness_pct = 15;
     p.validity.lr_source = LrSource::kSummedCosts;
     p.validity.lr_max_diff_q4 = 8;
@@ -213,17 +222,9 @@ TEST(PathAggregation, MatchDecidesLikeSelectAfterAggregate) {
     ASSERT_GT(want_rej.left_right, 0) << "the test frame must exercise the left-right check";
     for (const int workers : {1, 2, 3}) {
       for (int repeat = 0; repeat < 3; ++repeat) {
-        const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
-        MatchContext ctx(l.width, l.height, p, ks);
-        ctx.begin_frame(l.view(), r.view());
-        CensusScratch cs;
-        cs.resize(l.width);
-        ctx.prepare_right_rows(0, l.height, &cs);
         PathMatcher pm;
-        pm.configure(l.width, l.height, p, ks, workers);
         ThreadPool pool;
-        if (workers > 1) pool.start(workers, {}, false);
-        pm.compute_costs(ctx, s, pool);
+        frame_costs(l, r, s, p, workers, pm, pool);
         std::fill(got.begin(), got.end(), std::int16_t{0});
         const PathMatcher::Rejected rej = pm.match(s, l.view(), pool, got.data());
         EXPECT_EQ(rej.uniqueness, want_rej.uniqueness) << workers << " workers";

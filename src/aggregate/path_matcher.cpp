@@ -473,20 +473,16 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
     row_done_[static_cast<std::size_t>(y)].store(0, std::memory_order_relaxed);
   }
   dirs_.reset(0, 2, 1);
-  std::atomic<int> rejected_unique{0}, rejected_lr{0};
+  RejectedSum rejected;
   pool.run([&](int w) {
     RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
     int p0 = 0, p1 = 0;
     while (dirs_.next(&p0, &p1))
       for (int pass = p0; pass < p1; ++pass)
         run_pass(samples, left_gray, pass == 0, w, disp_q4 != nullptr ? &decide : nullptr);
-    rejected_unique.fetch_add(decide.rejected.uniqueness, std::memory_order_relaxed);
-    rejected_lr.fetch_add(decide.rejected.left_right, std::memory_order_relaxed);
+    rejected.add(decide.rejected);
   });
-  Rejected r;
-  r.uniqueness = rejected_unique.load();
-  r.left_right = rejected_lr.load();
-  return r;
+  return rejected.total();
 }
 
 PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
@@ -563,7 +559,7 @@ void PathMatcher::RowDecider::end_row() {
 // lr_min_u16's `<` keeps the smallest k among equal costs at a right pixel.
 PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPool& pool,
                                           std::int16_t* disp_q4) {
-  std::atomic<int> rejected_unique{0}, rejected_lr{0};
+  RejectedSum rejected;
   rows_.reset(0, samples.height, samples.dense() ? 4 : 16);
   pool.run([&](int wi) {
     Worker& wk = workers_[static_cast<std::size_t>(wi)];
@@ -577,13 +573,9 @@ PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPoo
         for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
         decide.end_row();
       }
-    rejected_unique.fetch_add(decide.rejected.uniqueness, std::memory_order_relaxed);
-    rejected_lr.fetch_add(decide.rejected.left_right, std::memory_order_relaxed);
+    rejected.add(decide.rejected);
   });
-  Rejected r;
-  r.uniqueness = rejected_unique.load();
-  r.left_right = rejected_lr.load();
-  return r;
+  return rejected.total();
 }
 
 }  // namespace tristereo

@@ -83,6 +83,20 @@ class PathMatcher {
  private:
   static std::size_t row(int i, std::size_t stride) { return static_cast<std::size_t>(i) * stride; }
   struct Worker;
+  // The workers' rejection counts, added up as each one finishes.
+  struct RejectedSum {
+    std::atomic<int> uniqueness{0}, left_right{0};
+    void add(const Rejected& r) {
+      uniqueness.fetch_add(r.uniqueness, std::memory_order_relaxed);
+      left_right.fetch_add(r.left_right, std::memory_order_relaxed);
+    }
+    Rejected total() const {
+      Rejected r;
+      r.uniqueness = uniqueness.load();
+      r.left_right = left_right.load();
+      return r;
+    }
+  };
   // The winner of each sample of a row, uniqueness, and the left-right check
   // from the summed costs once the row is complete (docs/model.md section 6).
   // Samples are offered left to right between begin_row and end_row.

@@ -20,6 +20,27 @@ template <class T>
 LargeArray<T> untouched(std::size_t n) {
   return large_array<T>(n);
 }
+// The end of a round: writes each pending sample's candidate (cand_of(j, i)
+// for pending[j] = sample i, INT_MAX for none) after the whole scan, so a
+// round only sees the previous round's values; keeps the samples still
+// unfilled in pending[0, *count). Returns how many it filled.
+template <class CandOf>
+int write_round(std::int32_t* pending, int* count, std::int16_t* disp_q4, CandOf cand_of) {
+  int kept = 0, now = 0;
+  for (int j = 0; j < *count; ++j) {
+    const int i = pending[j];
+    const int v = cand_of(j, i);
+    if (v != INT_MAX) {
+      disp_q4[i] = static_cast<std::int16_t>(v);
+      ++now;
+    } else {
+      pending[kept++] = i;
+    }
+  }
+  *count = kept;
+  return now;
+}
+
 }  // namespace
 
 void SampleFill::configure(int max_samples, int max_triangles, int workers) {
@@ -73,20 +94,8 @@ int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, Th
     } else {
       candidates(0, pending);
     }
-    // Write after the whole scan, so a round only sees the previous round's
-    // values; then keep the samples still unfilled.
-    int kept = 0, now = 0;
-    for (int j = 0; j < pending; ++j) {
-      const int i = pending_[static_cast<std::size_t>(j)];
-      if (cand[j] != INT_MAX) {
-        disp_q4[i] = static_cast<std::int16_t>(cand[j]);
-        ++now;
-      } else {
-        pending_[static_cast<std::size_t>(kept++)] = i;
-      }
-    }
+    const int now = write_round(pending_.get(), &pending, disp_q4, [cand](int j, int) { return cand[j]; });
     filled += now;
-    pending = kept;
     if (now == 0 || pending == 0) break;
   }
   return filled;
@@ -157,20 +166,8 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   }
   int filled = 0;
   for (;;) {
-    // Write after the whole walk, so a round only sees the previous round's
-    // values; then keep the samples still unfilled.
-    int kept = 0, now = 0;
-    for (int j = 0; j < pending; ++j) {
-      const int i = pending_[static_cast<std::size_t>(j)];
-      if (cand[i] != INT_MAX) {
-        disp_q4[i] = static_cast<std::int16_t>(cand[i]);
-        ++now;
-      } else {
-        pending_[static_cast<std::size_t>(kept++)] = i;
-      }
-    }
+    const int now = write_round(pending_.get(), &pending, disp_q4, [cand](int, int i) { return cand[i]; });
     filled += now;
-    pending = kept;
     if (now == 0 || pending == 0) break;
     int still = 0;
     for (int k = 0; k < n_live; ++k)
