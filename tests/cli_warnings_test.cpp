@@ -3,9 +3,13 @@
 // (apps/option_errors.cpp) and integer parsing (apps/cli_args.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "apps/cli_args.hpp"
 #include "apps/match_warnings.hpp"
@@ -47,6 +51,83 @@ TEST(CliWarnings, SwappedSyntheticPairIsFlaggedAndTheRightOrderIsNot) {
   const ImageU8 flat(160, 120, 1);
   EXPECT_EQ(swap_votes(flat.view(), flat.view(), 31).positive, 0);
   EXPECT_EQ(swapped_warning(flat.view(), flat.view(), 0, 32), "");
+}
+
+// The check as first written, one shift at a time: the reference for the
+// vectorised swap_votes, which must give the same votes.
+SwapVotes swap_votes_by_shift(ImageView<const std::uint8_t> l, ImageView<const std::uint8_t> r, int d_max) {
+  constexpr int kHalf = 4, kSide = 2 * kHalf + 1, kN = kSide * kSide;
+  SwapVotes votes;
+  if (d_max < 1 || l.width != r.width || l.height != r.height) return votes;
+  const int step = std::max(4, static_cast<int>(std::sqrt(l.width * 1.0 * l.height / 400)));
+  std::vector<int> block(kN);
+  for (int cy = kHalf; cy + kHalf < l.height; cy += step) {
+    for (int cx = kHalf; cx + kHalf < l.width; cx += step) {
+      int sum = 0;
+      for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x) sum += block[y * kSide + x] = l.row(cy - kHalf + y)[cx - kHalf + x];
+      long long texture = 0;
+      for (int v : block) texture += std::abs(v * kN - sum);
+      if (texture < 4LL * kN * kN) continue;
+      long long best_pos = -1, best_neg = -1;
+      for (int d = -d_max; d <= d_max; ++d) {
+        const int rx = cx - d;
+        if (d == 0 || rx - kHalf < 0 || rx + kHalf >= r.width) continue;
+        int rsum = 0;
+        for (int y = 0; y < kSide; ++y)
+          for (int x = 0; x < kSide; ++x) rsum += r.row(cy - kHalf + y)[rx - kHalf + x];
+        long long cost = 0;
+        for (int y = 0; y < kSide; ++y)
+          for (int x = 0; x < kSide; ++x)
+            cost += std::abs((block[y * kSide + x] * kN - sum) - (r.row(cy - kHalf + y)[rx - kHalf + x] * kN - rsum));
+        long long& best = d > 0 ? best_pos : best_neg;
+        if (best < 0 || cost < best) best = cost;
+      }
+      if (best_pos < 0 || best_neg < 0) continue;
+      if (4 * best_pos < 3 * best_neg) ++votes.positive;
+      else if (4 * best_neg < 3 * best_pos) ++votes.negative;
+    }
+  }
+  return votes;
+}
+
+void expect_same_votes(const ImageU8& l, const ImageU8& r, int d_max, const std::string& what) {
+  const SwapVotes fast = swap_votes(l.view(), r.view(), d_max), slow = swap_votes_by_shift(l.view(), r.view(), d_max);
+  EXPECT_EQ(fast.positive, slow.positive) << what << " d_max " << d_max;
+  EXPECT_EQ(fast.negative, slow.negative) << what << " d_max " << d_max;
+}
+
+TEST(CliWarnings, SwapVotesEqualTheShiftByShiftCheck) {
+  std::mt19937 rng(15);
+  for (int trial = 0; trial < 40; ++trial) {
+    // Sizes from below a block (no vote) to wider than the shifts reach;
+    // noise, or a shifted copy of noise (decisive votes), of either sign.
+    const int w = 6 + static_cast<int>(rng() % 150), h = 6 + static_cast<int>(rng() % 60);
+    const int shift = static_cast<int>(rng() % 21) - 10;
+    ImageU8 l(w, h, 1), r(w, h, 1);
+    for (auto& p : l.pixels) p = static_cast<std::uint8_t>(rng());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        r.row(y)[x] = trial % 3 == 0 ? static_cast<std::uint8_t>(rng())
+                                     : l.row(y)[std::clamp(x + shift, 0, w - 1)];
+    for (int d_max : {1, 3, 12, 40, 4000}) expect_same_votes(l, r, d_max, "random " + std::to_string(trial));
+  }
+  SynthParams sp;
+  sp.width = 160;
+  sp.height = 120;
+  sp.num_disp = 32;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  expect_same_votes(s.left, s.right, 31, "synthetic");
+  expect_same_votes(s.right, s.left, 31, "synthetic swapped");
+  if (test::data_set_available("middlebury")) {
+    const std::string dir = test::data_set_dir("middlebury") + "/teddy";
+    const ImageU8 l = to_gray(read_image_u8(dir + "/left.png"));
+    const ImageU8 r = to_gray(read_image_u8(dir + "/right.png"));
+    expect_same_votes(l, r, 59, "teddy");
+    expect_same_votes(r, l, 59, "teddy swapped");
+  } else {
+    TRISTEREO_REQUIRE_DATA("middlebury");
+  }
 }
 
 // Every pair of ../shared/data, both ways round: the figures of docs/reliability.md.
