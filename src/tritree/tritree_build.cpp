@@ -14,6 +14,15 @@ namespace {
 
 constexpr std::uint8_t kNeed = 1;
 
+// A grid point's need byte: bit 0 need, bit 2 (value 4) the wants of the
+// triangle whose apex comes first in raster order, bit 1 (value 2) the
+// other's. By bitwise operations: written with || and ?:, the compiler
+// branched on each test's outcome, which no predictor can guess.
+inline std::uint8_t need_byte(bool need, bool wants_4, bool wants_2) {
+  return static_cast<std::uint8_t>(static_cast<unsigned>(need) | static_cast<unsigned>(wants_4) << 2 |
+                                   static_cast<unsigned>(wants_2) << 1);
+}
+
 int trailing_zeros(int v, int none) { return v == 0 ? none : __builtin_ctz(static_cast<unsigned>(v)); }
 
 std::int32_t twice_area(const int* x, const int* y) {
@@ -183,8 +192,7 @@ void Tritree::tile_bottom_up(int tx0, int ty0, const TileScratch& sc) {
         out[1] = b;
         const bool wa = wants_split(rx[0], ry[0], &a, tx0, ty0);
         const bool wb = wants_split(rx[1], ry[1], &b, tx0, ty0);
-        need_[static_cast<std::size_t>(y0 + 1) * stride + x0 + 1] |=
-            static_cast<std::uint8_t>((wa || wb ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
+        need_[static_cast<std::size_t>(y0 + 1) * stride + x0 + 1] |= need_byte(wa | wb, wa, wb);
       }
     }
   }
@@ -242,8 +250,8 @@ void Tritree::tile_bottom_up(int tx0, int ty0, const TileScratch& sc) {
           // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
           const int cx0 = x0 + kQuad[k][0][0] * h + h / 2, cy0 = y0 + kQuad[k][0][1] * h + h / 2;
           const int cx1 = x0 + kQuad[k][1][0] * h + h / 2, cy1 = y0 + kQuad[k][1][1] * h + h / 2;
-          const bool own = wants || (cell(cx0, cy0) & kNeed) || (cell(cx1, cy1) & kNeed);
-          cell(mx, my) |= static_cast<std::uint8_t>((own ? kNeed : 0) | (wants ? need_bit(t) : 0));
+          const bool own = wants | ((cell(cx0, cy0) | cell(cx1, cy1)) & kNeed);
+          cell(mx, my) |= static_cast<std::uint8_t>(static_cast<unsigned>(own) | (wants ? need_bit(t) : 0));
         }
       }
     }
@@ -290,8 +298,8 @@ void Tritree::tile_bottom_up(int tx0, int ty0, const TileScratch& sc) {
           int ax, ay, bx, by;
           midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
           midpoint(Tri{false, s, x0, y0, k1}, &bx, &by);
-          const bool own = wants || (cell(ax, ay) & kNeed) || (cell(bx, by) & kNeed);
-          cell(mx, my) |= static_cast<std::uint8_t>((own ? kNeed : 0) | (wants ? need_bit(t) : 0));
+          const bool own = wants | ((cell(ax, ay) | cell(bx, by)) & kNeed);
+          cell(mx, my) |= static_cast<std::uint8_t>(static_cast<unsigned>(own) | (wants ? need_bit(t) : 0));
         }
       }
     }
@@ -351,7 +359,7 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
           wa = plane_fit_fails(sse_a, 3, 4, mse);
           wb = plane_fit_fails(sse_b, 1, 4, mse);
         }
-        need_row[x + 1] = static_cast<std::uint8_t>((wa || wb ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
+        need_row[x + 1] = need_byte(wa | wb, wa, wb);
         if (keep_moments) {
           // The square's four pixels; A takes three, B the fourth.
           const std::int32_t lx = 2 * i;
@@ -430,10 +438,10 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
         w[2] = fixed_shape_fails<-s, 0, -h, -h>(m[2], side_g[2], img, istride, tx0, ty0, x1, y1);
         w[3] = fixed_shape_fails<0, -s, h, -h>(m[3], side_g[3], img, istride, tx0, ty0, x0, y1);
       }
-      at(cx, y0) |= static_cast<std::uint8_t>((w[0] || nq00 || nq10 ? kNeed : 0) | (w[0] ? 2 : 0));
-      at(x1, cy) |= static_cast<std::uint8_t>((w[1] || nq10 || nq11 ? kNeed : 0) | (w[1] ? 4 : 0));
-      at(cx, y1) |= static_cast<std::uint8_t>((w[2] || nq11 || nq01 ? kNeed : 0) | (w[2] ? 4 : 0));
-      at(x0, cy) |= static_cast<std::uint8_t>((w[3] || nq01 || nq00 ? kNeed : 0) | (w[3] ? 2 : 0));
+      at(cx, y0) |= need_byte(w[0] | nq00 | nq10, false, w[0]);
+      at(x1, cy) |= need_byte(w[1] | nq10 | nq11, w[1], false);
+      at(cx, y1) |= need_byte(w[2] | nq11 | nq01, w[2], false);
+      at(x0, cy) |= need_byte(w[3] | nq01 | nq00, false, w[3]);
     }
   }
   // Halves: need at the centres (the sides' sums are only kept when the
@@ -460,9 +468,9 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
           wb = fixed_shape_fails<0, s, -s, s>(out[1], half_g[3], img, istride, tx0, ty0, x1, y0);
         }
       }
-      const bool own_a = wa || n_top || (bs ? n_right : n_left);
-      const bool own_b = wb || n_bottom || (bs ? n_left : n_right);
-      at(cx, cy) |= static_cast<std::uint8_t>((own_a || own_b ? kNeed : 0) | (wa ? 4 : 0) | (wb ? 2 : 0));
+      const bool own_a = wa | n_top | (bs ? n_right : n_left);
+      const bool own_b = wb | n_bottom | (bs ? n_left : n_right);
+      at(cx, cy) |= need_byte(own_a | own_b, wa, wb);
     }
   }
   if constexpr (2 * s <= S) plain_level<S, 2 * s>(tx0, ty0, sc);
@@ -547,7 +555,9 @@ inline void emit_plain(PlainEmit& e, int ax, int ay, int bx, int by, int cx, int
     const std::uint8_t c = e.need[static_cast<std::size_t>(my) * e.need_stride + static_cast<std::size_t>(mx)];
     if (c & kNeed) {
       const bool apex_after = cy > my || (cy == my && cx > mx);
-      (c & (apex_after ? 2 : 4) ? e.criterion : e.forced) += 1;
+      const std::int64_t wants = (c >> (apex_after ? 1 : 2)) & 1;
+      e.criterion += wants;
+      e.forced += 1 - wants;
       const std::int32_t im = e.ids[static_cast<std::size_t>(my) * e.id_stride + static_cast<std::size_t>(mx)];
       emit_plain<kLen2 / 2>(e, cx, cy, ax, ay, mx, my, ic, ia, im);
       emit_plain<kLen2 / 2>(e, bx, by, cx, cy, mx, my, ib, ic, im);
