@@ -134,7 +134,7 @@ class Tritree {
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh, ThreadPool* pool);
   void number_vertices(Mesh& mesh, ThreadPool* pool);
-  unsigned vertex_bits(int vy, int vx0) const;
+  std::uint64_t vertex_bits(int vy, int vx0) const;
   void band_rows(int band, int* vy0, int* vy1) const;
 
   // Geometry of the hierarchy (virtual coordinates).
