@@ -157,6 +157,11 @@ TEST(RtinLayout, TileSideAndVirtualGrid) {
   EXPECT_FALSE(RtinLayout::backslash(8, 0, 8));  // top-right: from (16,0) to (8,8)
   EXPECT_FALSE(RtinLayout::backslash(0, 8, 8));
   EXPECT_TRUE(RtinLayout::backslash(8, 8, 8));
+  // The bit test against the definition, (X0 / s + Y0 / s) even.
+  for (int s = 2; s <= 64; s *= 2)
+    for (int y = 0; y < 300; ++y)
+      for (int x = 0; x < 300; ++x)
+        ASSERT_EQ(RtinLayout::backslash(x, y, s), ((x / s + y / s) & 1) == 0) << x << "," << y << " s " << s;
 }
 
 // ------------------------------------------------------------ pixel moments

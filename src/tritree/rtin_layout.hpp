@@ -55,7 +55,10 @@ struct RtinLayout {
     return (stretch_x && cx != 0 && cx != 3) || (stretch_y && cy != 0 && cy != 3);
   }
   // '\' diagonal (from (X0,Y0) to (X0+s,Y0+s)) for the square of side s at (X0, Y0).
-  static bool backslash(int x0, int y0, int s) { return (((x0 / s) + (y0 / s)) & 1) == 0; }
+  // That is ((X0 / s + Y0 / s) & 1) == 0: for X0, Y0 >= 0 and s a power of
+  // two, X0 / s is odd exactly when bit s of X0 is set (no division; the
+  // general tiles' runtime s made it an idiv).
+  static bool backslash(int x0, int y0, int s) { return ((x0 ^ y0) & s) == 0; }
 };
 
 }  // namespace tristereo
