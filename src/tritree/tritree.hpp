@@ -121,12 +121,15 @@ class Tritree {
   void carry_across_tile_borders();
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves into its own region (so rows of
-  // tiles can run on different workers), with its own split counts.
+  // tiles can run on different workers), with its own split counts; the
+  // general tiles' leaves (the row's last tiles) start at general_begin.
   struct Band {
     Triangle* leaves = nullptr;
     std::size_t count = 0;
     std::int64_t criterion = 0, forced = 0;
+    std::int64_t general_begin = 0;
   };
+  void collect_stretched(const Mesh& mesh);
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);

@@ -1,6 +1,7 @@
 // Tritree build: need bottom-up per tile, carried across tile borders, then
 // the leaves top-down (docs/tritree.md).
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 #include "platform/clock.hpp"
@@ -599,15 +600,36 @@ void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
 }
 
 // A general tile's leaf: its real corners' vertex ids (numbered before this
-// pass), rotated to start at the smallest (orientation kept); a stretched one
-// is recorded for the interpolation too.
+// pass), rotated to start at the smallest (orientation kept).
 void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   const int w = gray_.width;
   const auto id = [&](int x, int y) {
     return vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
   };
   b.leaves[b.count++] = rotated(id(ax, ay), id(bx, by), id(cx, cy));
-  if (layout_.stretched(ax, ay, bx, by, cx, cy)) stretched_[stretched_count_++] = b.leaves[b.count - 1];
+}
+
+// The stretched leaves (TritreeGrid::stretched), in the mesh's order: those
+// of the general tiles with some but not all corners on a moved line. A real
+// corner is on the moved last column (row) exactly when its virtual one is
+// (RtinLayout::stretched): every other virtual column maps to a real one at
+// least two pixels to its left (row: above).
+void Tritree::collect_stretched(const Mesh& mesh) {
+  stretched_count_ = 0;
+  if (!layout_.stretch_x && !layout_.stretch_y) return;
+  const int last_x = gray_.width - 1, last_y = gray_.height - 1;
+  const Vertex* v = mesh.vertices.data();
+  for (int ty = 0; ty < layout_.tiles_y; ++ty) {
+    const Band& b = bands_[ty];
+    for (auto i = static_cast<std::size_t>(b.general_begin); i < b.count; ++i) {
+      const Triangle& t = b.leaves[i];
+      const Vertex p = v[t[0]], q = v[t[1]], r = v[t[2]];
+      const int on_x = (p.x == last_x) + (q.x == last_x) + (r.x == last_x);
+      const int on_y = (p.y == last_y) + (q.y == last_y) + (r.y == last_y);
+      if ((layout_.stretch_x && on_x != 0 && on_x != 3) || (layout_.stretch_y && on_y != 0 && on_y != 3))
+        stretched_[stretched_count_++] = t;
+    }
+  }
 }
 
 // A plain tile's half: the descent for its tile side.
@@ -692,10 +714,17 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     // so rows of tiles two apart never touch the same byte.
     const int workers = pool != nullptr ? std::min(pool->size(), kMaxTileWorkers) : 1;
     if (workers > 1 && layout_.tiles_y > 2) {
+      // Rows taken as workers come free (a fixed deal left one worker two
+      // rows more, or the slow general last row on top), from the bottom up
+      // so that the last row, all general tiles, goes first.
       for (int parity = 0; parity < 2; ++parity) {
+        const int top = layout_.tiles_y - 1 - ((layout_.tiles_y - 1 - parity) & 1);  // last row of this parity
+        std::atomic<int> next{0};
         pool->run([&](int w) {
           if (w >= workers) return;
-          for (int ty = parity + 2 * w; ty < layout_.tiles_y; ty += 2 * workers) tile_row(ty, scratch_[w]);
+          for (int ty = top - 2 * next.fetch_add(1, std::memory_order_relaxed); ty >= 0;
+               ty = top - 2 * next.fetch_add(1, std::memory_order_relaxed))
+            tile_row(ty, scratch_[w]);
         });
       }
     } else {
@@ -706,30 +735,35 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
     number_vertices(mesh, workers > 1 ? pool : nullptr);
-    // The plain tiles of each row of tiles into the row's own region, rows
-    // of tiles spread over the workers; then the few general tiles (last
-    // column and row), which also record the stretched leaves, in order.
+    // Each row of tiles into its own region, tiles left to right: the plain
+    // ones by the fixed-shape descent, then the general ones (the last
+    // column's, or all of the last row's) by emit(). Rows go to the workers
+    // as they come free, the last row first: all general tiles, the slowest.
+    // Then the stretched leaves are picked out of the general ones.
     const std::size_t band_capacity = static_cast<std::size_t>(S) * S * static_cast<std::size_t>(layout_.tiles_x);
     for (int ty = 0; ty < layout_.tiles_y; ++ty)
-      bands_[ty] = Band{tri_scratch_ + static_cast<std::size_t>(ty) * band_capacity, 0, 0, 0};
-    const auto plain_tiles = [&](int ty) {
+      bands_[ty] = Band{tri_scratch_ + static_cast<std::size_t>(ty) * band_capacity, 0, 0, 0, 0};
+    const auto emit_band = [&](int ty) {
+      Band b = bands_[ty];  // a local copy: neighbouring rows' Bands share cache lines
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
-        if (x0 + S < layout_.vw && y0 + S < layout_.vh) emit_tile(bands_[ty], x0, y0, true);
+        const bool plain = x0 + S < layout_.vw && y0 + S < layout_.vh;
+        emit_tile(b, x0, y0, plain);
+        if (plain) b.general_begin = static_cast<std::int64_t>(b.count);
       }
+      bands_[ty] = b;
     };
     if (workers > 1) {
-      pool->run([&](int w) {
-        for (int ty = w; ty < layout_.tiles_y; ty += pool->size()) plain_tiles(ty);
+      std::atomic<int> next{0};
+      pool->run([&](int) {
+        for (int ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed); ty >= 0;
+             ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed))
+          emit_band(ty);
       });
     } else {
-      for (int ty = 0; ty < layout_.tiles_y; ++ty) plain_tiles(ty);
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty);
     }
-    for (int ty = 0; ty < layout_.tiles_y; ++ty)
-      for (int tx = 0; tx < layout_.tiles_x; ++tx) {
-        const int x0 = tx * S, y0 = ty * S;
-        if (!(x0 + S < layout_.vw && y0 + S < layout_.vh)) emit_tile(bands_[ty], x0, y0, false);
-      }
+    collect_stretched(mesh);
   }
   finish(mesh, layout_.strip() ? nullptr : pool);
   times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
