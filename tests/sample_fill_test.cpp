@@ -85,6 +85,13 @@ TEST(FillThreads, IdenticalForAnyPoolAndToTheRounds) {
       // and triangles for two chunks of the mesh's first walk (2 x 32768)
       if (!dense) {
         ASSERT_GT(mesh.triangles.size(), 65536u);
+        // and, for the second round's walk, triangles with an invalid corner
+        // for two of its chunks (2 x 4096)
+        std::size_t live = 0;
+        for (const Triangle& t : mesh.triangles)
+          live += (d[static_cast<std::size_t>(t[0])] == kInvalidDispQ4 || d[static_cast<std::size_t>(t[1])] == kInvalidDispQ4 ||
+                   d[static_cast<std::size_t>(t[2])] == kInvalidDispQ4) ? 1 : 0;
+        ASSERT_GT(live, 8192u);
       }
       for (int workers : {0, 1, 2, 3}) {
         // Configured for the pool's workers, and for fewer (then it fills alone).

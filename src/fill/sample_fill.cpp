@@ -11,8 +11,10 @@ namespace tristereo {
 namespace {
 // Pending samples per chunk of a round: a chunk costs microseconds.
 constexpr int kPendingPerChunk = 2048;
-// Triangles per chunk of a mesh fill's first walk (the one over all of them).
+// Triangles per chunk of a mesh fill's first walk (the one over all of
+// them), and of the later rounds' walks over the triangles still live.
 constexpr int kTrianglesPerChunk = 32768;
+constexpr int kLiveTrianglesPerChunk = 4096;
 
 
 
@@ -52,7 +54,7 @@ void SampleFill::configure(int max_samples, int max_triangles, int workers) {
   worker_candidate_.clear();
   for (int w = 1; w < workers; ++w) worker_candidate_.push_back(untouched<std::int32_t>(n));
   live_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles));
-  chunk_live_.assign(static_cast<std::size_t>(max_triangles / kTrianglesPerChunk + 1), 0);
+  chunk_live_.assign(static_cast<std::size_t>(max_triangles / kLiveTrianglesPerChunk + 1), 0);
 }
 
 int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool) {
@@ -124,55 +126,68 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   const auto offer_alone = [cand](int i, int v) {
     if (v < cand[i]) cand[i] = v;
   };
-  // The first round walks every triangle and keeps those with an invalid
-  // corner (a quarter to a third of them); each later one walks what the one
-  // before kept. With a pool, the first walk goes by chunks, each keeping its
-  // triangles in its own stretch of live_, joined up after; each worker offers
-  // into its own candidates, merged after (a corner can be in two workers'
-  // chunks; an atomic min per offer cost more than the walk it shared).
-  int n_live = 0;
-  const int chunks = (n_tris + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
+  // One round's walk over n triangles (live[0, n) when `listed`, else all of
+  // them); keeps those that still have an invalid corner in live[0, kept).
+  // With a pool and enough triangles, by chunks: each chunk keeps its
+  // triangles in place in its own stretch of live_, joined up after; each
+  // worker offers into its own candidates, merged after (a corner can be in
+  // two workers' chunks; an atomic min per offer cost more than the walk it
+  // shared). A sample still pending has INT_MAX in every worker's array (the
+  // merge left it so), so only a worker's first round sets its array.
   const int workers = pool != nullptr ? std::min(pool->size(), static_cast<int>(worker_candidate_.size()) + 1) : 1;
-  if (workers > 1 && chunks >= 2) {
+  bool workers_ready = false;
+  const auto walk_round = [&](bool listed, int n, int chunk) {
+    const int chunks = (n + chunk - 1) / chunk;
+    if (workers < 2 || chunks < 2) {
+      int kept = 0;
+      for (int j = 0; j < n; ++j) {
+        const std::int32_t t = listed ? live[j] : j;
+        if (walk(t, offer_alone)) live[kept++] = t;
+      }
+      return kept;
+    }
     chunks_.reset(0, chunks, 1);
     pool->run([&](int w) {
       if (w >= workers) return;
       std::int32_t* own = w == 0 ? cand : worker_candidate_[static_cast<std::size_t>(w - 1)].get();
-      if (w > 0)
+      if (w > 0 && !workers_ready)
         for (int j = 0; j < pending; ++j) own[pending_[static_cast<std::size_t>(j)]] = INT_MAX;
       const auto offer_own = [own](int i, int v) {
         if (v < own[i]) own[i] = v;
       };
       int c0 = 0, c1 = 0;
       while (chunks_.next(&c0, &c1)) {
-        const std::int32_t t0 = c0 * kTrianglesPerChunk, t1 = std::min(n_tris, t0 + kTrianglesPerChunk);
-        std::int32_t kept = t0;
-        for (std::int32_t t = t0; t < t1; ++t)
+        const int j0 = c0 * chunk, j1 = std::min(n, j0 + chunk);
+        int kept = j0;
+        for (int j = j0; j < j1; ++j) {
+          const std::int32_t t = listed ? live[j] : j;
           if (walk(t, offer_own)) live[kept++] = t;
-        chunk_live_[static_cast<std::size_t>(c0)] = kept - t0;
+        }
+        chunk_live_[static_cast<std::size_t>(c0)] = kept - j0;
       }
     });
+    workers_ready = true;
     for (int j = 0; j < pending; ++j) {
       const auto i = static_cast<std::size_t>(pending_[static_cast<std::size_t>(j)]);
       for (int w = 1; w < workers; ++w) cand[i] = std::min(cand[i], worker_candidate_[static_cast<std::size_t>(w - 1)][i]);
     }
+    int kept = 0;
     for (int c = 0; c < chunks; ++c) {
-      const std::int32_t* from = live + static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
-      n_live = static_cast<int>(std::copy(from, from + chunk_live_[static_cast<std::size_t>(c)], live + n_live) - live);
+      const std::int32_t* from = live + static_cast<std::ptrdiff_t>(c) * chunk;
+      kept = static_cast<int>(std::copy(from, from + chunk_live_[static_cast<std::size_t>(c)], live + kept) - live);
     }
-  } else {
-    for (std::int32_t t = 0; t < n_tris; ++t)
-      if (walk(t, offer_alone)) live[n_live++] = t;
-  }
+    return kept;
+  };
+  // The first round walks every triangle and keeps those with an invalid
+  // corner (a quarter to a third of them); each later one walks what the one
+  // before kept.
+  int n_live = walk_round(false, n_tris, kTrianglesPerChunk);
   int filled = 0;
   for (;;) {
     const int now = write_round(pending_.get(), &pending, disp_q4, [cand](int, int i) { return cand[i]; });
     filled += now;
     if (now == 0 || pending == 0) break;
-    int still = 0;
-    for (int k = 0; k < n_live; ++k)
-      if (walk(live[k], offer_alone)) live[still++] = live[k];
-    n_live = still;
+    n_live = walk_round(true, n_live, kLiveTrianglesPerChunk);
   }
   return filled;
 }

@@ -30,9 +30,10 @@ class SampleFill {
   // Returns the number of samples filled. Meshes: each round walks the
   // triangles that still have an invalid corner (no adjacency is built: the
   // first round's walk over all triangles costs less than building one, and
-  // the list shrinks fast). With a pool (called from its owner thread), the
-  // first walk (meshes) or each round's candidates (dense grids) are shared
-  // by its workers in chunks. The result is the same for any pool.
+  // the list shrinks fast). With a pool (called from its owner thread), each
+  // round's walk (meshes, once it has two chunks of triangles) or each
+  // round's candidates (dense grids) are shared by its workers in chunks. The
+  // result is the same for any pool.
   int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr);
   // Heap bytes the configured fill holds.
   std::size_t working_memory_bytes() const {
@@ -51,7 +52,7 @@ class SampleFill {
   LargeArray<std::int32_t> candidate_;  // this round's smallest neighbour (grid: by pending index;
                                         // mesh: by sample id)
   LargeArray<std::int32_t> live_;       // mesh: triangles with an invalid corner
-  std::vector<std::int32_t> chunk_live_;  // mesh, with a pool: how many each chunk of the first walk kept
+  std::vector<std::int32_t> chunk_live_;  // mesh, with a pool: how many each chunk of a round's walk kept
   std::vector<LargeArray<std::int32_t>> worker_candidate_;  // mesh, with a pool: workers 1.. offer here
 };
 
