@@ -27,8 +27,13 @@ ImageS16 by_midpoints(const Tritree& tree, const Mesh& m, const std::vector<std:
   ImageS16 out(m.width, m.height, 1, kUnset);
   const TritreeGrid g = tree.grid();
   std::vector<std::int32_t> values(midpoint_tile_values(tree.tile_side()));
-  interpolate_midpoint_tiles(g, m, vd.data(), split, g.layout.tiles_y, values.data(), out.view());
-  interpolate_midpoint_tiles(g, m, vd.data(), 0, split, values.data(), out.view());
+  bool invalid = interpolate_midpoint_tiles(g, m, vd.data(), split, g.layout.tiles_y, values.data(), out.view());
+  invalid |= interpolate_midpoint_tiles(g, m, vd.data(), 0, split, values.data(), out.view());
+  // The tiles read every vertex, so they tell whether one is invalid (the
+  // pipeline skips the triangles' pass when none is).
+  bool any = false;
+  for (const std::int16_t d : vd) any |= d == kInvalidDispQ4;
+  EXPECT_EQ(invalid, any);
   interpolate_stretched_leaves(g, m, vd.data(), out.view());
   invalidate_triangles(m, vd.data(), 0, static_cast<int>(m.triangles.size()), out.view());
   return out;

@@ -29,7 +29,7 @@ inline void resolve(std::int32_t* v, std::int32_t a, std::int32_t b) {
 
 }  // namespace
 
-void interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                                 int tile_row_begin, int tile_row_end, std::int32_t* values,
                                 ImageView<std::int16_t> disp_q4) {
   const RtinLayout& L = grid.layout;
@@ -39,6 +39,7 @@ void interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
   const Vertex* vertices = mesh.vertices.data();
   // Per local row, the first vertex of the row not left of the current tile.
   std::int32_t* cursor = values + static_cast<std::size_t>(n) * n;
+  unsigned invalid = 0;
   for (int ty = tile_row_begin; ty < tile_row_end; ++ty) {
     const int y0 = ty * S;
     const int ny = std::min(S, L.vh - y0);  // last local row
@@ -57,6 +58,7 @@ void interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
           const int vx = (L.stretch_x && x == L.width - 1) ? L.vw : x;
           if (vx > x0 + S) break;
           v[vx - x0] = vertex_disp_q4[id] * one;
+          invalid |= static_cast<unsigned>(vertex_disp_q4[id] == kInvalidDispQ4);
           if (vx < x0 + S) cursor[j] = id + 1;
         }
       }
@@ -97,6 +99,7 @@ void interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
       }
     }
   }
+  return invalid != 0;
 }
 
 void interpolate_stretched_leaves(const TritreeGrid& grid, const Mesh& mesh,

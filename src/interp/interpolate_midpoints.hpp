@@ -40,8 +40,11 @@ inline int midpoint_fraction_bits(int tile_side) { return 2 * __builtin_ctz(stat
 // build's output) and their disparities (vertex_disp_q4[id]; an invalid one
 // reads as a value like any other: invalidate_triangles() overwrites what it
 // reaches). `values` holds midpoint_tile_values(S) int32. Disjoint tile rows
-// write disjoint pixels. Precondition: grid.need != nullptr (not a 2-pixel strip).
-void interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+// write disjoint pixels. Returns true when some vertex it read was invalid
+// (every vertex lies in some tile, so the tiles of all rows together say
+// whether invalidate_triangles() is needed). Precondition: grid.need !=
+// nullptr (not a 2-pixel strip).
+bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                                 int tile_row_begin, int tile_row_end, std::int32_t* values,
                                 ImageView<std::int16_t> disp_q4);
 

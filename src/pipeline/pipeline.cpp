@@ -294,14 +294,17 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     return;
   }
   triangles.reset(0, grid.layout.tiles_y, 1);
+  std::atomic<bool> any_invalid{false};  // the tiles read every vertex, so they tell
   pool.run([&](int w) {
     int r0 = 0, r1 = 0;
+    bool invalid = false;
     std::int32_t* values = this->workers[static_cast<std::size_t>(w)].tile_values.get();
-    while (triangles.next(&r0, &r1)) interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, values, out);
+    while (triangles.next(&r0, &r1))
+      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, values, out);
+    if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
   interpolate_stretched_leaves(grid, mesh, vertex_disp, out);
-  const std::int16_t* end = vertex_disp + mesh.vertices.size();
-  if (std::find(vertex_disp, end, kInvalidDispQ4) == end) return;
+  if (!any_invalid.load(std::memory_order_relaxed)) return;
   triangles.reset(0, n_tri, kTrianglesPerChunk);
   pool.run([&](int) {
     int t0 = 0, t1 = 0;
