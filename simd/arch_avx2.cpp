@@ -29,6 +29,7 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.sum_argmin_u16 = &SumArgminU16<xsimd::avx2>::call;
   set.lr_min_u16 = &LrMinU16<xsimd::avx2>::call;
   set.min_outside_u16 = &MinOutsideU16<xsimd::avx2>::call;
+  set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::avx2>::call;
 }
 
 }  // namespace simd

@@ -888,6 +888,20 @@ std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint
   return m;
 }
 
+// ------------------------------------------------------------------ colour
+// The scalar twin's loop, compiled with the arch's flags: xsimd 8 has no
+// three-way deinterleave, and the compiler's grouped loads are what a hand
+// version would write (pshufb on AVX2, ld3 on NEON). Plain SSE2 has no byte
+// shuffle, so there the loop stays scalar (the same as the scalar twin).
+template <class Arch>
+void RgbToGrayRowU8<Arch>::call(const std::uint8_t* rgb, int n, std::uint8_t* gray) {
+  const auto count = static_cast<std::size_t>(n > 0 ? n : 0);
+  for (std::size_t x = 0; x < count; ++x) {
+    const unsigned r = rgb[3 * x], g = rgb[3 * x + 1], b = rgb[3 * x + 2];
+    gray[x] = static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
+  }
+}
+
 template <class Arch>
 int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n,
                              std::uint16_t* total) {

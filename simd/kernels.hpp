@@ -116,6 +116,11 @@ struct LrMinU16 {
                    std::uint16_t* best_k);
 };
 
+template <class Arch>
+struct RgbToGrayRowU8 {
+  static void call(const std::uint8_t* rgb, int n, std::uint8_t* gray);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -134,7 +139,8 @@ struct LrMinU16 {
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct SumArgminU16<ARCH>;                \
   KEYWORD template struct LrMinU16<ARCH>;                    \
-  KEYWORD template struct MinOutsideU16<ARCH>;
+  KEYWORD template struct MinOutsideU16<ARCH>;              \
+  KEYWORD template struct RgbToGrayRowU8<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

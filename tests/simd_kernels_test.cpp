@@ -323,6 +323,40 @@ std::uint64_t pick_inv(std::mt19937& rng, int which) {
   }
 }
 
+TEST_P(SimdKernels, RgbToGrayRowU8) {
+  for_each_case(21, [&](int n, int offset, int c, std::mt19937& rng) {
+    const Input<std::uint8_t> rgb(pattern<std::uint8_t>(rng, 3 * n, c, 0, 255), offset);
+    Guarded<std::uint8_t> a(std::vector<std::uint8_t>(n, 0x5A), 0x5A);
+    Guarded<std::uint8_t> b = a;
+    simd().rgb_to_gray_row_u8(rgb.data(), n, a.data());
+    scalar().rgb_to_gray_row_u8(rgb.data(), n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset;
+  });
+  // Every value of each channel with the others at random, and real rows.
+  std::mt19937 rng(22);
+  std::vector<std::uint8_t> rgb(3 * 256 * 3);
+  for (int ch = 0; ch < 3; ++ch)
+    for (int v = 0; v < 256; ++v)
+      for (int k = 0; k < 3; ++k)
+        rgb[static_cast<std::size_t>(3 * (256 * ch + v) + k)] = k == ch ? static_cast<std::uint8_t>(v) : static_cast<std::uint8_t>(rng());
+  std::vector<std::uint8_t> a(768), b(768);
+  simd().rgb_to_gray_row_u8(rgb.data(), 768, a.data());
+  scalar().rgb_to_gray_row_u8(rgb.data(), 768, b.data());
+  EXPECT_EQ(a, b);
+  if (!test::data_set_available("middlebury")) {
+    TRISTEREO_REQUIRE_DATA("middlebury");
+    return;
+  }
+  const ImageU8 img = read_image_u8(test::data_set_dir("middlebury") + "/teddy/left.png");
+  ASSERT_EQ(img.channels, 3);
+  std::vector<std::uint8_t> ga(static_cast<std::size_t>(img.width)), gb(ga.size());
+  for (int y = 0; y < img.height; ++y) {
+    simd().rgb_to_gray_row_u8(img.row(y), img.width, ga.data());
+    scalar().rgb_to_gray_row_u8(img.row(y), img.width, gb.data());
+    ASSERT_EQ(ga, gb) << "teddy row " << y;
+  }
+}
+
 TEST_P(SimdKernels, NormalizeCostsU16) {
   for_each_case(3, [&](int n, int offset, int c, std::mt19937& rng) {
     const Input<std::uint16_t> sum(pattern<std::uint16_t>(rng, n, c, 0, 0xffff), offset);

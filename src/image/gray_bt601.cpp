@@ -3,6 +3,7 @@
 #include <cstring>
 #include <string>
 
+#include "src/kernels/dispatch.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -54,7 +55,10 @@ void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t
                     std::to_string(rgb.height) + ", output is " + std::to_string(gray.width) +
                     " x " + std::to_string(gray.height));
   }
-  for (int y = 0; y < rgb.height; ++y) rgb_to_gray_row_scalar(rgb.row(y), rgb.width, gray.row(y));
+  // The row kernel of the set this machine runs (TRISTEREO_KERNELS can force
+  // one); every set gives the scalar twin's bytes (tests/simd_kernels_test.cpp).
+  const auto row = kernel_set_for(KernelChoice::kAuto).rgb_to_gray_row_u8;
+  for (int y = 0; y < rgb.height; ++y) row(rgb.row(y), rgb.width, gray.row(y));
 }
 
 ImageU8 to_gray(ImageView<const std::uint8_t> img) {

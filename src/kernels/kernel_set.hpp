@@ -142,6 +142,10 @@ struct KernelSet {
   // The uniqueness test's rival: min of total[j] over j in [0, n) with
   // |j - k| > 1, or 0xFFFF when there is none. 0 <= k < n <= 256.
   std::uint16_t (*min_outside_u16)(const std::uint16_t* total, int n, int k) = nullptr;
+
+  // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
+  // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).
+  void (*rgb_to_gray_row_u8)(const std::uint8_t* rgb, int n, std::uint8_t* gray) = nullptr;
 };
 
 // The portable reference set (always available).

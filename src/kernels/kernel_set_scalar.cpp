@@ -1,5 +1,6 @@
 #include "src/kernels/kernel_set.hpp"
 #include "src/kernels/kernels_scalar.hpp"
+#include "tristereo/gray.hpp"
 
 namespace tristereo {
 
@@ -24,6 +25,7 @@ const KernelSet& scalar_kernel_set() {
     s.lr_min_u16 = lr_min_u16_scalar;
     s.sum_rows_u16 = sum_rows_u16_scalar;
     s.min_outside_u16 = min_outside_u16_scalar;
+    s.rgb_to_gray_row_u8 = rgb_to_gray_row_scalar;
     return s;
   }();
   return set;

@@ -204,14 +204,15 @@ namespace {
 constexpr int kRowsPerChunk = 4;
 constexpr int kTrianglesPerChunk = 4096;
 
-// Gray view of an input: the view itself when it is gray, else `buffer` filled.
-ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8& buffer) {
+// Gray view of an input (checked by check_stereo_inputs): the view itself
+// when it is gray, else `buffer` filled by the configured set's row kernel.
+ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8& buffer, const KernelSet& ks) {
   if (in.channels == 1) return in;
   buffer.width = in.width;
   buffer.height = in.height;
   buffer.pixels.resize(static_cast<std::size_t>(in.width) * in.height);  // within capacity
-  ImageView<std::uint8_t> dst{buffer.pixels.data(), in.width, in.height, 1, in.width};
-  rgb_to_gray_bt601(in, dst);
+  for (int y = 0; y < in.height; ++y)
+    ks.rgb_to_gray_row_u8(in.row(y), in.width, buffer.pixels.data() + static_cast<std::size_t>(y) * in.width);
   return {buffer.pixels.data(), in.width, in.height, 1, in.width};
 }
 }  // namespace
@@ -320,8 +321,8 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   check_stereo_inputs(left, right, m.config.max_width, m.config.max_height);
 
   const std::int64_t t_start = monotonic_ns();
-  const ImageView<const std::uint8_t> lg = as_gray(left, m.left_gray);
-  const ImageView<const std::uint8_t> rg = as_gray(right, m.right_gray);
+  const ImageView<const std::uint8_t> lg = as_gray(left, m.left_gray, *m.kernels);
+  const ImageView<const std::uint8_t> rg = as_gray(right, m.right_gray, *m.kernels);
   const int width = lg.width, height = lg.height;
   const StereoParams& params = m.config.params;
 
