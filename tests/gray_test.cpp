@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "tristereo/status.hpp"
@@ -26,6 +28,30 @@ TEST(Gray, HandComputedValues) {
   EXPECT_EQ(gray_of(255, 255, 255), 255);
   EXPECT_EQ(gray_of(1, 0, 0), 0);      // 205 >> 8: rounding, not truncation of 77/256
   EXPECT_EQ(gray_of(2, 0, 0), 1);      // 282 >> 8
+}
+
+// The conversion takes the kernel set that TRISTEREO_KERNELS forces, so a
+// value no machine can run is refused before anything is written.
+TEST(Gray, KernelOverrideIsHonouredOrRefused) {
+  const char* old = std::getenv("TRISTEREO_KERNELS");
+  const std::string saved = old ? old : "";
+  const std::vector<std::uint8_t> rgb = {10, 200, 30, 255, 255, 255, 0, 0, 0};
+  std::vector<std::uint8_t> out(3, 0xEE);
+  const ImageView<const std::uint8_t> in{rgb.data(), 3, 1, 3, 9};
+  const ImageView<std::uint8_t> dst{out.data(), 3, 1, 1, 3};
+  setenv("TRISTEREO_KERNELS", "scalar", 1);
+  rgb_to_gray_bt601(in, dst);
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{gray_of(10, 200, 30), 255, 0}));
+  out.assign(3, 0xEE);
+  setenv("TRISTEREO_KERNELS", "sse3", 1);
+  try {
+    rgb_to_gray_bt601(in, dst);
+    ADD_FAILURE() << "an unknown TRISTEREO_KERNELS was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+  }
+  EXPECT_EQ(out, std::vector<std::uint8_t>(3, 0xEE));
+  if (old) setenv("TRISTEREO_KERNELS", saved.c_str(), 1); else unsetenv("TRISTEREO_KERNELS");
 }
 
 TEST(Gray, EqualChannelsKeepTheirValue) {

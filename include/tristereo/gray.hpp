@@ -21,9 +21,12 @@ namespace tristereo {
 TRISTEREO_API void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray);
 
 // Converts a 3-channel view into a 1-channel view of the same size (any
-// strides). Throws Error: kUnsupportedFormat for wrong channel counts,
-// kSizeMismatch for different sizes, kInvalidArgument for null data or a
-// stride shorter than a row. `gray` is untouched when it throws.
+// strides), with the row kernel of the kernel set this machine runs
+// (KernelChoice::kAuto, so TRISTEREO_KERNELS can force one; every set gives
+// the same bytes). Throws Error: kUnsupportedFormat for wrong channel counts,
+// kSizeMismatch for different sizes, kInvalidArgument for null data, a
+// stride shorter than a row, or a TRISTEREO_KERNELS this machine cannot run.
+// `gray` is untouched when it throws.
 TRISTEREO_API void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray);
 
 // 1 channel: a copy; 3 channels: BT.601 as above; anything else throws
