@@ -3,10 +3,14 @@
 //
 // Conventions shared by all kernels:
 //   - Pointers are arbitrary (unaligned); n is any value in 1 .. 256.
-//   - Tails: full blocks run straight from the caller's memory; the remainder
-//     runs the *same* block code once more on zero-padded stack copies and only
-//     the valid part is copied back (libyuv's "any" pattern). There is no
-//     second tail algorithm, and nothing is read or written past n.
+//   - Tails: full blocks run straight from the caller's memory. When n is at
+//     least a block, the remainder of the census, path and selection kernels
+//     is the full block ending at n, overlapping the last one: its first
+//     lanes write the same values again (no output is an input) or meet a min
+//     twice; an accumulated sum masks them off (PathStepU16). Otherwise the
+//     remainder runs the *same* block code once more on zero-padded stack
+//     copies and only the valid part is copied back (libyuv's "any" pattern).
+//     There is no second tail algorithm, and nothing is read or written past n.
 //   - Lane layout is little-endian (x86, AArch64, ARMv7 little-endian): the
 //     low 16 bits of a u32 lane are the even u16 lane of the same register.
 #pragma once
@@ -571,6 +575,16 @@ struct AroundTable {
   }
 };
 constexpr AroundTable kAround{};
+// kFresh.v[kCountLanes + i] = 0xFFFF for i >= 0, 0 below: loaded at
+// kCountLanes - done, lane l is all ones exactly when l >= done (the lanes of a
+// block ending at n that no earlier block covered).
+struct FreshTable {
+  alignas(64) std::uint16_t v[2 * kCountLanes] = {};
+  constexpr FreshTable() {
+    for (int i = kCountLanes; i < 2 * kCountLanes; ++i) v[i] = 0xFFFF;
+  }
+};
+constexpr FreshTable kFresh{};
 // Largest penalty whose ramp (up to 16 steps) fits u16 without saturating.
 constexpr std::uint32_t kMaxRampPenalty = 0xFFFF / 16;
 
@@ -776,23 +790,29 @@ void CensusRowU16<Arch>::call(const std::uint16_t* const* rows, int win_w, int w
 }
 
 // The D sums stay in a register per block while the window's entries are
-// walked. The last block reads the rows' slack and stores only n % lanes sums.
+// walked. A partial last block is redone as the full block ending at n (its
+// first lanes write the same sums again); only n < lanes reads the rows' slack
+// and stores n sums from a copy.
 template <class Arch>
 void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* left,
                                  int count, int n, std::uint16_t* sum) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  for (int k = 0; k < n; k += lanes) {
+  const auto block = [&](int k) {
     b16 acc(std::uint16_t{0});
     for (int i = 0; i < count; ++i)
       acc = acc + escape::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
-    if (k + lanes <= n) {
-      acc.store_unaligned(sum + k);
-    } else {
-      alignas(64) std::uint16_t tmp[lanes];
-      acc.store_aligned(tmp);
-      std::memcpy(sum + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
-    }
+    return acc;
+  };
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) block(k).store_unaligned(sum + k);
+  if (k == n) return;
+  if (n >= lanes) {  // the full block ending at n: its first lanes rewrite the same sums
+    block(n - lanes).store_unaligned(sum + n - lanes);
+  } else {
+    alignas(64) std::uint16_t tmp[lanes];
+    block(k).store_aligned(tmp);
+    std::memcpy(sum + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
   }
 }
 
@@ -812,16 +832,20 @@ void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t
       r[p] = right_rev[p] - x;
     }
     std::uint16_t* o = out + static_cast<std::size_t>(x) * stride;
-    for (int k = 0; k < n; k += lanes) {
+    const auto block = [&](int k) {
       b16 acc = escape::popcount_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
       for (int p = 1; p < P; ++p) acc = acc + escape::popcount_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
-      if (k + lanes <= n) {
-        acc.store_unaligned(o + k);
-      } else {
-        alignas(64) std::uint16_t tmp[lanes];
-        acc.store_aligned(tmp);
-        std::memcpy(o + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
-      }
+      return acc;
+    };
+    int k = 0;
+    for (; k + lanes <= n; k += lanes) block(k).store_unaligned(o + k);
+    if (k == n) continue;
+    if (n >= lanes) {  // the full block ending at n: its first lanes rewrite the same sums
+      block(n - lanes).store_unaligned(o + n - lanes);
+    } else {
+      alignas(64) std::uint16_t tmp[lanes];
+      block(k).store_aligned(tmp);
+      std::memcpy(o + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
     }
   }
 }
@@ -844,11 +868,16 @@ void SumRowsU16<Arch>::call(const std::uint16_t* const* rows, int count, std::si
                             std::uint16_t* sum) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr std::size_t lanes = b16::size;
-  std::size_t j = 0;
-  for (; j + lanes <= n; j += lanes) {
+  const auto block = [&](std::size_t j) {
     b16 acc = b16::load_unaligned(rows[0] + j);
     for (int i = 1; i < count; ++i) acc = acc + b16::load_unaligned(rows[i] + j);
     acc.store_unaligned(sum + j);
+  };
+  std::size_t j = 0;
+  for (; j + lanes <= n; j += lanes) block(j);
+  if (j < n && n >= lanes) {  // the full block ending at n (sum is no row)
+    block(n - lanes);
+    return;
   }
   for (; j < n; ++j) {
     std::uint32_t s = 0;
@@ -867,17 +896,34 @@ std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint
   constexpr int lanes = static_cast<int>(b16::size);
   const b16 vp1(p1), vmin_prev(prev_min);
   const b16 jump(static_cast<std::uint16_t>(std::uint32_t{prev_min} + p2));
-  b16 low(detail::kU16Max);
-  int k = 0;
-  for (; k + lanes <= n; k += lanes) {
+  const auto step = [&](int k) {
     b16 best = escape::min_u16(b16::load_unaligned(prev + k),
                                xsimd::sadd(b16::load_unaligned(prev + k - 1), vp1));
     best = escape::min_u16(best, xsimd::sadd(b16::load_unaligned(prev + k + 1), vp1));
     best = escape::min_u16(best, jump);
     const b16 v = b16::load_unaligned(cost + k) + best - vmin_prev;
     v.store_unaligned(out + k);
+    return v;
+  };
+  b16 low(detail::kU16Max);
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) {
+    const b16 v = step(k);
     (accumulate ? b16::load_unaligned(sum + k) + v : v).store_unaligned(sum + k);
     low = escape::min_u16(low, v);
+  }
+  if (k < n && n >= lanes) {
+    // The full block ending at n. Its first lanes recompute the same values
+    // (out is neither prev nor cost) for out and the minimum, but sum takes
+    // only the fresh lanes: an accumulated lane must not be added twice.
+    const int j = n - lanes;
+    const b16 v = step(j);
+    const b16 fresh = b16::load_unaligned(detail::kFresh.v + detail::kCountLanes - (k - j));
+    const b16 s = b16::load_unaligned(sum + j);
+    (accumulate ? s + (v & fresh) : xsimd::select(fresh != b16(std::uint16_t{0}), v, s))
+        .store_unaligned(sum + j);
+    low = escape::min_u16(low, v);
+    k = n;
   }
   std::uint16_t m = escape::hmin_u16(low);
   if (k < n) {
@@ -907,15 +953,20 @@ int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n
                              std::uint16_t* total) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  b16 low(detail::kU16Max);
-  int k = 0;
-  for (; k + lanes <= n; k += lanes) {
+  const auto block = [&](int k) {
     b16 acc = b16::load_unaligned(terms[0] + k);
     for (int i = 1; i < count; ++i) acc = acc + b16::load_unaligned(terms[i] + k);
     acc.store_unaligned(total + k);
-    low = escape::min_u16(low, acc);
-  }
-  const int full = k;
+    return acc;
+  };
+  b16 low(detail::kU16Max);
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) low = escape::min_u16(low, block(k));
+  // A partial last block is redone as the full block ending at n (total is no
+  // term, so its first lanes get the same sums again).
+  const bool overlap = k < n && n >= lanes;
+  if (overlap) low = escape::min_u16(low, block(n - lanes));
+  const int full = overlap ? n : k;
   std::uint16_t m = escape::hmin_u16(low);
   for (int j = full; j < n; ++j) {
     std::uint32_t s = 0;
@@ -928,9 +979,12 @@ int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n
   const b16 iota = b16::load_aligned(detail::kCount);
   const b16 vm(m), none(detail::kU16Max);
   b16 first(detail::kU16Max);
-  for (int j = 0; j < full; j += lanes)
+  const auto first_in = [&](int j) {
     first = escape::min_u16(first, xsimd::select(b16::load_unaligned(total + j) == vm,
                                                  iota + b16(static_cast<std::uint16_t>(j)), none));
+  };
+  for (int j = 0; j + lanes <= full; j += lanes) first_in(j);
+  if (overlap) first_in(n - lanes);
   int best = escape::hmin_u16(first);
   if (best == detail::kU16Max) {
     best = full;
@@ -947,8 +1001,14 @@ std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k
   const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
   b16 low(detail::kU16Max);
   int j = 0;
-  for (; j + lanes <= n; j += lanes)
-    low = escape::min_u16(low, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
+  const auto block = [&](int at) {
+    low = escape::min_u16(low, b16::load_unaligned(total + at) | b16::load_unaligned(around + at));
+  };
+  for (; j + lanes <= n; j += lanes) block(j);
+  if (j < n && n >= lanes) {  // the full block ending at n: a min may see a lane twice
+    block(n - lanes);
+    j = n;
+  }
   std::uint16_t m = escape::hmin_u16(low);
   for (; j < n; ++j)
     if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];
@@ -964,8 +1024,7 @@ void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
   const b16 iota = b16::load_aligned(detail::kCount);
-  int k = 0;
-  for (; k + lanes <= n; k += lanes) {
+  const auto block = [&](int k) {
     const b16 t = b16::load_unaligned(total + k);
     const b16 b = b16::load_unaligned(best_cost + k);
     const b16 m = escape::min_u16(t, b);
@@ -973,6 +1032,14 @@ void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best
     m.store_unaligned(best_cost + k);
     xsimd::select(take, iota + b16(static_cast<std::uint16_t>(k)), b16::load_unaligned(best_k + k))
         .store_unaligned(best_k + k);
+  };
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) block(k);
+  if (k < n && n >= lanes) {
+    // The full block ending at n. A lane already taken now has best == total,
+    // so it is not taken again: the step is idempotent.
+    block(n - lanes);
+    return;
   }
   for (; k < n; ++k)
     if (total[k] < best_cost[k]) {
