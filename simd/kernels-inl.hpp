@@ -71,6 +71,17 @@ void for_blocks(const In* in, int n, Io* io, Block block, Narrow narrow) {
   }
 }
 
+// for_blocks for kernels whose io is only written and is not in: when n is at
+// least a block, the remainder is the full block ending at n (its first lanes
+// write the same values again), with no narrower call and no copies.
+template <int Lanes, class In, class Io, class Block, class Narrow>
+void for_output_blocks(const In* in, int n, Io* io, Block block, Narrow narrow) {
+  if (n < Lanes || n % Lanes == 0) return for_blocks<Lanes>(in, n, io, block, narrow);
+  int k = 0;
+  for (; k + Lanes <= n; k += Lanes) block(in + k, io + k);
+  block(in + n - Lanes, io + n - Lanes);
+}
+
 // nullptr, or a lambda forwarding a remainder to Kernel<Narrower<A>>.
 template <template <class> class Kernel, class A, class Fwd>
 auto narrower_or_null(Fwd fwd) {
@@ -381,7 +392,7 @@ void NormalizeCostsU16<Arch>::call(const std::uint16_t* sum, std::uint64_t inv_q
   const b16 i2(static_cast<std::uint16_t>(inv_q32 >> (2 * detail::kLimbBits)));
   const b16 low(static_cast<std::uint16_t>(detail::kColumnLow));
   const b16 half(static_cast<std::uint16_t>(detail::kColumnHalf));
-  detail::for_blocks<static_cast<int>(b16::size)>(
+  detail::for_output_blocks<static_cast<int>(b16::size)>(
       sum, n, cost_q4, [&](const std::uint16_t* s_ptr, std::uint16_t* c_ptr) {
         const b16 s = b16::load_unaligned(s_ptr);
         const b16 a = escape::mulhi_u16(s, i0);
@@ -423,7 +434,7 @@ void NormalizeCostsU32<Arch>::call(const std::uint32_t* sum, std::uint64_t inv_q
                      (lo2 & mask);
     return (col1 >> detail::kColumnShift) + (col2 << detail::kCol2Shift);
   };
-  detail::for_blocks<static_cast<int>(b16::size)>(
+  detail::for_output_blocks<static_cast<int>(b16::size)>(
       sum, n, cost_q4, [&](const std::uint32_t* s_ptr, std::uint16_t* c_ptr) {
         escape::narrow_u32(costs(b32::load_unaligned(s_ptr)),
                            costs(b32::load_unaligned(s_ptr + quarter)))
