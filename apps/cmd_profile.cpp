@@ -492,6 +492,7 @@ int cmd_profile(int argc, char** argv) {
       s.stage_ns[static_cast<int>(ProfileStage::kTritree)] = t.tritree_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kCostAggregation)] = t.cost_aggregation_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kDp)] = t.dp_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kRightPass)] = t.right_pass_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kFill)] = t.fill_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kInterpolation)] = t.interpolation_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kMeshOutput)] = mesh_ns;
@@ -528,13 +529,15 @@ int cmd_profile(int argc, char** argv) {
   rc.realtime_priority = realtime ? rt_priority : 0;
   rc.gpio = gpio_text;
   rc.mesh_output = mesh_output;
+  rc.right_pass = config.params.validity.lr_max_diff_q4 >= 0 &&
+                  config.params.validity.lr_source == LrSource::kMirroredPass;
   rc.warmup_frames = warmup;
   rc.frames = frames;
   rc.working_memory_bytes = static_cast<std::int64_t>(pipeline.working_memory_bytes());
   const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
   const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss);
 
-  write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, mesh_output); });
+  write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });
   write_report(json_path, [&](std::ostream& os) { write_profile_json(os, report); });
   if (!quiet) write_profile_table(std::cout, report);
   return 0;

@@ -144,6 +144,7 @@ TEST(ProfileStageName, AllStagesNamed) {
   EXPECT_STREQ(profile_stage_name(ProfileStage::kTritree), "tritree");
   EXPECT_STREQ(profile_stage_name(ProfileStage::kCostAggregation), "cost_aggregation");
   EXPECT_STREQ(profile_stage_name(ProfileStage::kDp), "dp");
+  EXPECT_STREQ(profile_stage_name(ProfileStage::kRightPass), "right_pass");
   EXPECT_STREQ(profile_stage_name(ProfileStage::kFill), "fill");
   EXPECT_STREQ(profile_stage_name(ProfileStage::kInterpolation), "interpolation");
   EXPECT_STREQ(profile_stage_name(ProfileStage::kMeshOutput), "mesh_output");

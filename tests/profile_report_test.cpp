@@ -225,7 +225,7 @@ ProfileRunConfig make_config(bool mesh_output, int frames) {
 TEST(FramesCsv, HeaderRowsAndExactValues) {
   const FrameLog log = make_log(4);
   std::ostringstream os;
-  write_frames_csv(os, log, /*mesh_output=*/false);
+  write_frames_csv(os, log, make_config(/*mesh_output=*/false, 4));
   std::istringstream in(os.str());
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
@@ -238,12 +238,12 @@ TEST(FramesCsv, HeaderRowsAndExactValues) {
   EXPECT_EQ(rows[3][0], "3");
   EXPECT_EQ(rows[0][1], "1.000000");  // tritree of frame 0: 1 ms + 0 ns
   EXPECT_EQ(rows[2][3], "9.000002");  // dp (k = 2) of frame 2: 9 ms + 2 ns
-  EXPECT_EQ(rows[1][4], "8.000003");  // fill (k = 3) of frame 1
-  EXPECT_EQ(rows[1][5], "10.000004");  // interpolation (k = 4) of frame 1
-  // total of frame 0: 1+2+3+4+5+6 ms + (0+1+2+3+4+5) ns + 7 ns (mesh stage is
-  // in the total even when its column is not written).
-  EXPECT_EQ(rows[0][6], "21.000022");
-  EXPECT_EQ(rows[0][7], "42.000044");
+  EXPECT_EQ(rows[1][4], "10.000004");  // fill (k = 4) of frame 1: no right_pass column
+  EXPECT_EQ(rows[1][5], "12.000005");  // interpolation (k = 5) of frame 1
+  // total of frame 0: 1+...+7 ms + (0+...+6) ns + 7 ns (the right-pass and
+  // mesh stages are in the total even when their columns are not written).
+  EXPECT_EQ(rows[0][6], "28.000028");
+  EXPECT_EQ(rows[0][7], "56.000056");
 }
 
 TEST(FramesCsv, MeshOutputColumnAndNegativeNs) {
@@ -254,12 +254,48 @@ TEST(FramesCsv, MeshOutputColumnAndNegativeNs) {
   s.cpu_ns = 0;
   ASSERT_TRUE(log.push(s));
   std::ostringstream os;
-  write_frames_csv(os, log, /*mesh_output=*/true);
+  write_frames_csv(os, log, make_config(/*mesh_output=*/true, 1));
   EXPECT_EQ(os.str(),
             "frame,tritree_ms,cost_aggregation_ms,dp_ms,fill_ms,interpolation_ms,mesh_output_ms,total_ms,"
             "cpu_ms\n0,0.000000,0.000000,0.000000,0.000000,0.000000,123.456789,-0.000001,0.000000\n");
-  EXPECT_EQ(frames_csv_columns(true).size(), 9u);
-  EXPECT_EQ(frames_csv_columns(false).size(), 8u);
+  EXPECT_EQ(frames_csv_columns(make_config(true, 1)).size(), 9u);
+  EXPECT_EQ(frames_csv_columns(make_config(false, 1)).size(), 8u);
+}
+
+// A mirrored left-right check's right-view pass is a column (after dp) and a
+// stage only when the run had one.
+TEST(FramesCsv, RightPassColumnOnlyWhenConfigured) {
+  const FrameLog log = make_log(2);
+  ProfileRunConfig config = make_config(/*mesh_output=*/false, 2);
+  config.right_pass = true;
+  std::ostringstream os;
+  write_frames_csv(os, log, config);
+  std::istringstream in(os.str());
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line,
+            "frame,tritree_ms,cost_aggregation_ms,dp_ms,right_pass_ms,fill_ms,interpolation_ms,total_ms,cpu_ms");
+  ASSERT_TRUE(std::getline(in, line));
+  ASSERT_TRUE(std::getline(in, line));
+  const std::vector<std::string> row = split(line, ',');
+  ASSERT_EQ(row.size(), 9u);
+  EXPECT_EQ(row[4], "8.000003");  // right_pass (k = 3) of frame 1
+  EXPECT_EQ(row[5], "10.000004");  // fill (k = 4) of frame 1
+  EXPECT_EQ(frames_csv_columns(config).size(), 9u);
+
+  const ProfileReport r = make_profile_report(config, log, 1000, 0, kMachine);
+  ASSERT_EQ(r.stages.size(), 6u);
+  EXPECT_EQ(r.stages[3].name, "right_pass");
+  EXPECT_NEAR(r.stages[3].stats.max_ms, 8.000003, 1e-12);
+  EXPECT_EQ(r.stages[4].name, "fill");
+  std::ostringstream table;
+  write_profile_table(table, r);
+  EXPECT_NE(table.str().find("\nright_pass "), std::string::npos) << table.str();
+  std::ostringstream json;
+  write_profile_json(json, r);
+  const Json j = parse_json_or_fail(json.str());
+  EXPECT_TRUE(j["config"]["right_pass"].boolean);
+  EXPECT_NEAR(j["stages"]["right_pass"]["p50_ms"].number, (4.000003 + 8.000003) / 2, 1e-9);
 }
 
 TEST(ProfileReport, SummaryNumbers) {
@@ -276,7 +312,7 @@ TEST(ProfileReport, SummaryNumbers) {
   EXPECT_NEAR(r.stages[2].stats.min_ms, 3.000002, 1e-12);
   EXPECT_NEAR(r.stages[2].stats.max_ms, 30.000002, 1e-12);
   EXPECT_EQ(r.total.count, 10u);
-  EXPECT_NEAR(r.total.mean_ms, 21.0 * 5.5 + 22e-6, 1e-9);
+  EXPECT_NEAR(r.total.mean_ms, 28.0 * 5.5 + 28e-6, 1e-9);
   EXPECT_NEAR(r.cpu.mean_ms, 2 * r.total.mean_ms, 1e-9);
   EXPECT_NEAR(r.fps_from_mean, 1000.0 / r.total.mean_ms, 1e-9);
   EXPECT_DOUBLE_EQ(r.wall_s, 0.5);
@@ -287,7 +323,7 @@ TEST(ProfileReport, SummaryNumbers) {
   const ProfileReport with_mesh = make_profile_report(make_config(true, 10), log, 1, 0, kMachine);
   ASSERT_EQ(with_mesh.stages.size(), 6u);
   EXPECT_EQ(with_mesh.stages[5].name, "mesh_output");
-  EXPECT_NEAR(with_mesh.stages[5].stats.max_ms, 60.000005, 1e-12);
+  EXPECT_NEAR(with_mesh.stages[5].stats.max_ms, 70.000006, 1e-12);  // k = 6, frame 10
 }
 
 TEST(ProfileReport, RejectsEmptyLogAndBadWallTime) {
@@ -323,6 +359,8 @@ TEST(ProfileJson, ParsesBackWithConfigStagesAndFps) {
   EXPECT_EQ(c["realtime_priority"].number, 80);
   EXPECT_EQ(c["gpio"].text, "gpiochip0:17,gpiochip0:27");
   EXPECT_TRUE(c["mesh_output"].boolean);
+  EXPECT_EQ(c["right_pass"].kind, Json::kBool);
+  EXPECT_FALSE(c["right_pass"].boolean);
   EXPECT_FALSE(c["dense"].boolean);
   EXPECT_EQ(c["frames"].number, 10);
   EXPECT_EQ(c["warmup_frames"].number, 5);

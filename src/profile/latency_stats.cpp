@@ -75,6 +75,8 @@ const char* profile_stage_name(ProfileStage stage) {
       return "cost_aggregation";
     case ProfileStage::kDp:
       return "dp";
+    case ProfileStage::kRightPass:
+      return "right_pass";
     case ProfileStage::kFill:
       return "fill";
     case ProfileStage::kInterpolation:

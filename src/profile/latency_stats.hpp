@@ -47,13 +47,15 @@ enum class ProfileStage : int {
   kTritree = 0,
   kCostAggregation,
   kDp,
+  kRightPass,  // the right view's pass of a mirrored left-right check (FrameTimings::right_pass_ns)
   kFill,  // validity checks and the fill of invalid samples (FrameTimings::fill_ns)
   kInterpolation,
   kMeshOutput,  // PLY writing of the mesh, only with --mesh-output
 };
-constexpr int kProfileStageCount = 6;
+constexpr int kProfileStageCount = 7;
 
-// "tritree", "cost_aggregation", "dp", "fill", "interpolation", "mesh_output".
+// "tritree", "cost_aggregation", "dp", "right_pass", "fill", "interpolation",
+// "mesh_output".
 const char* profile_stage_name(ProfileStage stage);
 
 // One measured frame. total_ns is the wall time of the whole frame (pipeline

@@ -35,8 +35,10 @@ std::string ns_as_ms(std::int64_t ns) {
 
 double mib(std::int64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
 
-bool mesh_stage_enabled(ProfileStage s, bool mesh_output) {
-  return s != ProfileStage::kMeshOutput || mesh_output;
+bool stage_enabled(ProfileStage s, const ProfileRunConfig& c) {
+  if (s == ProfileStage::kMeshOutput) return c.mesh_output;
+  if (s == ProfileStage::kRightPass) return c.right_pass;
+  return true;
 }
 
 void write_stats_json(std::ostream& os, const LatencyStats& s) {
@@ -78,7 +80,7 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
   r.config = config;
   for (int k = 0; k < kProfileStageCount; ++k) {
     const auto stage = static_cast<ProfileStage>(k);
-    if (!mesh_stage_enabled(stage, config.mesh_output)) continue;
+    if (!stage_enabled(stage, config)) continue;
     r.stages.push_back({profile_stage_name(stage), compute_latency_stats(log.stage_column(stage))});
   }
   r.total = compute_latency_stats(log.total_column());
@@ -107,11 +109,11 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
   return r;
 }
 
-std::vector<std::string> frames_csv_columns(bool mesh_output) {
+std::vector<std::string> frames_csv_columns(const ProfileRunConfig& config) {
   std::vector<std::string> cols{"frame"};
   for (int k = 0; k < kProfileStageCount; ++k) {
     const auto stage = static_cast<ProfileStage>(k);
-    if (mesh_stage_enabled(stage, mesh_output))
+    if (stage_enabled(stage, config))
       cols.push_back(std::string(profile_stage_name(stage)) + "_ms");
   }
   cols.push_back("total_ms");
@@ -119,15 +121,15 @@ std::vector<std::string> frames_csv_columns(bool mesh_output) {
   return cols;
 }
 
-void write_frames_csv(std::ostream& os, const FrameLog& log, bool mesh_output) {
-  const std::vector<std::string> cols = frames_csv_columns(mesh_output);
+void write_frames_csv(std::ostream& os, const FrameLog& log, const ProfileRunConfig& config) {
+  const std::vector<std::string> cols = frames_csv_columns(config);
   for (std::size_t i = 0; i < cols.size(); ++i) os << (i ? "," : "") << cols[i];
   os << '\n';
   for (std::size_t f = 0; f < log.size(); ++f) {
     const FrameSample& s = log[f];
     os << f;
     for (int k = 0; k < kProfileStageCount; ++k) {
-      if (mesh_stage_enabled(static_cast<ProfileStage>(k), mesh_output))
+      if (stage_enabled(static_cast<ProfileStage>(k), config))
         os << ',' << ns_as_ms(s.stage_ns[k]);
     }
     os << ',' << ns_as_ms(s.total_ns) << ',' << ns_as_ms(s.cpu_ns) << '\n';
@@ -189,6 +191,7 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
      << "    \"realtime_priority\": " << c.realtime_priority << ",\n"
      << "    \"gpio\": " << json_quote(c.gpio) << ",\n"
      << "    \"mesh_output\": " << b[c.mesh_output] << ",\n"
+     << "    \"right_pass\": " << b[c.right_pass] << ",\n"
      << "    \"warmup_frames\": " << c.warmup_frames << ",\n"
      << "    \"frames\": " << c.frames << "\n"
      << "  },\n";

@@ -35,6 +35,9 @@ struct ProfileRunConfig {
   int realtime_priority = 0;
   std::string gpio;          // GPIO spec ("" = no markers)
   bool mesh_output = false;  // PLY writing timed as a stage
+  // The left-right check ran a right-view pass (lr_source mirror): timed as a
+  // stage, which the other modes do not have.
+  bool right_pass = false;
   int warmup_frames = 0;
   int frames = 0;  // measured frames
   // Pipeline::working_memory_bytes() of the pipeline, configured for frames of
@@ -79,8 +82,8 @@ struct ProfileReport {
 
 constexpr std::size_t kDriftWindowFrames = 1000;
 
-// Summarises a finished log: the four pipeline stages, plus mesh_output when
-// config.mesh_output, the total and the CPU time; fps from the mean and from
+// Summarises a finished log: the pipeline stages (right_pass only when
+// config.right_pass), plus mesh_output when config.mesh_output, the total and the CPU time; fps from the mean and from
 // wall_ns (the measured loop's wall time). Pure: queries nothing itself.
 // Throws Error(kInvalidArgument) if the log is empty or wall_ns <= 0.
 // rss: the resident-memory trace of the loop, or nullptr (no "rss" section).
@@ -89,12 +92,13 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
                                   const ProfileMachine& machine, const RssTrace* rss = nullptr);
 
 // Column names of the per-frame CSV, in order: frame, <stage>_ms...,
-// total_ms, cpu_ms (mesh_output_ms only when mesh_output).
-std::vector<std::string> frames_csv_columns(bool mesh_output);
+// total_ms, cpu_ms (right_pass_ms and mesh_output_ms only when the config has
+// them).
+std::vector<std::string> frames_csv_columns(const ProfileRunConfig& config);
 
 // One header line then one row per frame; ms printed exactly from integer ns
 // (6 decimals), so the file round-trips to the nanosecond.
-void write_frames_csv(std::ostream& os, const FrameLog& log, bool mesh_output);
+void write_frames_csv(std::ostream& os, const FrameLog& log, const ProfileRunConfig& config);
 
 // The summary as one JSON object (UTF-8, strings escaped).
 void write_profile_json(std::ostream& os, const ProfileReport& report);
