@@ -133,7 +133,7 @@ class Tritree {
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
-  void emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
+  void emit_plain_tile(Band& b, int tx0, int ty0);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh, ThreadPool* pool);
   void number_vertices(Mesh& mesh, ThreadPool* pool);

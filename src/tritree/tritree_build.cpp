@@ -530,9 +530,7 @@ namespace {
 // writes is in locals, so the leaf stores cannot make the compiler reload the
 // tree's members.
 struct PlainEmit {
-  const std::uint8_t* need;
   std::size_t need_stride;
-  const std::int32_t* ids;
   std::size_t id_stride;
   Triangle* out;
   std::int64_t criterion, forced;
@@ -545,27 +543,73 @@ inline Triangle rotated(std::int32_t ia, std::int32_t ib, std::int32_t ic) {
   return Triangle{ic, ia, ib};
 }
 
-// Triangle (a, b, c), hypotenuse a-b of squared length kLen2 (known at
-// compile time: it halves at every level, so the descent unrolls), corners'
-// vertex ids ia, ib, ic: a split looks up one id (its midpoint's), a leaf none.
-template <int kLen2>
-inline void emit_plain(PlainEmit& e, int ax, int ay, int bx, int by, int cx, int cy, std::int32_t ia,
-                       std::int32_t ib, std::int32_t ic) {
-  if constexpr (kLen2 >= 8) {
-    const int mx = (ax + bx) >> 1, my = (ay + by) >> 1;
-    const std::uint8_t c = e.need[static_cast<std::size_t>(my) * e.need_stride + static_cast<std::size_t>(mx)];
+// The triangle whose hypotenuse has midpoint m and whose apex is c = m + d,
+// d = (kDx, kDy) known at compile time: positive orientation puts a = m +
+// (-kDy, kDx) and b = m + (kDy, -kDx). need_m and id_m point at m's need byte
+// and vertex id; ia, ib, ic are the corners' ids. The shape fixes everything
+// the descent used to compute per node: where the children's midpoints are,
+// which of m's two "wants" bits is this triangle's, and which corner comes
+// first in raster order, which is the one with the smallest id (plain tiles'
+// ids are raster-ordered), so a leaf's rotation is a compile-time choice.
+template <int kDx, int kDy>
+inline void emit_rtin(PlainEmit& e, const std::uint8_t* need_m, const std::int32_t* id_m, std::int32_t ia,
+                      std::int32_t ib, std::int32_t ic) {
+  if constexpr (kDx * kDx + kDy * kDy >= 2) {  // hypotenuse^2 = 4 |d|^2 >= 8: may split
+    const std::uint8_t c = *need_m;
     if (c & kNeed) {
-      const bool apex_after = cy > my || (cy == my && cx > mx);
+      constexpr bool apex_after = kDy > 0 || (kDy == 0 && kDx > 0);
       const std::int64_t wants = (c >> (apex_after ? 1 : 2)) & 1;
       e.criterion += wants;
       e.forced += 1 - wants;
-      const std::int32_t im = e.ids[static_cast<std::size_t>(my) * e.id_stride + static_cast<std::size_t>(mx)];
-      emit_plain<kLen2 / 2>(e, cx, cy, ax, ay, mx, my, ic, ia, im);
-      emit_plain<kLen2 / 2>(e, bx, by, cx, cy, mx, my, ib, ic, im);
+      const std::int32_t im = *id_m;
+      // Children (c, a, m) and (b, c, m): their midpoints are m - d1 and m - d2.
+      constexpr int d1x = (kDy - kDx) / 2, d1y = -(kDx + kDy) / 2;
+      constexpr int d2x = -(kDx + kDy) / 2, d2y = (kDx - kDy) / 2;
+      const auto ns = static_cast<std::ptrdiff_t>(e.need_stride);
+      const auto is = static_cast<std::ptrdiff_t>(e.id_stride);
+      emit_rtin<d1x, d1y>(e, need_m - d1x - d1y * ns, id_m - d1x - d1y * is, ic, ia, im);
+      emit_rtin<d2x, d2y>(e, need_m - d2x - d2y * ns, id_m - d2x - d2y * is, ib, ic, im);
       return;
     }
   }
-  *e.out++ = rotated(ia, ib, ic);
+  // The first corner in raster order (smallest y, then x): a (-kDy, kDx) ~ (y
+  // kDx, x -kDy), b (y -kDx, x kDy), c (y kDy, x kDx), relative to m.
+  constexpr auto before = [](int y0, int x0, int y1, int x1) { return y0 < y1 || (y0 == y1 && x0 < x1); };
+  constexpr bool a_first = before(kDx, -kDy, -kDx, kDy) && before(kDx, -kDy, kDy, kDx);
+  constexpr bool b_first = !a_first && before(-kDx, kDy, kDy, kDx);
+  if constexpr (a_first) {
+    *e.out++ = Triangle{ia, ib, ic};
+  } else if constexpr (b_first) {
+    *e.out++ = Triangle{ib, ic, ia};
+  } else {
+    *e.out++ = Triangle{ic, ia, ib};
+  }
+}
+
+// A plain tile's half with apex offset (kDx, kDy) from the tile centre (mx, my).
+template <int kDx, int kDy>
+inline void emit_plain_half(PlainEmit& e, const std::uint8_t* need, const std::int32_t* ids, int mx, int my) {
+  const auto at = [](std::size_t stride, int x, int y) {
+    return static_cast<std::size_t>(y) * stride + static_cast<std::size_t>(x);
+  };
+  emit_rtin<kDx, kDy>(e, need + at(e.need_stride, mx, my), ids + at(e.id_stride, mx, my),
+                      ids[at(e.id_stride, mx - kDy, my + kDx)], ids[at(e.id_stride, mx + kDy, my - kDx)],
+                      ids[at(e.id_stride, mx + kDx, my + kDy)]);
+}
+
+// Both halves of a plain tile of side S at (tx0, ty0), hypotenuse first.
+template <int S>
+inline void emit_plain_halves(PlainEmit& e, const std::uint8_t* need, const std::int32_t* ids, int tx0, int ty0,
+                              bool backslash) {
+  constexpr int h = S / 2;
+  const int mx = tx0 + h, my = ty0 + h;
+  if (backslash) {
+    emit_plain_half<h, -h>(e, need, ids, mx, my);  // upper right
+    emit_plain_half<-h, h>(e, need, ids, mx, my);  // lower left
+  } else {
+    emit_plain_half<-h, -h>(e, need, ids, mx, my);  // upper left
+    emit_plain_half<h, h>(e, need, ids, mx, my);    // lower right
+  }
 }
 
 }  // namespace
@@ -632,20 +676,18 @@ void Tritree::collect_stretched(const Mesh& mesh) {
   }
 }
 
-// A plain tile's half: the descent for its tile side.
-void Tritree::emit_plain_tile(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
-  const auto w = static_cast<std::size_t>(gray_.width);
-  PlainEmit e{need_, static_cast<std::size_t>(layout_.vw) + 1, vertex_id_, w, b.leaves + b.count, 0, 0};
-  const std::int32_t ia = vertex_id_[static_cast<std::size_t>(ay) * w + static_cast<std::size_t>(ax)];
-  const std::int32_t ib = vertex_id_[static_cast<std::size_t>(by) * w + static_cast<std::size_t>(bx)];
-  const std::int32_t ic = vertex_id_[static_cast<std::size_t>(cy) * w + static_cast<std::size_t>(cx)];
+// A plain tile: the descent for its tile side.
+void Tritree::emit_plain_tile(Band& b, int tx0, int ty0) {
+  PlainEmit e{static_cast<std::size_t>(layout_.vw) + 1, static_cast<std::size_t>(gray_.width), b.leaves + b.count,
+              0, 0};
+  const bool bs = RtinLayout::backslash(tx0, ty0, tile_);
   switch (tile_) {
-    case 2: emit_plain<2 * 2 * 2>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
-    case 4: emit_plain<2 * 4 * 4>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
-    case 8: emit_plain<2 * 8 * 8>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
-    case 16: emit_plain<2 * 16 * 16>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
-    case 32: emit_plain<2 * 32 * 32>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;
-    default: emit_plain<2 * 64 * 64>(e, ax, ay, bx, by, cx, cy, ia, ib, ic); break;  // A_max <= 1024: S <= 64
+    case 2: emit_plain_halves<2>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 4: emit_plain_halves<4>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 8: emit_plain_halves<8>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 16: emit_plain_halves<16>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 32: emit_plain_halves<32>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    default: emit_plain_halves<64>(e, need_, vertex_id_, tx0, ty0, bs); break;  // A_max <= 1024: S <= 64
   }
   b.count = static_cast<std::size_t>(e.out - b.leaves);
   b.criterion += e.criterion;
@@ -656,22 +698,14 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
   const int S = tile_;
   const int x1 = tx0 + S, y1 = ty0 + S;
   // Hypotenuse first; (a, b, c) keeps the positive orientation of the halves.
-  if (RtinLayout::backslash(tx0, ty0, S)) {
-    if (plain) {
-      emit_plain_tile(b, x1, y1, tx0, ty0, x1, ty0);   // upper right
-      emit_plain_tile(b, tx0, ty0, x1, y1, tx0, y1);   // lower left
-    } else {
-      emit(b, x1, y1, tx0, ty0, x1, ty0);
-      emit(b, tx0, ty0, x1, y1, tx0, y1);
-    }
+  if (plain) {
+    emit_plain_tile(b, tx0, ty0);
+  } else if (RtinLayout::backslash(tx0, ty0, S)) {
+    emit(b, x1, y1, tx0, ty0, x1, ty0);   // upper right
+    emit(b, tx0, ty0, x1, y1, tx0, y1);   // lower left
   } else {
-    if (plain) {
-      emit_plain_tile(b, x1, ty0, tx0, y1, tx0, ty0);  // upper left
-      emit_plain_tile(b, tx0, y1, x1, ty0, x1, y1);    // lower right
-    } else {
-      emit(b, x1, ty0, tx0, y1, tx0, ty0);
-      emit(b, tx0, y1, x1, ty0, x1, y1);
-    }
+    emit(b, x1, ty0, tx0, y1, tx0, ty0);  // upper left
+    emit(b, tx0, y1, x1, ty0, x1, y1);    // lower right
   }
 }
 
