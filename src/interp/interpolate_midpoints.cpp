@@ -1,6 +1,7 @@
 #include "src/interp/interpolate_midpoints.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "src/interp/interpolate_planes.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -29,11 +30,40 @@ inline void resolve(std::int32_t* v, std::int32_t a, std::int32_t b) {
 
 }  // namespace
 
-bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
-                                int tile_row_begin, int tile_row_end, std::int32_t* values,
-                                ImageView<std::int16_t> disp_q4) {
+namespace {
+
+// Square centres, then side midpoints, at level s, then the levels below (s
+// and S known at compile time: the strides fold and the short rows unroll).
+template <int S, int s>
+inline void resolve_levels(std::int32_t* values, int x0, int y0, int nx, int ny) {
+  constexpr int n = S + 1, h = s / 2;
+  for (int j = 0; j + h <= ny; j += s) {
+    const std::int32_t* top = values + j * n;
+    const std::int32_t* bottom = top + s * n;
+    std::int32_t* centre = values + (j + h) * n + h;
+    // The diagonals alternate along a row of squares.
+    bool bs = RtinLayout::backslash(x0, y0 + j, s);
+    for (int i = 0; i + h <= nx; i += s, bs = !bs) {
+      if (bs) resolve(centre + i, top[i], bottom[i + s]);
+      else resolve(centre + i, top[i + s], bottom[i]);
+    }
+  }
+  for (int j = 0; j <= ny; j += s) {  // horizontal sides
+    std::int32_t* v = values + j * n;
+    for (int i = h; i <= nx; i += s) resolve(v + i, v[i - h], v[i + h]);
+  }
+  for (int j = h; j <= ny; j += s) {  // vertical sides
+    std::int32_t* v = values + j * n;
+    for (int i = 0; i <= nx; i += s) resolve(v + i, v[i - h * n], v[i + h * n]);
+  }
+  if constexpr (s > 2) resolve_levels<S, s / 2>(values, x0, y0, nx, ny);
+}
+
+template <int S>
+bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+                    int tile_row_begin, int tile_row_end, std::int32_t* values, ImageView<std::int16_t> disp_q4) {
   const RtinLayout& L = grid.layout;
-  const int S = L.tile, n = S + 1;
+  constexpr int n = S + 1;
   const int F = midpoint_fraction_bits(S);
   const std::int32_t one = std::int32_t{1} << F, half = one >> 1;
   const Vertex* vertices = mesh.vertices.data();
@@ -62,30 +92,8 @@ bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
           if (vx < x0 + S) cursor[j] = id + 1;
         }
       }
-      // Square centres, then side midpoints, from the tile down to side 2.
-      for (int s = S; s >= 2; s /= 2) {
-        const int h = s / 2;
-        for (int j = 0; j + h <= ny; j += s) {
-          const std::int32_t* top = values + j * n;
-          const std::int32_t* bottom = top + s * n;
-          std::int32_t* centre = values + (j + h) * n + h;
-          // The diagonals alternate along a row of squares: one division per
-          // row (a runtime s made it an idiv per square, 15 % of the time).
-          bool bs = RtinLayout::backslash(x0, y0 + j, s);
-          for (int i = 0; i + h <= nx; i += s, bs = !bs) {
-            if (bs) resolve(centre + i, top[i], bottom[i + s]);
-            else resolve(centre + i, top[i + s], bottom[i]);
-          }
-        }
-        for (int j = 0; j <= ny; j += s) {  // horizontal sides
-          std::int32_t* v = values + j * n;
-          for (int i = h; i <= nx; i += s) resolve(v + i, v[i - h], v[i + h]);
-        }
-        for (int j = h; j <= ny; j += s) {  // vertical sides
-          std::int32_t* v = values + j * n;
-          for (int i = 0; i <= nx; i += s) resolve(v + i, v[i - h * n], v[i + h * n]);
-        }
-      }
+      // From the tile down to side 2.
+      resolve_levels<S, S>(values, x0, y0, nx, ny);
       // Rounded to Q4, half up. Each tile writes its half-open square, the
       // grid's last tiles their closing column and row too (on the moved
       // line when the side is stretched).
@@ -100,6 +108,25 @@ bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
     }
   }
   return invalid != 0;
+}
+
+}  // namespace
+
+bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+                                int tile_row_begin, int tile_row_end, std::int32_t* values,
+                                ImageView<std::int16_t> disp_q4) {
+  const auto run = [&](auto tile) {
+    return midpoint_tiles<decltype(tile)::value>(grid, mesh, vertex_disp_q4, tile_row_begin, tile_row_end, values,
+                                                 disp_q4);
+  };
+  switch (grid.layout.tile) {  // powers of two 2 .. 64 (A_max <= 1024)
+    case 2: return run(std::integral_constant<int, 2>{});
+    case 4: return run(std::integral_constant<int, 4>{});
+    case 8: return run(std::integral_constant<int, 8>{});
+    case 16: return run(std::integral_constant<int, 16>{});
+    case 32: return run(std::integral_constant<int, 32>{});
+    default: return run(std::integral_constant<int, 64>{});
+  }
 }
 
 void interpolate_stretched_leaves(const TritreeGrid& grid, const Mesh& mesh,
