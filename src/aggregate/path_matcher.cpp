@@ -159,7 +159,11 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
     if (side_next_.fetch_add(1, std::memory_order_relaxed) == 0) reach_ = reach = find_predecessors(samples);
   };
   if (params_.cost.kind == CostKind::kCensus) {
-    // Larger chunks: each chunk recomputes the window's rows above and below it.
+    // Larger chunks: a chunk recomputes the window's rows above and below it,
+    // unless its worker's ring still holds them (its previous chunk ended
+    // there: always with one worker), so the rings start empty per frame,
+    // not per chunk.
+    for (Worker& w : workers_) std::fill(w.slot_row.begin(), w.slot_row.end(), -1);
     rows_.reset(0, samples.height, 16);
     pool.run([&](int w) {
       side_tasks();
@@ -198,7 +202,6 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
   const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
   const int slots = params_.cost.window_h;
   const std::size_t row_len = static_cast<std::size_t>(max_width_) * cost_stride_;
-  std::fill(wk.slot_row.begin(), wk.slot_row.end(), -1);
   auto pixel_row = [&](int y) {
     const auto slot = static_cast<std::size_t>(y % slots);
     std::uint16_t* r = wk.pixel_rows.get() + slot * row_len;
