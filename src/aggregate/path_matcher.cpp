@@ -20,6 +20,9 @@ constexpr std::size_t kLanesRound = 16;  // rows start on 32-byte boundaries
 constexpr std::uint16_t kGuard = 0xFFFF;
 
 std::size_t round_up(std::size_t v) { return (v + kLanesRound - 1) / kLanesRound * kLanesRound; }
+// Census costs by rows: windows of at most this many pixels may be summed
+// per sample without column sums (census_costs_by_rows).
+constexpr int kMaxDirectCells = 25;
 
 // Storage that is not touched until a frame writes it (src/memory/large_array.hpp).
 template <class T>
@@ -214,16 +217,34 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
   std::uint16_t* cols = wk.column_sums.get();
   std::uint16_t* sum = wk.total.data();
   const std::uint16_t* parts[kMaxWindowSide];
+  const std::uint16_t* cells[kMaxDirectCells];
+  const int window_cells = params_.cost.window_w * params_.cost.window_h;
   for (int y = y0; y < y1; ++y) {
-    if (samples.row_end(y) == samples.row_begin(y)) continue;
+    const int samples_in_row = samples.row_end(y) - samples.row_begin(y);
+    if (samples_in_row == 0) continue;
     const int wy0 = std::max(0, y - ry), wy1 = std::min(h - 1, y + ry);
+    const int rows = wy1 - wy0 + 1;
     for (int yy = wy0; yy <= wy1; ++yy) parts[yy - wy0] = pixel_row(yy);
-    kernels_->sum_rows_u16(parts, wy1 - wy0 + 1, static_cast<std::size_t>(w) * cost_stride_, cols);
+    // Column sums cost a row-wide pass of `rows` rows and then window_w per
+    // sample; summing each sample's window cells directly costs window_w x
+    // rows per sample. A row with few samples (sparse mode) takes the
+    // direct sums: the same integers, added in another order.
+    const bool direct = window_cells <= kMaxDirectCells &&
+                        std::int64_t{samples_in_row} * params_.cost.window_w * (rows - 1) < std::int64_t{w} * rows;
+    if (!direct) kernels_->sum_rows_u16(parts, rows, static_cast<std::size_t>(w) * cost_stride_, cols);
     for (int i = samples.row_begin(y); i < samples.row_end(y); ++i) {
       const int x = samples.x_of(i);
       const int wx0 = std::max(0, x - rx), wx1 = std::min(w - 1, x + rx);
-      for (int xx = wx0; xx <= wx1; ++xx) parts[xx - wx0] = cols + static_cast<std::size_t>(xx) * cost_stride_;
-      kernels_->sum_rows_u16(parts, wx1 - wx0 + 1, static_cast<std::size_t>(d), sum);
+      if (direct) {
+        int c = 0;
+        for (int r = 0; r < rows; ++r)
+          for (int xx = wx0; xx <= wx1; ++xx) cells[c++] = parts[r] + static_cast<std::size_t>(xx) * cost_stride_;
+        kernels_->sum_rows_u16(cells, c, static_cast<std::size_t>(d), sum);
+      } else {
+        const std::uint16_t* at[kMaxWindowSide];
+        for (int xx = wx0; xx <= wx1; ++xx) at[xx - wx0] = cols + static_cast<std::size_t>(xx) * cost_stride_;
+        kernels_->sum_rows_u16(at, wx1 - wx0 + 1, static_cast<std::size_t>(d), sum);
+      }
       const auto pixels = static_cast<std::uint64_t>((wx1 - wx0 + 1) * (wy1 - wy0 + 1));
       kernels_->normalize_costs_u16(sum, (std::uint64_t{1} << 32) / pixels, d,
                                     costs_.get() + row(i, cost_stride_));
