@@ -18,10 +18,11 @@
 //
 // HomeChunks adds locality: each worker owns a home, a fixed band of the
 // range, and takes its own items first; only then does it help the other
-// homes. Use it when the same items come back run after run (it served the
-// refinement rounds of the tritree before the RTIN one, which has none): a
-// worker then mostly meets the data it touched last time, still in its own
-// core's caches, while a slow worker is still covered by the others.
+// homes. Use it when the same items come back run after run, or when a
+// worker's consecutive items share work (the census costs' chunks of rows
+// reuse the rows above them): a worker then mostly meets the data it touched
+// last, still in its own core's caches, while a slow worker is still covered
+// by the others.
 #pragma once
 
 #include <algorithm>

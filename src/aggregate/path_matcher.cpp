@@ -166,13 +166,17 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
     // unless its worker's ring still holds them (its previous chunk ended
     // there: always with one worker), so the rings start empty per frame,
     // not per chunk.
+    // Each worker starts on a band of chunks of its own (HomeChunks), so its
+    // chunks follow each other there, then helps the others.
     for (Worker& w : workers_) std::fill(w.slot_row.begin(), w.slot_row.end(), -1);
-    rows_.reset(0, samples.height, 16);
+    constexpr int kRowsPerChunk = 16;
+    row_homes_.reset((samples.height + kRowsPerChunk - 1) / kRowsPerChunk, pool.size());
     pool.run([&](int w) {
       side_tasks();
       Worker& wk = workers_[static_cast<std::size_t>(w)];
-      int y0 = 0, y1 = 0;
-      while (rows_.next(&y0, &y1)) census_costs_by_rows(ctx, samples, wk, y0, y1);
+      row_homes_.for_each(w, [&](int c) {
+        census_costs_by_rows(ctx, samples, wk, c * kRowsPerChunk, std::min(samples.height, (c + 1) * kRowsPerChunk));
+      });
     });
   } else {
     rows_.reset(0, samples.height, 4);

@@ -184,6 +184,7 @@ class PathMatcher {
   std::vector<Worker> workers_;
   void census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk, int y0, int y1);
   WorkChunks rows_, dirs_;
+  HomeChunks row_homes_;  // census costs by rows: chunks of 16 rows
 };
 
 }  // namespace tristereo
