@@ -7,7 +7,8 @@
 //     least a block, the remainder of the census, path and selection kernels
 //     is the full block ending at n, overlapping the last one: its first
 //     lanes write the same values again (no output is an input) or meet a min
-//     twice; an accumulated sum masks them off (PathStepU16). Otherwise the
+//     twice; an accumulated sum adds to the old values read first (PathStepU16,
+//     LrMinU16). Otherwise the
 //     remainder runs the *same* block code once more on zero-padded stack
 //     copies and only the valid part is copied back (libyuv's "any" pattern).
 //     There is no second tail algorithm, and nothing is read or written past n.
@@ -586,16 +587,6 @@ struct AroundTable {
   }
 };
 constexpr AroundTable kAround{};
-// kFresh.v[kCountLanes + i] = 0xFFFF for i >= 0, 0 below: loaded at
-// kCountLanes - done, lane l is all ones exactly when l >= done (the lanes of a
-// block ending at n that no earlier block covered).
-struct FreshTable {
-  alignas(64) std::uint16_t v[2 * kCountLanes] = {};
-  constexpr FreshTable() {
-    for (int i = kCountLanes; i < 2 * kCountLanes; ++i) v[i] = 0xFFFF;
-  }
-};
-constexpr FreshTable kFresh{};
 // Largest penalty whose ramp (up to 16 steps) fits u16 without saturating.
 constexpr std::uint32_t kMaxRampPenalty = 0xFFFF / 16;
 
@@ -916,6 +907,14 @@ std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint
     v.store_unaligned(out + k);
     return v;
   };
+  // A partial last block is the full block ending at n. Its sums are read
+  // before the other blocks store theirs, so that its overlapping lanes add v
+  // to the same old sums (the same results as the block before; and no load
+  // that straddles a store just made). out and the minimum see the same values
+  // twice (out is neither prev nor cost).
+  const bool overlap = n % lanes != 0 && n >= lanes;
+  const int tail = n - lanes;
+  const b16 old_tail = overlap && accumulate ? b16::load_unaligned(sum + tail) : b16(std::uint16_t{0});
   b16 low(detail::kU16Max);
   int k = 0;
   for (; k + lanes <= n; k += lanes) {
@@ -923,16 +922,9 @@ std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint
     (accumulate ? b16::load_unaligned(sum + k) + v : v).store_unaligned(sum + k);
     low = escape::min_u16(low, v);
   }
-  if (k < n && n >= lanes) {
-    // The full block ending at n. Its first lanes recompute the same values
-    // (out is neither prev nor cost) for out and the minimum, but sum takes
-    // only the fresh lanes: an accumulated lane must not be added twice.
-    const int j = n - lanes;
-    const b16 v = step(j);
-    const b16 fresh = b16::load_unaligned(detail::kFresh.v + detail::kCountLanes - (k - j));
-    const b16 s = b16::load_unaligned(sum + j);
-    (accumulate ? s + (v & fresh) : xsimd::select(fresh != b16(std::uint16_t{0}), v, s))
-        .store_unaligned(sum + j);
+  if (overlap) {
+    const b16 v = step(tail);
+    (old_tail + v).store_unaligned(sum + tail);
     low = escape::min_u16(low, v);
     k = n;
   }
@@ -1035,21 +1027,28 @@ void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
   const b16 iota = b16::load_aligned(detail::kCount);
-  const auto block = [&](int k) {
+  // Block at k from the old best_cost b and best_k bk.
+  const auto block = [&](int k, const b16& b, const b16& bk) {
     const b16 t = b16::load_unaligned(total + k);
-    const b16 b = b16::load_unaligned(best_cost + k);
     const b16 m = escape::min_u16(t, b);
     const auto take = (m == t) & (t != b);
     m.store_unaligned(best_cost + k);
-    xsimd::select(take, iota + b16(static_cast<std::uint16_t>(k)), b16::load_unaligned(best_k + k))
-        .store_unaligned(best_k + k);
+    xsimd::select(take, iota + b16(static_cast<std::uint16_t>(k)), bk).store_unaligned(best_k + k);
   };
+  // A partial last block is the full block ending at n, from the old values
+  // read before the other blocks store theirs: its overlapping lanes give the
+  // block before's results again (and no load straddles a store just made).
+  const bool overlap = n % lanes != 0 && n >= lanes;
+  const int tail = n - lanes;
+  b16 tail_b(std::uint16_t{0}), tail_k(std::uint16_t{0});
+  if (overlap) {
+    tail_b = b16::load_unaligned(best_cost + tail);
+    tail_k = b16::load_unaligned(best_k + tail);
+  }
   int k = 0;
-  for (; k + lanes <= n; k += lanes) block(k);
-  if (k < n && n >= lanes) {
-    // The full block ending at n. A lane already taken now has best == total,
-    // so it is not taken again: the step is idempotent.
-    block(n - lanes);
+  for (; k + lanes <= n; k += lanes) block(k, b16::load_unaligned(best_cost + k), b16::load_unaligned(best_k + k));
+  if (overlap) {
+    block(tail, tail_b, tail_k);
     return;
   }
   for (; k < n; ++k)
