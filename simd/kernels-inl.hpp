@@ -630,10 +630,8 @@ struct PaddedU16 {
   alignas(64) std::uint16_t pad[lanes];
   PaddedU16(const std::uint16_t* p, int n)
       : data(p), full(n / lanes), batches((n + lanes - 1) / lanes), tail(n - full * lanes) {
-    if (tail > 0) {
-      for (int i = 0; i < lanes; ++i) pad[i] = kU16Max;
-      std::memcpy(pad, p + full * lanes, static_cast<std::size_t>(tail) * sizeof(std::uint16_t));
-    }
+    for (int i = 0; i < lanes; ++i) pad[i] = kU16Max;  // always: one store, and no read of an unset pad
+    if (tail > 0) std::memcpy(pad, p + full * lanes, static_cast<std::size_t>(tail) * sizeof(std::uint16_t));
   }
   batch<std::uint16_t, A> load(int b) const {
     return b < full ? batch<std::uint16_t, A>::load_unaligned(data + b * lanes)
@@ -648,7 +646,6 @@ void DpStepU16<Arch>::call(const std::uint16_t* cost_q4, const std::uint16_t* pr
                            std::uint32_t penalty, int n, std::uint16_t* out) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  const detail::PaddedU16<Arch> in(prev, n);
 
   b16 step[4];
   for (int t = 0; t < 4; ++t) step[t] = b16(detail::saturate_u16(std::uint64_t{penalty} << t));
@@ -672,6 +669,43 @@ void DpStepU16<Arch>::call(const std::uint16_t* cost_q4, const std::uint16_t* pr
   alignas(64) std::uint16_t fwd[detail::kMaxLanes + lanes];
   b16 carry(detail::kU16Max);
   b16 low(detail::kU16Max);
+  if (n >= lanes && n % lanes != 0) {
+    // The last block is the full block ending at n, overlapping the one
+    // before: its scans start from the scans' values just outside it (the
+    // forward value at n - lanes - 1, the backward one at the end of the
+    // range), so every lane gets the exact value the other block gives it
+    // too (the scans are exact, see above), and the output's overlapping
+    // lanes are written twice with the same value. No padded copies.
+    const int full = n / lanes, tail = n - lanes;
+    for (int b = 0; b < full; ++b) {
+      b16 x = b16::load_unaligned(prev + b * lanes);
+      low = escape::min_u16(low, x);
+      x = detail::min_plus_scan_u16<true>(x, step);
+      x = escape::min_u16(x, xsimd::sadd(carry, ramp_up));
+      x.store_aligned(fwd + b * lanes);
+      carry = escape::broadcast_last_u16(x);
+    }
+    const b16 x_tail = b16::load_unaligned(prev + tail);
+    low = escape::min_u16(low, x_tail);
+    const b16 fwd_tail = escape::min_u16(detail::min_plus_scan_u16<true>(x_tail, step),
+                                         xsimd::sadd(b16(fwd[tail - 1]), ramp_up));
+    const b16 min_g(escape::hmin_u16(low));
+    b16 y = detail::min_plus_scan_u16<false>(x_tail, step);  // nothing after n
+    (b16::load_unaligned(cost_q4 + tail) + escape::min_u16(y, fwd_tail) - min_g).store_unaligned(out + tail);
+    // The backward value just after block full - 1, from the tail's lanes.
+    alignas(64) std::uint16_t y_tail[lanes];
+    y.store_aligned(y_tail);
+    carry = b16(y_tail[full * lanes - tail]);
+    for (int b = full - 1; b >= 0; --b) {
+      y = detail::min_plus_scan_u16<false>(b16::load_unaligned(prev + b * lanes), step);
+      y = escape::min_u16(y, xsimd::sadd(carry, ramp_down));
+      carry = escape::broadcast_first_u16(y);
+      const b16 g = escape::min_u16(y, b16::load_aligned(fwd + b * lanes));
+      (b16::load_unaligned(cost_q4 + b * lanes) + g - min_g).store_unaligned(out + b * lanes);
+    }
+    return;
+  }
+  const detail::PaddedU16<Arch> in(prev, n);
   for (int b = 0; b < in.batches; ++b) {
     b16 x = in.load(b);
     low = escape::min_u16(low, x);
@@ -714,30 +748,41 @@ int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, i
   if (penalty > kMaxPenalty16) return dp_pointer_u16_scalar(prev, penalty, n, k);
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  const detail::PaddedU16<Arch> in(prev, n);
   const b16 iota = b16::load_aligned(detail::kCount);
   const b16 vk(static_cast<std::uint16_t>(k));
   const b16 vp(static_cast<std::uint16_t>(penalty));
+  // When n is at least one batch but not a multiple, the last batch is the
+  // full one ending at n (a term seen twice changes neither the min nor its
+  // first index); otherwise it is a padded copy (pad lanes hold 0xFFFF terms,
+  // never the min).
+  const bool overlap = n >= lanes && n % lanes != 0;
+  const detail::PaddedU16<Arch> in(prev, overlap ? n / lanes * lanes : n);
+  const int batches = overlap ? n / lanes + 1 : in.batches;
+  const int last_start = overlap ? n - lanes : (batches - 1) * lanes;
   alignas(64) std::uint16_t terms[detail::kMaxLanes + lanes];
   b16 low(detail::kU16Max);
-  for (int b = 0; b < in.batches; ++b) {
-    const b16 j = iota + b16(static_cast<std::uint16_t>(b * lanes));
+  const auto terms_of = [&](int b, int at, const b16& p) {
+    const b16 j = iota + b16(static_cast<std::uint16_t>(at));
     const b16 dist = xsimd::ssub(j, vk) | xsimd::ssub(vk, j);
-    const b16 t = xsimd::sadd(in.load(b), escape::mullo_u16(dist, vp));
+    const b16 t = xsimd::sadd(p, escape::mullo_u16(dist, vp));
     t.store_aligned(terms + b * lanes);
     low = escape::min_u16(low, t);
-  }
+  };
+  for (int b = 0; b + 1 < batches; ++b) terms_of(b, b * lanes, in.load(b));
+  terms_of(batches - 1, last_start, overlap ? b16::load_unaligned(prev + last_start) : in.load(batches - 1));
   const std::uint16_t m = escape::hmin_u16(low);
   if (m == detail::kU16Max) return dp_pointer_u16_scalar(prev, penalty, n, k);
   // Smallest index whose term equals m, without branches: min over
-  // (term == m ? j : 0xFFFF). Pad lanes hold 0xFFFF terms, never m.
+  // (term == m ? j : 0xFFFF).
   const b16 vm(m);
   const b16 none(detail::kU16Max);
   b16 first(detail::kU16Max);
-  for (int b = 0; b < in.batches; ++b) {
-    const b16 j = iota + b16(static_cast<std::uint16_t>(b * lanes));
+  const auto first_of = [&](int b, int at) {
+    const b16 j = iota + b16(static_cast<std::uint16_t>(at));
     first = escape::min_u16(first, xsimd::select(b16::load_aligned(terms + b * lanes) == vm, j, none));
-  }
+  };
+  for (int b = 0; b + 1 < batches; ++b) first_of(b, b * lanes);
+  first_of(batches - 1, last_start);
   return escape::hmin_u16(first);
 }
 
