@@ -4,13 +4,15 @@
 // Conventions shared by all kernels:
 //   - Pointers are arbitrary (unaligned); n is any value in 1 .. 256.
 //   - Tails: full blocks run straight from the caller's memory. When n is at
-//     least a block, the remainder of the census, path and selection kernels
-//     is the full block ending at n, overlapping the last one: its first
-//     lanes write the same values again (no output is an input) or meet a min
-//     twice; an accumulated sum adds to the old values read first (PathStepU16,
-//     LrMinU16). Otherwise the
-//     remainder runs the *same* block code once more on zero-padded stack
-//     copies and only the valid part is copied back (libyuv's "any" pattern).
+//     least a block, the remainder of the census, path, selection, DP and
+//     normalisation kernels is the full block ending at n, overlapping the
+//     last one: its first lanes write the same values again (no output is an
+//     input) or meet a min twice; an accumulated sum adds to the old values
+//     read first (PathStepU16, LrMinU16); the DP's scans start it from their
+//     exact values just outside it (DpStepU16). Otherwise (n below a block,
+//     and the accumulating cost kernels) the remainder goes to the narrower
+//     instantiation or runs the *same* block code once more on padded stack
+//     copies, copying back only the valid part (libyuv's "any" pattern).
 //     There is no second tail algorithm, and nothing is read or written past n.
 //   - Lane layout is little-endian (x86, AArch64, ARMv7 little-endian): the
 //     low 16 bits of a u32 lane are the even u16 lane of the same register.
