@@ -838,6 +838,25 @@ void CensusRowU16<Arch>::call(const std::uint16_t* const* rows, int win_w, int w
   if (x < width) block(width - lanes);
 }
 
+namespace detail {
+// out[k .. k + lanes) = block(k) for every block of [0, n): the full blocks,
+// then, when n is at least a block, the full block ending at n (its first
+// lanes rewrite the same values), else the first n lanes through a copy.
+template <int kLanes, class Block>
+void store_u16_blocks(int n, std::uint16_t* out, Block block) {
+  int k = 0;
+  for (; k + kLanes <= n; k += kLanes) block(k).store_unaligned(out + k);
+  if (k == n) return;
+  if (n >= kLanes) {
+    block(n - kLanes).store_unaligned(out + n - kLanes);
+  } else {
+    alignas(64) std::uint16_t tmp[kLanes];
+    block(k).store_aligned(tmp);
+    std::memcpy(out + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
+  }
+}
+}  // namespace detail
+
 // The D sums stay in a register per block while the window's entries are
 // walked. A partial last block is redone as the full block ending at n (its
 // first lanes write the same sums again); only n < lanes reads the rows' slack
@@ -853,16 +872,7 @@ void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const st
       acc = acc + escape::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
     return acc;
   };
-  int k = 0;
-  for (; k + lanes <= n; k += lanes) block(k).store_unaligned(sum + k);
-  if (k == n) return;
-  if (n >= lanes) {  // the full block ending at n: its first lanes rewrite the same sums
-    block(n - lanes).store_unaligned(sum + n - lanes);
-  } else {
-    alignas(64) std::uint16_t tmp[lanes];
-    block(k).store_aligned(tmp);
-    std::memcpy(sum + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
-  }
+  detail::store_u16_blocks<lanes>(n, sum, block);
 }
 
 namespace detail {
@@ -886,16 +896,7 @@ void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t
       for (int p = 1; p < P; ++p) acc = acc + escape::popcount_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
       return acc;
     };
-    int k = 0;
-    for (; k + lanes <= n; k += lanes) block(k).store_unaligned(o + k);
-    if (k == n) continue;
-    if (n >= lanes) {  // the full block ending at n: its first lanes rewrite the same sums
-      block(n - lanes).store_unaligned(o + n - lanes);
-    } else {
-      alignas(64) std::uint16_t tmp[lanes];
-      block(k).store_aligned(tmp);
-      std::memcpy(o + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
-    }
+    store_u16_blocks<lanes>(n, o, block);
   }
 }
 }  // namespace detail
