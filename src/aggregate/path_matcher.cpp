@@ -162,12 +162,10 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
     if (side_next_.fetch_add(1, std::memory_order_relaxed) == 0) reach_ = reach = find_predecessors(samples);
   };
   if (params_.cost.kind == CostKind::kCensus) {
-    // Larger chunks: a chunk recomputes the window's rows above and below it,
-    // unless its worker's ring still holds them (its previous chunk ended
-    // there: always with one worker), so the rings start empty per frame,
-    // not per chunk.
-    // Each worker starts on a band of chunks of its own (HomeChunks), so its
-    // chunks follow each other there, then helps the others.
+    // Chunks of 16 rows. A chunk needs the window's rows above it, which its
+    // worker's ring still holds when the worker's previous chunk ended there:
+    // so the rings are emptied per frame, not per chunk, and each worker takes
+    // the chunks of a band of its own first (HomeChunks), then the others'.
     for (Worker& w : workers_) std::fill(w.slot_row.begin(), w.slot_row.end(), -1);
     constexpr int kRowsPerChunk = 16;
     row_homes_.reset((samples.height + kRowsPerChunk - 1) / kRowsPerChunk, pool.size());
