@@ -152,11 +152,24 @@ std::size_t PathMatcher::working_memory_bytes() const {
   return bytes;
 }
 
+void PathMatcher::use_predecessors(const Mesh* mesh, const PredecessorTable& filled) {
+  if (!filled.filled || filled.slots != preds_.get() || filled.directions != directions_) {
+    supplied_for_ = nullptr;
+    return;
+  }
+  supplied_for_ = mesh;
+  supplied_reach_ = filled.reach;
+}
+
 void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool) {
   // The predecessors first, on the first worker to arrive (they only read the
   // mesh, and write preds_), while the others start on the rows.
-  side_next_.store(samples.dense() ? 1 : 0, std::memory_order_relaxed);
-  int reach = 0;
+  // (Unless the mesher wrote them while it built this mesh: use_predecessors.)
+  const bool supplied = !samples.dense() && supplied_for_ == samples.mesh;
+  supplied_for_ = nullptr;
+  side_next_.store(samples.dense() || supplied ? 1 : 0, std::memory_order_relaxed);
+  int reach = supplied ? supplied_reach_ : 0;
+  if (supplied) reach_ = reach;
   preds_for_ = nullptr;
   const auto side_tasks = [&] {
     if (side_next_.fetch_add(1, std::memory_order_relaxed) == 0) reach_ = reach = find_predecessors(samples);

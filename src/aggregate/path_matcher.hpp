@@ -29,6 +29,7 @@
 
 #include "platform/thread_pool.hpp"
 #include "platform/work_chunks.hpp"
+#include "src/aggregate/predecessor_offers.hpp"
 #include "src/aggregate/samples.hpp"
 #include "src/cost/match_context.hpp"
 #include "src/kernels/kernel_set.hpp"
@@ -49,6 +50,11 @@ class PathMatcher {
   // Throws Error (after every worker is done) for a mesh whose edges reach
   // beyond the path rings.
   void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool);
+  // The predecessor table, for a mesher to fill while it builds the next
+  // frame's mesh (Tritree::build); once filled, use_predecessors() hands it
+  // back for that mesh, and the next compute_costs() on it skips the scan.
+  PredecessorTable predecessor_table() { return PredecessorTable{preds_.get(), directions_, false, 0}; }
+  void use_predecessors(const Mesh* mesh, const PredecessorTable& filled);
   // Predecessors along each direction, then the path costs and their sums.
   // left_gray: the frame's reference image (for the intensity-adaptive P2).
   void aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
@@ -162,6 +168,8 @@ class PathMatcher {
   int ring_samples_ = 0;
   int reach_ = 0;                    // find_predecessors' reach for preds_for_
   const Mesh* preds_for_ = nullptr;  // the mesh whose predecessors preds_ holds (this frame)
+  const Mesh* supplied_for_ = nullptr;  // use_predecessors(): filled by the mesher, for this mesh
+  int supplied_reach_ = 0;
   // S, and per image row which pass came first (claims) and whether it is done.
   LargeArray<std::uint16_t> sum_;
   std::unique_ptr<std::atomic<int>[]> row_claim_, row_done_;

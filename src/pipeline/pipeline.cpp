@@ -77,6 +77,17 @@ struct Pipeline::Impl {
                                    std::int64_t* cost_ns, std::int64_t* dp_ns);
   void interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
                        ImageView<std::int16_t> out);
+  // The tritree, and for the path optimizer's sparse frames the mesh's
+  // predecessors, offered as the leaves are emitted (no scan of the mesh).
+  void build_mesh(Tritree& tree, ImageView<const std::uint8_t> gray, Mesh& mesh) {
+    if (config.params.optimizer != Optimizer::kPaths || config.params.dense) {
+      tree.build(gray, mesh, &pool);
+      return;
+    }
+    PredecessorTable preds = paths.predecessor_table();
+    tree.build(gray, mesh, &pool, &preds);
+    paths.use_predecessors(&mesh, preds);
+  }
 };
 
 Pipeline::Pipeline() : impl_(new Impl) {}
@@ -329,7 +340,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   // 1. Tritree on the left image.
   Mesh& mesh = m.out.mesh;
   m.mark(PipelineStage::kTritree, true);
-  m.tritree.build(lg, mesh, &m.pool);
+  m.build_mesh(m.tritree, lg, mesh);
   const std::int64_t t_tritree = monotonic_ns();
   m.mark(PipelineStage::kTritree, false);
   m.mark(PipelineStage::kMatching, true);
@@ -366,7 +377,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     rd.pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
     std::int16_t* right_samples = rd.pixels.data();
     if (!params.dense) {
-      m.right_tritree.build(ml, m.right_mesh, &m.pool);
+      m.build_mesh(m.right_tritree, ml, m.right_mesh);
       m.right_vdisp.resize(m.right_mesh.vertices.size());  // within capacity
       right_samples = m.right_vdisp.data();
     }

@@ -25,6 +25,7 @@
 #include <memory>
 #include <vector>
 
+#include "src/aggregate/predecessor_offers.hpp"
 #include "src/memory/large_array.hpp"
 #include "src/tritree/pixel_moments.hpp"
 #include "src/tritree/rtin_layout.hpp"
@@ -78,7 +79,12 @@ class Tritree {
   // owner thread), pass 1 runs on its workers, one row of tiles each at a time
   // (even rows, then odd ones: rows that run together share no grid point);
   // the mesh is identical for every pool size.
-  void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr);
+  // With `preds` (slots for every vertex the mesh may have), the build also
+  // writes each vertex's path predecessors (src/aggregate/predecessor_offers.hpp)
+  // as it emits the leaves, and sets preds->filled and preds->reach; a
+  // 2-pixel strip leaves filled false.
+  void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr,
+             PredecessorTable* preds = nullptr);
   // Pass 1 runs on at most this many pool workers (each has its tile scratch).
   static constexpr int kMaxTileWorkers = 8;
 
@@ -133,7 +139,9 @@ class Tritree {
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
+  template <int kSlots>
   void emit_plain_tile(Band& b, int tx0, int ty0);
+  void finish_predecessors(const Mesh& mesh, ThreadPool* pool, PredecessorTable* preds);
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh, ThreadPool* pool);
   void number_vertices(Mesh& mesh, ThreadPool* pool);
@@ -186,6 +194,10 @@ class Tritree {
   Triangle* tri_scratch_ = nullptr;       // leaves in emission order, S^2 x tiles_x per row of tiles
   Triangle* stretched_ = nullptr;         // stretched leaves (TritreeGrid::stretched)
   std::size_t stretched_count_ = 0;
+  // The build's predecessor output (PredecessorTable), keys until finished.
+  std::uint32_t* pred_keys_ = nullptr;
+  int pred_slots_ = 0;  // 0 (none), 2 or 6 per vertex
+  const Vertex* vertices_ = nullptr;  // the mesh's, once numbered
 };
 
 }  // namespace tristereo

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <string>
 
 #include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
+#include "src/aggregate/predecessor_offers.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "src/tritree/tritree.hpp"
+#include "tristereo/status.hpp"
 
 namespace tristereo {
 
@@ -534,6 +537,9 @@ struct PlainEmit {
   std::size_t id_stride;
   Triangle* out;
   std::int64_t criterion, forced;
+  std::uint32_t* pred_keys;  // kSlots per vertex (predecessor_offers.hpp), when kSlots > 0
+  const Vertex* vertices;
+  bool left_border;  // the tile is on x = 0
 };
 
 // A leaf's ids, rotated to start at the smallest (orientation kept).
@@ -541,6 +547,22 @@ inline Triangle rotated(std::int32_t ia, std::int32_t ib, std::int32_t ic) {
   if (ia < ib && ia < ic) return Triangle{ia, ib, ic};
   if (ib < ic) return Triangle{ib, ic, ia};
   return Triangle{ic, ia, ib};
+}
+
+// A plain leaf's edge from -> to = from + (kEx, kEy), in the leaf's positive
+// orientation. An edge inside the mesh belongs to two leaves, going down in
+// one and up in the other: only the one going down offers it. An edge on the
+// mesh's border belongs to one leaf: going up on the left border x = 0 (the
+// only border a plain tile has, besides the top one, whose edges are
+// horizontal); an edge on a general tile's side is offered by that tile.
+template <int kSlots, int kEx, int kEy>
+inline void offer_leaf_edge(PlainEmit& e, std::int32_t from, std::int32_t to) {
+  if constexpr (kEy > 0) {
+    predecessor_keys::offer_rtin_edge<kSlots, kEx, kEy>(e.pred_keys, from, to);
+  } else if constexpr (kEy < 0 && kEx == 0) {
+    if (e.left_border && e.vertices[from].x == 0)
+      predecessor_keys::offer_rtin_edge<kSlots, kEx, kEy>(e.pred_keys, from, to);
+  }
 }
 
 // The triangle whose hypotenuse has midpoint m and whose apex is c = m + d,
@@ -551,7 +573,7 @@ inline Triangle rotated(std::int32_t ia, std::int32_t ib, std::int32_t ic) {
 // which of m's two "wants" bits is this triangle's, and which corner comes
 // first in raster order, which is the one with the smallest id (plain tiles'
 // ids are raster-ordered), so a leaf's rotation is a compile-time choice.
-template <int kDx, int kDy>
+template <int kSlots, int kDx, int kDy>
 inline void emit_rtin(PlainEmit& e, const std::uint8_t* need_m, const std::int32_t* id_m, std::int32_t ia,
                       std::int32_t ib, std::int32_t ic) {
   if constexpr (kDx * kDx + kDy * kDy >= 2) {  // hypotenuse^2 = 4 |d|^2 >= 8: may split
@@ -567,8 +589,8 @@ inline void emit_rtin(PlainEmit& e, const std::uint8_t* need_m, const std::int32
       constexpr int d2x = -(kDx + kDy) / 2, d2y = (kDx - kDy) / 2;
       const auto ns = static_cast<std::ptrdiff_t>(e.need_stride);
       const auto is = static_cast<std::ptrdiff_t>(e.id_stride);
-      emit_rtin<d1x, d1y>(e, need_m - d1x - d1y * ns, id_m - d1x - d1y * is, ic, ia, im);
-      emit_rtin<d2x, d2y>(e, need_m - d2x - d2y * ns, id_m - d2x - d2y * is, ib, ic, im);
+      emit_rtin<kSlots, d1x, d1y>(e, need_m - d1x - d1y * ns, id_m - d1x - d1y * is, ic, ia, im);
+      emit_rtin<kSlots, d2x, d2y>(e, need_m - d2x - d2y * ns, id_m - d2x - d2y * is, ib, ic, im);
       return;
     }
   }
@@ -584,31 +606,37 @@ inline void emit_rtin(PlainEmit& e, const std::uint8_t* need_m, const std::int32
   } else {
     *e.out++ = Triangle{ic, ia, ib};
   }
+  if constexpr (kSlots > 0) {
+    // Edges a -> b, b -> c, c -> a (a = m + (-kDy, kDx), b = m + (kDy, -kDx), c = m + d).
+    offer_leaf_edge<kSlots, 2 * kDy, -2 * kDx>(e, ia, ib);
+    offer_leaf_edge<kSlots, kDx - kDy, kDy + kDx>(e, ib, ic);
+    offer_leaf_edge<kSlots, -kDy - kDx, kDx - kDy>(e, ic, ia);
+  }
 }
 
 // A plain tile's half with apex offset (kDx, kDy) from the tile centre (mx, my).
-template <int kDx, int kDy>
+template <int kSlots, int kDx, int kDy>
 inline void emit_plain_half(PlainEmit& e, const std::uint8_t* need, const std::int32_t* ids, int mx, int my) {
   const auto at = [](std::size_t stride, int x, int y) {
     return static_cast<std::size_t>(y) * stride + static_cast<std::size_t>(x);
   };
-  emit_rtin<kDx, kDy>(e, need + at(e.need_stride, mx, my), ids + at(e.id_stride, mx, my),
+  emit_rtin<kSlots, kDx, kDy>(e, need + at(e.need_stride, mx, my), ids + at(e.id_stride, mx, my),
                       ids[at(e.id_stride, mx - kDy, my + kDx)], ids[at(e.id_stride, mx + kDy, my - kDx)],
                       ids[at(e.id_stride, mx + kDx, my + kDy)]);
 }
 
 // Both halves of a plain tile of side S at (tx0, ty0), hypotenuse first.
-template <int S>
+template <int kSlots, int S>
 inline void emit_plain_halves(PlainEmit& e, const std::uint8_t* need, const std::int32_t* ids, int tx0, int ty0,
                               bool backslash) {
   constexpr int h = S / 2;
   const int mx = tx0 + h, my = ty0 + h;
   if (backslash) {
-    emit_plain_half<h, -h>(e, need, ids, mx, my);  // upper right
-    emit_plain_half<-h, h>(e, need, ids, mx, my);  // lower left
+    emit_plain_half<kSlots, h, -h>(e, need, ids, mx, my);  // upper right
+    emit_plain_half<kSlots, -h, h>(e, need, ids, mx, my);  // lower left
   } else {
-    emit_plain_half<-h, -h>(e, need, ids, mx, my);  // upper left
-    emit_plain_half<h, h>(e, need, ids, mx, my);    // lower right
+    emit_plain_half<kSlots, -h, -h>(e, need, ids, mx, my);  // upper left
+    emit_plain_half<kSlots, h, h>(e, need, ids, mx, my);    // lower right
   }
 }
 
@@ -650,7 +678,14 @@ void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy)
   const auto id = [&](int x, int y) {
     return vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
   };
-  b.leaves[b.count++] = rotated(id(ax, ay), id(bx, by), id(cx, cy));
+  const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
+  b.leaves[b.count++] = rotated(ia, ib, ic);
+  if (pred_slots_ > 0) {
+    // After the row's plain tiles, which offered to the same slots first.
+    predecessor_keys::offer_exact(pred_keys_, pred_slots_, vertices_, ia, ib);
+    predecessor_keys::offer_exact(pred_keys_, pred_slots_, vertices_, ib, ic);
+    predecessor_keys::offer_exact(pred_keys_, pred_slots_, vertices_, ic, ia);
+  }
 }
 
 // The stretched leaves (TritreeGrid::stretched), in the mesh's order: those
@@ -676,18 +711,19 @@ void Tritree::collect_stretched(const Mesh& mesh) {
   }
 }
 
-// A plain tile: the descent for its tile side.
+// A plain tile: the descent for its tile side (and the predecessor slots per vertex).
+template <int kSlots>
 void Tritree::emit_plain_tile(Band& b, int tx0, int ty0) {
   PlainEmit e{static_cast<std::size_t>(layout_.vw) + 1, static_cast<std::size_t>(gray_.width), b.leaves + b.count,
-              0, 0};
+              0, 0, pred_keys_, vertices_, tx0 == 0};
   const bool bs = RtinLayout::backslash(tx0, ty0, tile_);
   switch (tile_) {
-    case 2: emit_plain_halves<2>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 4: emit_plain_halves<4>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 8: emit_plain_halves<8>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 16: emit_plain_halves<16>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 32: emit_plain_halves<32>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    default: emit_plain_halves<64>(e, need_, vertex_id_, tx0, ty0, bs); break;  // A_max <= 1024: S <= 64
+    case 2: emit_plain_halves<kSlots, 2>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 4: emit_plain_halves<kSlots, 4>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 8: emit_plain_halves<kSlots, 8>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 16: emit_plain_halves<kSlots, 16>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    case 32: emit_plain_halves<kSlots, 32>(e, need_, vertex_id_, tx0, ty0, bs); break;
+    default: emit_plain_halves<kSlots, 64>(e, need_, vertex_id_, tx0, ty0, bs); break;  // A_max <= 1024: S <= 64
   }
   b.count = static_cast<std::size_t>(e.out - b.leaves);
   b.criterion += e.criterion;
@@ -699,7 +735,11 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
   const int x1 = tx0 + S, y1 = ty0 + S;
   // Hypotenuse first; (a, b, c) keeps the positive orientation of the halves.
   if (plain) {
-    emit_plain_tile(b, tx0, ty0);
+    switch (pred_slots_) {
+      case 0: emit_plain_tile<0>(b, tx0, ty0); break;
+      case 2: emit_plain_tile<2>(b, tx0, ty0); break;
+      default: emit_plain_tile<6>(b, tx0, ty0); break;
+    }
   } else if (RtinLayout::backslash(tx0, ty0, S)) {
     emit(b, x1, y1, tx0, ty0, x1, ty0);   // upper right
     emit(b, tx0, ty0, x1, y1, tx0, y1);   // lower left
@@ -711,6 +751,26 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
 
 // ---------------------------------------------------------------- build
 
+// The predecessor keys to ids (vertex ranges on the pool), and their reach.
+void Tritree::finish_predecessors(const Mesh& mesh, ThreadPool* pool, PredecessorTable* preds) {
+  const auto n = static_cast<std::int32_t>(mesh.vertices.size());
+  if (pool != nullptr && pool->size() > 1) {
+    std::atomic<int> reach{0};
+    pool->run([&](int w) {
+      int i0, i1;
+      ThreadPool::split_range(0, n, pool->size(), w, &i0, &i1);
+      const int r = predecessor_keys::finish(preds->slots, pred_slots_, i0, i1);
+      int cur = reach.load(std::memory_order_relaxed);
+      while (r > cur && !reach.compare_exchange_weak(cur, r, std::memory_order_relaxed)) {
+      }
+    });
+    preds->reach = reach.load();
+  } else {
+    preds->reach = predecessor_keys::finish(preds->slots, pred_slots_, 0, n);
+  }
+  preds->filled = true;
+}
+
 TritreeGrid Tritree::grid() const {
   TritreeGrid g;
   g.layout = layout_;
@@ -721,8 +781,14 @@ TritreeGrid Tritree::grid() const {
   return g;
 }
 
-void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool) {
+void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool, PredecessorTable* preds) {
   validate_image(gray);
+  if (preds != nullptr && preds->directions != 4 && preds->directions != 8)
+    throw Error(ErrorCode::kInvalidArgument, "tritree: predecessor table for " + std::to_string(preds->directions) +
+                                                 " directions (4 or 8)");
+  if (preds != nullptr) preds->filled = false;
+  pred_slots_ = preds != nullptr ? preds->directions - 2 : 0;
+  pred_keys_ = preds != nullptr ? reinterpret_cast<std::uint32_t*>(preds->slots) : nullptr;
   const std::int64_t t0 = monotonic_ns();
   gray_ = gray;
   layout_ = RtinLayout(gray.width, gray.height, params_.max_area_px2);
@@ -768,7 +834,8 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
-    number_vertices(mesh, workers > 1 ? pool : nullptr);
+    number_vertices(mesh, workers > 1 ? pool : nullptr);  // also empties the predecessor slots
+    vertices_ = mesh.vertices.data();
     // Each row of tiles into its own region, tiles left to right: the plain
     // ones by the fixed-shape descent, then the general ones (the last
     // column's, or all of the last row's) by emit(). Rows go to the workers
@@ -798,6 +865,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty);
     }
     collect_stretched(mesh);
+    if (pred_slots_ > 0) finish_predecessors(mesh, workers > 1 ? pool : nullptr, preds);
   }
   finish(mesh, layout_.strip() ? nullptr : pool);
   times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;

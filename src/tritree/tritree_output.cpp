@@ -92,6 +92,11 @@ void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
         }
       }
     }
+    if (pred_slots_ > 0) {
+      const auto slots = static_cast<std::size_t>(pred_slots_);
+      std::fill(pred_keys_ + static_cast<std::size_t>(first_id[band]) * slots, pred_keys_ + static_cast<std::size_t>(id) * slots,
+                predecessor_keys::kNone);
+    }
   };
   const bool parallel = pool != nullptr && pool->size() > 1 && bands > 1;
   if (parallel) {

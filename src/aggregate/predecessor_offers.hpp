@@ -1,0 +1,117 @@
+// The mesh predecessors of the path optimizer (docs/model.md section 3b),
+// offered edge by edge while a mesher emits its leaves, instead of by a scan
+// of the finished mesh (PathMatcher::find_predecessors, which stays the
+// reference and the fallback for any other mesh).
+//
+// A slot holds a key: the candidate's vertex id, with bit 31 set when a
+// better kind of edge may still come. On a plain RTIN tile every edge is
+// horizontal, vertical or at 45 degrees, so along each direction a candidate
+// is either parallel to it (cosine^2 = 1, key bit clear) or at 45 degrees to
+// it (cosine^2 = 1/2, bit set), and the smallest key is the model's choice:
+// the larger cosine, ties to the smaller id. Other edges (the stretched ones
+// of a moved last row or column) are compared exactly, after every key
+// offer to the same slot (offer_exact).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+
+#include "src/aggregate/samples.hpp"
+#include "tristereo/mesh.hpp"
+
+namespace tristereo {
+
+// Where a mesher writes the predecessors of its mesh's vertices: per vertex,
+// `directions - 2` slots (directions 2 .. directions - 1), -1 for none; the
+// layout of PathMatcher's table. `filled` and `reach` (the largest id
+// distance of a predecessor) are set by the build that filled it.
+struct PredecessorTable {
+  std::int32_t* slots = nullptr;
+  int directions = 0;  // 4 or 8
+  bool filled = false;
+  int reach = 0;
+};
+
+namespace predecessor_keys {
+
+constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+constexpr std::uint32_t kWorse = 0x80000000u;  // 45 degrees off the direction
+
+inline void offer(std::uint32_t& slot, std::uint32_t key) { slot = std::min(slot, key); }
+
+// The edge from vertex `from` to vertex `to` = from + (kEx, kEy) of a plain
+// RTIN leaf, offered to both ends along the kSlots (2 or 6) directions.
+template <int kSlots, int kEx, int kEy>
+inline void offer_rtin_edge(std::uint32_t* keys, std::int32_t from, std::int32_t to) {
+  if constexpr (kEy != 0) {
+    // upper -> lower = (dx, dy), dy > 0; the lower end is p for the
+    // directions that come from above (2, 4, 6), the upper end for 3, 5, 7.
+    constexpr int dx = kEy > 0 ? kEx : -kEx, dy = kEy > 0 ? kEy : -kEy;
+    static_assert(dx == 0 || dx == dy || dx == -dy, "RTIN edges are axis-parallel or diagonal");
+    const auto upper = static_cast<std::uint32_t>(kEy > 0 ? from : to);
+    const auto lower = static_cast<std::uint32_t>(kEy > 0 ? to : from);
+    std::uint32_t* at_lower = keys + static_cast<std::size_t>(lower) * kSlots;
+    std::uint32_t* at_upper = keys + static_cast<std::size_t>(upper) * kSlots;
+    constexpr std::uint32_t vertical = dx == 0 ? 0u : kWorse;
+    offer(at_lower[0], upper | vertical);  // (0, 1)
+    offer(at_upper[1], lower | vertical);  // (0, -1)
+    if constexpr (kSlots == 6) {
+      if constexpr (dx >= 0) {  // (p - q) . u > 0 for u = (1, 1) and (-1, -1)
+        constexpr std::uint32_t cls = dx == dy ? 0u : kWorse;
+        offer(at_lower[2], upper | cls);
+        offer(at_upper[3], lower | cls);
+      }
+      if constexpr (dx <= 0) {  // u = (-1, 1) and (1, -1)
+        constexpr std::uint32_t cls = dx == -dy ? 0u : kWorse;
+        offer(at_lower[4], upper | cls);
+        offer(at_upper[5], lower | cls);
+      }
+    }
+  }
+}
+
+// Any edge a-b of the mesh (v: the vertices), compared exactly with the
+// slot's current candidate. Must come after every offer_rtin_edge to the
+// same slots (it leaves plain ids, which those would not order).
+inline void offer_exact(std::uint32_t* keys, int slots, const Vertex* v, std::int32_t a, std::int32_t b) {
+  if (v[a].y == v[b].y) return;
+  if (v[a].y > v[b].y) std::swap(a, b);  // a above b
+  for (int s = 0; s < slots; ++s) {
+    const int r = s + 2;
+    const bool from_above = path_runs_forward(r);
+    const std::int32_t p = from_above ? b : a, q = from_above ? a : b;
+    const PathDirection u = kPathDirections[r];
+    const int dx = v[p].x - v[q].x, dy = v[p].y - v[q].y;
+    if (dx * u.dx + dy * u.dy <= 0) continue;
+    std::uint32_t& slot = keys[static_cast<std::size_t>(p) * static_cast<std::size_t>(slots) + static_cast<std::size_t>(s)];
+    if (slot == kNone) {
+      slot = static_cast<std::uint32_t>(q);
+      continue;
+    }
+    const auto best = static_cast<std::int32_t>(slot & ~kWorse);
+    const int bdx = v[p].x - v[best].x, bdy = v[p].y - v[best].y;
+    if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best))
+      slot = static_cast<std::uint32_t>(q);
+  }
+}
+
+// Vertices [i0, i1): keys -> ids (-1 for none), in place; returns the largest
+// |i - predecessor| among them.
+inline int finish(std::int32_t* table, int slots, std::int32_t i0, std::int32_t i1) {
+  int reach = 0;
+  for (std::int32_t i = i0; i < i1; ++i) {
+    std::int32_t* s = table + static_cast<std::size_t>(i) * static_cast<std::size_t>(slots);
+    for (int k = 0; k < slots; ++k) {
+      const auto key = static_cast<std::uint32_t>(s[k]);
+      const std::int32_t q = key == kNone ? -1 : static_cast<std::int32_t>(key & ~kWorse);
+      s[k] = q;
+      if (q >= 0) reach = std::max(reach, std::abs(i - q));
+    }
+  }
+  return reach;
+}
+
+}  // namespace predecessor_keys
+
+}  // namespace tristereo
