@@ -370,7 +370,8 @@ int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
     const int qx = (x - u.dx >= 0 && x - u.dx < samples.width) ? x - u.dx : x;
     return qy * samples.width + qx;
   }
-  return preds_[static_cast<std::size_t>(i) * static_cast<std::size_t>(directions_ - 2) + static_cast<std::size_t>(r - 2)];
+  return predecessor_of_slot(
+      preds_[static_cast<std::size_t>(i) * static_cast<std::size_t>(directions_ - 2) + static_cast<std::size_t>(r - 2)]);
 }
 
 int PathMatcher::frame_ring(const SampleLayout& samples) const {
@@ -455,7 +456,7 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       o[0] = kGuard;
       o[d + 1] = kGuard;
       const int qr = dense ? predecessor(samples, r, i)
-                           : preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(r - 2)];
+                           : predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(r - 2)]);
       const std::uint16_t* pr = zero;
       std::uint16_t pm = 0, a1 = 0, a2 = 0;
       if (qr >= 0) {

@@ -23,9 +23,10 @@
 namespace tristereo {
 
 // Where a mesher writes the predecessors of its mesh's vertices: per vertex,
-// `directions - 2` slots (directions 2 .. directions - 1), -1 for none; the
-// layout of PathMatcher's table. `filled` and `reach` (the largest id
-// distance of a predecessor) are set by the build that filled it.
+// `directions - 2` slots (directions 2 .. directions - 1), as keys
+// (predecessor_of_slot); the layout of PathMatcher's table. `filled` and
+// `reach` (a bound on the id distance of a predecessor) are set by the build
+// that filled it.
 struct PredecessorTable {
   std::int32_t* slots = nullptr;
   int directions = 0;  // 4 or 8
@@ -74,44 +75,43 @@ inline void offer_rtin_edge(std::uint32_t* keys, std::int32_t from, std::int32_t
 // Any edge a-b of the mesh (v: the vertices), compared exactly with the
 // slot's current candidate. Must come after every offer_rtin_edge to the
 // same slots (it leaves plain ids, which those would not order).
-inline void offer_exact(std::uint32_t* keys, int slots, const Vertex* v, std::int32_t a, std::int32_t b) {
+template <int kSlots>
+inline void offer_exact(std::uint32_t* keys, const Vertex* v, std::int32_t a, std::int32_t b) {
   if (v[a].y == v[b].y) return;
   if (v[a].y > v[b].y) std::swap(a, b);  // a above b
-  for (int s = 0; s < slots; ++s) {
+  const int ex = v[b].x - v[a].x, ey = v[b].y - v[a].y;  // ey > 0
+  for (int s = 0; s < kSlots; ++s) {
     const int r = s + 2;
     const bool from_above = path_runs_forward(r);
     const std::int32_t p = from_above ? b : a, q = from_above ? a : b;
+    const int dx = from_above ? ex : -ex, dy = from_above ? ey : -ey;  // p - q
     const PathDirection u = kPathDirections[r];
-    const int dx = v[p].x - v[q].x, dy = v[p].y - v[q].y;
-    if (dx * u.dx + dy * u.dy <= 0) continue;
-    std::uint32_t& slot = keys[static_cast<std::size_t>(p) * static_cast<std::size_t>(slots) + static_cast<std::size_t>(s)];
+    if (s >= 2 && dx * u.dx + dy * u.dy <= 0) continue;  // vertical: the dot product is |dy| > 0
+    std::uint32_t& slot = keys[static_cast<std::size_t>(p) * kSlots + static_cast<std::size_t>(s)];
     if (slot == kNone) {
       slot = static_cast<std::uint32_t>(q);
       continue;
     }
     const auto best = static_cast<std::int32_t>(slot & ~kWorse);
     const int bdx = v[p].x - v[best].x, bdy = v[p].y - v[best].y;
-    if (follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best))
-      slot = static_cast<std::uint32_t>(q);
-  }
-}
-
-// Vertices [i0, i1): keys -> ids (-1 for none), in place; returns the largest
-// |i - predecessor| among them.
-inline int finish(std::int32_t* table, int slots, std::int32_t i0, std::int32_t i1) {
-  int reach = 0;
-  for (std::int32_t i = i0; i < i1; ++i) {
-    std::int32_t* s = table + static_cast<std::size_t>(i) * static_cast<std::size_t>(slots);
-    for (int k = 0; k < slots; ++k) {
-      const auto key = static_cast<std::uint32_t>(s[k]);
-      const std::int32_t q = key == kNone ? -1 : static_cast<std::int32_t>(key & ~kWorse);
-      s[k] = q;
-      if (q >= 0) reach = std::max(reach, std::abs(i - q));
+    bool better;
+    if (s < 2) {  // cosine with (0, +-1): the smaller |dx| / |dy|, by cross-multiplication
+      const int lhs = std::abs(dx * bdy), rhs = std::abs(bdx * dy);
+      better = lhs < rhs || (lhs == rhs && q < best);
+    } else {
+      better = follows_better(dx, dy, bdx, bdy, u) || (!follows_better(bdx, bdy, dx, dy, u) && q < best);
     }
+    if (better) slot = static_cast<std::uint32_t>(q);
   }
-  return reach;
 }
 
 }  // namespace predecessor_keys
+
+// The predecessor a slot names: a key (offered by a mesher) or an id from
+// PathMatcher's scan (whose -1 is kNone and whose ids have bit 31 clear).
+inline std::int32_t predecessor_of_slot(std::int32_t slot) {
+  const auto key = static_cast<std::uint32_t>(slot);
+  return key == predecessor_keys::kNone ? -1 : static_cast<std::int32_t>(key & ~predecessor_keys::kWorse);
+}
 
 }  // namespace tristereo

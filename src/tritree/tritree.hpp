@@ -141,7 +141,7 @@ class Tritree {
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   template <int kSlots>
   void emit_plain_tile(Band& b, int tx0, int ty0);
-  void finish_predecessors(const Mesh& mesh, ThreadPool* pool, PredecessorTable* preds);
+  void finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const;
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh, ThreadPool* pool);
   void number_vertices(Mesh& mesh, ThreadPool* pool);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
@@ -680,12 +681,22 @@ void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy)
   };
   const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
   b.leaves[b.count++] = rotated(ia, ib, ic);
-  if (pred_slots_ > 0) {
-    // After the row's plain tiles, which offered to the same slots first.
-    predecessor_keys::offer_exact(pred_keys_, pred_slots_, vertices_, ia, ib);
-    predecessor_keys::offer_exact(pred_keys_, pred_slots_, vertices_, ib, ic);
-    predecessor_keys::offer_exact(pred_keys_, pred_slots_, vertices_, ic, ia);
-  }
+  // After the row's plain tiles, which offered to the same slots first. As
+  // there (offer_leaf_edge), an edge goes down in one of its two leaves: only
+  // that one offers it, or the one leaf of an edge on the left border x = 0,
+  // where it goes up (on the right border x = W - 1 it goes down).
+  const Vertex* v = vertices_;
+  const auto offer = [&](auto slots) {
+    const auto edge = [&](std::int32_t from, std::int32_t to) {
+      if (v[from].y < v[to].y || (v[from].y > v[to].y && v[from].x == 0 && v[to].x == 0))
+        predecessor_keys::offer_exact<decltype(slots)::value>(pred_keys_, v, from, to);
+    };
+    edge(ia, ib);
+    edge(ib, ic);
+    edge(ic, ia);
+  };
+  if (pred_slots_ == 2) offer(std::integral_constant<int, 2>{});
+  if (pred_slots_ == 6) offer(std::integral_constant<int, 6>{});
 }
 
 // The stretched leaves (TritreeGrid::stretched), in the mesh's order: those
@@ -751,23 +762,16 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
 
 // ---------------------------------------------------------------- build
 
-// The predecessor keys to ids (vertex ranges on the pool), and their reach.
-void Tritree::finish_predecessors(const Mesh& mesh, ThreadPool* pool, PredecessorTable* preds) {
-  const auto n = static_cast<std::int32_t>(mesh.vertices.size());
-  if (pool != nullptr && pool->size() > 1) {
-    std::atomic<int> reach{0};
-    pool->run([&](int w) {
-      int i0, i1;
-      ThreadPool::split_range(0, n, pool->size(), w, &i0, &i1);
-      const int r = predecessor_keys::finish(preds->slots, pred_slots_, i0, i1);
-      int cur = reach.load(std::memory_order_relaxed);
-      while (r > cur && !reach.compare_exchange_weak(cur, r, std::memory_order_relaxed)) {
-      }
-    });
-    preds->reach = reach.load();
-  } else {
-    preds->reach = predecessor_keys::finish(preds->slots, pred_slots_, 0, n);
+// The predecessor table is complete once the general tiles have offered
+// theirs; its reach is bounded by the ids of each row of tiles' rows
+// (with the next one's first): every edge lies inside one row of tiles.
+void Tritree::finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const {
+  int reach = 0;
+  for (int band = 0; band < layout_.tiles_y; ++band) {
+    const int y0 = layout_.real_y(band * tile_), y1 = layout_.real_y(std::min((band + 1) * tile_, layout_.vh));
+    reach = std::max(reach, mesh.row_start[static_cast<std::size_t>(y1) + 1] - mesh.row_start[static_cast<std::size_t>(y0)] - 1);
   }
+  preds->reach = reach;
   preds->filled = true;
 }
 
@@ -865,7 +869,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty);
     }
     collect_stretched(mesh);
-    if (pred_slots_ > 0) finish_predecessors(mesh, workers > 1 ? pool : nullptr, preds);
+    if (pred_slots_ > 0) finish_predecessors(mesh, preds);
   }
   finish(mesh, layout_.strip() ? nullptr : pool);
   times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
