@@ -117,13 +117,15 @@ class Tritree {
   };
 
   void validate_image(ImageView<const std::uint8_t> gray) const;
-  template <bool kPlain>
-  void tile_bottom_up(int tx0, int ty0, const TileScratch& sc);
+  void general_square(int tx0, int ty0, int x0, int y0, int s, const TileScratch& sc, PixelMoments* out);
+  void carry_inside_tile(int tx0, int ty0);
+  static PixelMoments full_moments(const IntensityMoments& mi, const ShapeMoments& g, int ox, int oy, int ax,
+                                   int ay);
   template <int S>
   void tile_plain(int tx0, int ty0, const TileScratch& sc);
   template <int S, int s>
   void plain_level(int tx0, int ty0, const TileScratch& sc);
-  void tile_plain_any(int tx0, int ty0, const TileScratch& sc);
+  void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc);
   void carry_across_tile_borders();
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves into its own region (so rows of

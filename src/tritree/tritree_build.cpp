@@ -150,165 +150,190 @@ bool Tritree::wants_split(const int* rx, const int* ry, const PixelMoments* m, i
 
 // ---------------------------------------------------------------- pass 1
 
-// kPlain: the tile lies inside the virtual grid away from its last row and
-// column, so every triangle is inside, unstretched, and its 2 x 2 squares own
-// their top-left 2 x 2 pixels (no pixel of the image's last row or column).
-template <bool kPlain>
-void Tritree::tile_bottom_up(int tx0, int ty0, const TileScratch& sc) {
-  const int S = tile_;
+// A general tile's square of side s at (x0, y0) (virtual coordinates),
+// bottom-up. A square inside the grid and off its last row and column is a
+// plain one: tile_plain<s> does all of it (then its halves' intensity sums
+// become full sums for the parent); a square wholly outside has nothing;
+// the others go triangle by triangle, from their quadrants' halves up.
+// out[0..1]: the square's halves' sums relative to the tile origin (tx0,
+// ty0), set when the halves are tested.
+void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const TileScratch& sc, PixelMoments* out) {
+  if (x0 >= layout_.vw || y0 >= layout_.vh) return;  // every triangle outside
   const int two_amax = 2 * params_.max_area_px2;
-  const int stride = layout_.vw + 1;
-  auto in_grid = [&](int x, int y) { return x <= layout_.vw && y <= layout_.vh; };
-
-  // Level side 2: the halves of 2 x 2 squares.
-  {
-    const int n = S / 2;
-    PixelMoments* out = sc.half[0];
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i, out += 2) {
-        const int x0 = tx0 + 2 * i, y0 = ty0 + 2 * j;
-        if (!kPlain && (x0 >= layout_.vw || y0 >= layout_.vh)) continue;  // outside
-        const bool bs = RtinLayout::backslash(x0, y0, 2);
-        PixelMoments a, b;
-        int rx[2][3], ry[2][3];
-        for (int part = 0; part < 2; ++part) {
-          int vx[3], vy[3];
-          corners(Tri{true, 2, x0, y0, part}, vx, vy);
-          for (int c = 0; c < 3; ++c) rx[part][c] = layout_.real_x(vx[c]), ry[part][c] = layout_.real_y(vy[c]);
-        }
-        if (kPlain || (x0 + 2 < layout_.vw && y0 + 2 < layout_.vh)) {
-          const std::uint8_t* r0 = gray_.row(y0) + x0;
-          const std::uint8_t* r1 = gray_.row(y0 + 1) + x0;
-          const int lx = 2 * i, ly = 2 * j;
-          a.add_pixel(lx, ly, r0[0]);
-          a.add_pixel(lx + 1, ly, r0[1]);
-          if (bs) {
-            a.add_pixel(lx + 1, ly + 1, r1[1]);
-            b.add_pixel(lx, ly + 1, r1[0]);
-          } else {
-            a.add_pixel(lx, ly + 1, r1[0]);
-            b.add_pixel(lx + 1, ly + 1, r1[1]);
-          }
-        } else {
-          a = moments_by_spans(rx[0], ry[0], tx0, ty0);
-          b = moments_by_spans(rx[1], ry[1], tx0, ty0);
-        }
-        out[0] = a;
-        out[1] = b;
-        const bool wa = wants_split(rx[0], ry[0], &a, tx0, ty0);
-        const bool wb = wants_split(rx[1], ry[1], &b, tx0, ty0);
-        need_[static_cast<std::size_t>(y0 + 1) * stride + x0 + 1] |= need_byte(wa | wb, wa, wb);
+  const int l = __builtin_ctz(static_cast<unsigned>(s)) - 1;  // level: side 2 << l
+  if (s >= 4 && x0 + s < layout_.vw && y0 + s < layout_.vh) {
+    tile_plain_of_side(s, x0, y0, sc);
+    if (s * s <= two_amax) {
+      const bool bs = RtinLayout::backslash(x0, y0, s);
+      const IntensityMoments* halves = sc.half_i[static_cast<std::size_t>(l)];
+      for (int part = 0; part < 2; ++part) {
+        const int g = bs ? part : 2 + part;  // half_shape_: '\' upper right, lower left, '/' upper left, lower right
+        const int ax = g == 3 ? x0 + s : x0;  // the first corner (corners())
+        out[part] = full_moments(halves[part], half_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(g)],
+                                 x0 - tx0, y0 - ty0, ax - tx0, y0 - ty0);
       }
     }
+    return;
   }
-
-  // Levels side 4 .. S: side triangles (from quadrant halves), then halves.
-  for (int l = 1; (2 << l) <= S; ++l) {
-    const int s = 2 << l, h = s / 2, n = S / s;
-    const bool moments_needed = s * s / 2 <= two_amax;  // side triangles: area2 = s^2 / 2
-    const PixelMoments* quads = sc.half[static_cast<std::size_t>(l - 1)];
-    const int qn = 2 * n;  // quadrants per row
-    // Side triangle k of square (i, j) = the halves of two of its quadrants:
-    // {quadrant dx, dy, half} x 2, per side.
-    static constexpr int kQuad[4][2][3] = {{{0, 0, 0}, {1, 0, 0}},   // top: TL.A + TR.A
-                                           {{1, 0, 1}, {1, 1, 0}},   // right: TR.B + BR.A
-                                           {{1, 1, 1}, {0, 1, 1}},   // bottom: BR.B + BL.B
-                                           {{0, 1, 0}, {0, 0, 1}}};  // left: BL.A + TL.B
-    PixelMoments* sides = sc.side;
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) {
-        const int x0 = tx0 + i * s, y0 = ty0 + j * s;
-        for (int k = 0; k < 4; ++k) {
-          const Tri t{false, s, x0, y0, k};
-          int vx[3], vy[3];
-          corners(t, vx, vy);
-          int mx, my;
-          midpoint(t, &mx, &my);
-          if (!kPlain) {
-            const Where w = where(vx, vy);
-            if (w == Where::kOutside) continue;
-            if (w == Where::kCrossing) {
-              if (in_grid(mx, my)) cell(mx, my) |= kNeed;
-              continue;
-            }
-          }
-          int rx[3], ry[3];
-          for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
-          PixelMoments& m = sides[(j * n + i) * 4 + k];
-          bool wants;
-          if (!kPlain && layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
-            if (twice_area(rx, ry) > two_amax) {
-              wants = true;
-            } else {
-              m = moments_by_spans(rx, ry, tx0, ty0);
-              wants = wants_split(rx, ry, &m, tx0, ty0);
-            }
-          } else if (!moments_needed) {
-            wants = true;
-          } else {
-            const auto& q0 = kQuad[k][0];
-            const auto& q1 = kQuad[k][1];
-            m = quads[((2 * j + q0[1]) * qn + 2 * i + q0[0]) * 2 + q0[2]] +
-                quads[((2 * j + q1[1]) * qn + 2 * i + q1[0]) * 2 + q1[2]];
-            wants = wants_split(rx, ry, &m, tx0, ty0);
-          }
-          // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
-          const int cx0 = x0 + kQuad[k][0][0] * h + h / 2, cy0 = y0 + kQuad[k][0][1] * h + h / 2;
-          const int cx1 = x0 + kQuad[k][1][0] * h + h / 2, cy1 = y0 + kQuad[k][1][1] * h + h / 2;
-          const bool own = wants | ((cell(cx0, cy0) | cell(cx1, cy1)) & kNeed);
-          cell(mx, my) |= static_cast<std::uint8_t>(static_cast<unsigned>(own) | (wants ? need_bit(t) : 0));
-        }
-      }
+  const auto in_grid = [&](int x, int y) { return x <= layout_.vw && y <= layout_.vh; };
+  if (s == 2) {
+    // The halves of a 2 x 2 square.
+    const bool bs = RtinLayout::backslash(x0, y0, 2);
+    PixelMoments a, b;
+    int rx[2][3], ry[2][3];
+    for (int part = 0; part < 2; ++part) {
+      int vx[3], vy[3];
+      corners(Tri{true, 2, x0, y0, part}, vx, vy);
+      for (int c = 0; c < 3; ++c) rx[part][c] = layout_.real_x(vx[c]), ry[part][c] = layout_.real_y(vy[c]);
     }
-    const bool half_moments_needed = s * s <= two_amax;
-    PixelMoments* halves = sc.half[static_cast<std::size_t>(l)];
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) {
-        const int x0 = tx0 + i * s, y0 = ty0 + j * s;
-        const bool bs = RtinLayout::backslash(x0, y0, s);
-        for (int part = 0; part < 2; ++part) {
-          const Tri t{true, s, x0, y0, part};
-          int vx[3], vy[3];
-          corners(t, vx, vy);
-          const int mx = x0 + h, my = y0 + h;
-          if (!kPlain) {
-            const Where w = where(vx, vy);
-            if (w == Where::kOutside) continue;
-            if (w == Where::kCrossing) {
-              if (in_grid(mx, my)) cell(mx, my) |= kNeed;
-              continue;
-            }
-          }
-          // The half's two side triangles: '\' part 0 = top + right, part 1 =
-          // bottom + left; '/' part 0 = top + left, part 1 = right + bottom.
-          const int k0 = part == 0 ? 0 : (bs ? 2 : 1);
-          const int k1 = part == 0 ? (bs ? 1 : 3) : (bs ? 3 : 2);
-          int rx[3], ry[3];
-          for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
-          PixelMoments& m = halves[(j * n + i) * 2 + part];
-          bool wants;
-          if (!kPlain && layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
-            if (twice_area(rx, ry) > two_amax) {
-              wants = true;
-            } else {
-              m = moments_by_spans(rx, ry, tx0, ty0);
-              wants = wants_split(rx, ry, &m, tx0, ty0);
-            }
-          } else if (!half_moments_needed) {
-            wants = true;
-          } else {
-            m = sides[(j * n + i) * 4 + k0] + sides[(j * n + i) * 4 + k1];
-            wants = wants_split(rx, ry, &m, tx0, ty0);
-          }
-          int ax, ay, bx, by;
-          midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
-          midpoint(Tri{false, s, x0, y0, k1}, &bx, &by);
-          const bool own = wants | ((cell(ax, ay) | cell(bx, by)) & kNeed);
-          cell(mx, my) |= static_cast<std::uint8_t>(static_cast<unsigned>(own) | (wants ? need_bit(t) : 0));
-        }
+    if (x0 + 2 < layout_.vw && y0 + 2 < layout_.vh) {
+      const std::uint8_t* r0 = gray_.row(y0) + x0;
+      const std::uint8_t* r1 = gray_.row(y0 + 1) + x0;
+      const int lx = x0 - tx0, ly = y0 - ty0;
+      a.add_pixel(lx, ly, r0[0]);
+      a.add_pixel(lx + 1, ly, r0[1]);
+      if (bs) {
+        a.add_pixel(lx + 1, ly + 1, r1[1]);
+        b.add_pixel(lx, ly + 1, r1[0]);
+      } else {
+        a.add_pixel(lx, ly + 1, r1[0]);
+        b.add_pixel(lx + 1, ly + 1, r1[1]);
       }
+    } else {
+      a = moments_by_spans(rx[0], ry[0], tx0, ty0);
+      b = moments_by_spans(rx[1], ry[1], tx0, ty0);
     }
+    out[0] = a;
+    out[1] = b;
+    const bool wa = wants_split(rx[0], ry[0], &a, tx0, ty0);
+    const bool wb = wants_split(rx[1], ry[1], &b, tx0, ty0);
+    cell(x0 + 1, y0 + 1) |= need_byte(wa | wb, wa, wb);
+    return;
   }
+  const int h = s / 2;
+  // The quadrants' halves: quad[(dy * 2 + dx) * 2 + part].
+  PixelMoments quad[8];
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) general_square(tx0, ty0, x0 + dx * h, y0 + dy * h, h, sc, quad + (dy * 2 + dx) * 2);
+  // Side triangle k = the halves of two of the quadrants: {quadrant dx, dy, half} x 2.
+  static constexpr int kQuad[4][2][3] = {{{0, 0, 0}, {1, 0, 0}},   // top: TL.A + TR.A
+                                         {{1, 0, 1}, {1, 1, 0}},   // right: TR.B + BR.A
+                                         {{1, 1, 1}, {0, 1, 1}},   // bottom: BR.B + BL.B
+                                         {{0, 1, 0}, {0, 0, 1}}};  // left: BL.A + TL.B
+  const bool moments_needed = s * s / 2 <= two_amax;  // side triangles: area2 = s^2 / 2
+  PixelMoments sides[4];
+  for (int k = 0; k < 4; ++k) {
+    const Tri t{false, s, x0, y0, k};
+    int vx[3], vy[3];
+    corners(t, vx, vy);
+    int mx, my;
+    midpoint(t, &mx, &my);
+    const Where w = where(vx, vy);
+    if (w == Where::kOutside) continue;
+    if (w == Where::kCrossing) {
+      if (in_grid(mx, my)) cell(mx, my) |= kNeed;
+      continue;
+    }
+    int rx[3], ry[3];
+    for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
+    PixelMoments& m = sides[k];
+    bool wants;
+    if (layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
+      if (twice_area(rx, ry) > two_amax) {
+        wants = true;
+      } else {
+        m = moments_by_spans(rx, ry, tx0, ty0);
+        wants = wants_split(rx, ry, &m, tx0, ty0);
+      }
+    } else if (!moments_needed) {
+      wants = true;
+    } else {
+      const auto& q0 = kQuad[k][0];
+      const auto& q1 = kQuad[k][1];
+      m = quad[(q0[1] * 2 + q0[0]) * 2 + q0[2]] + quad[(q1[1] * 2 + q1[0]) * 2 + q1[2]];
+      wants = wants_split(rx, ry, &m, tx0, ty0);
+    }
+    // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
+    const int cx0 = x0 + kQuad[k][0][0] * h + h / 2, cy0 = y0 + kQuad[k][0][1] * h + h / 2;
+    const int cx1 = x0 + kQuad[k][1][0] * h + h / 2, cy1 = y0 + kQuad[k][1][1] * h + h / 2;
+    const bool own = wants | ((cell(cx0, cy0) | cell(cx1, cy1)) & kNeed);
+    cell(mx, my) |= static_cast<std::uint8_t>(static_cast<unsigned>(own) | (wants ? need_bit(t) : 0));
+  }
+  const bool half_moments_needed = s * s <= two_amax;
+  const bool bs = RtinLayout::backslash(x0, y0, s);
+  for (int part = 0; part < 2; ++part) {
+    const Tri t{true, s, x0, y0, part};
+    int vx[3], vy[3];
+    corners(t, vx, vy);
+    const int mx = x0 + h, my = y0 + h;
+    const Where w = where(vx, vy);
+    if (w == Where::kOutside) continue;
+    if (w == Where::kCrossing) {
+      if (in_grid(mx, my)) cell(mx, my) |= kNeed;
+      continue;
+    }
+    // The half's two side triangles: '\' part 0 = top + right, part 1 =
+    // bottom + left; '/' part 0 = top + left, part 1 = right + bottom.
+    const int k0 = part == 0 ? 0 : (bs ? 2 : 1);
+    const int k1 = part == 0 ? (bs ? 1 : 3) : (bs ? 3 : 2);
+    int rx[3], ry[3];
+    for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
+    PixelMoments& m = out[part];
+    bool wants;
+    if (layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
+      if (twice_area(rx, ry) > two_amax) {
+        wants = true;
+      } else {
+        m = moments_by_spans(rx, ry, tx0, ty0);
+        wants = wants_split(rx, ry, &m, tx0, ty0);
+      }
+    } else if (!half_moments_needed) {
+      wants = true;
+    } else {
+      m = sides[k0] + sides[k1];
+      wants = wants_split(rx, ry, &m, tx0, ty0);
+    }
+    int ax, ay, bx, by;
+    midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
+    midpoint(Tri{false, s, x0, y0, k1}, &bx, &by);
+    const bool own = wants | ((cell(ax, ay) | cell(bx, by)) & kNeed);
+    cell(mx, my) |= static_cast<std::uint8_t>(static_cast<unsigned>(own) | (wants ? need_bit(t) : 0));
+  }
+}
+
+// general_square() finishes each square before the next: a half read the
+// need of its side midpoints before the square beside it (plain or not)
+// added its own side triangle's. Those midpoints lie on the squares'
+// sides, on lines x or y = 0 mod 4 (the squares of side 2 have no side
+// midpoint their halves read), so carrying up every need on those lines
+// inside the tile (the tile's own border is pass 2's, as for plain tiles)
+// gives the need the level-by-level order gives: the least set closed
+// under "a child's midpoint needs, so does its parent's".
+void Tritree::carry_inside_tile(int tx0, int ty0) {
+  const int x1 = std::min(tx0 + tile_, layout_.vw + 1), y1 = std::min(ty0 + tile_, layout_.vh + 1);
+  for (int y = ty0 + 1; y < y1; ++y) {
+    const int step = (y & 3) == 0 ? 1 : 4;
+    for (int x = (y & 3) == 0 ? tx0 + 1 : tx0 + 4; x < x1; x += step)
+      if (cell(x, y) & kNeed) carry_up(x, y);
+  }
+}
+
+// A plain square's halves' sums from its intensity sums (relative to its own
+// corner, o = its corner - the tile origin) and its shape (relative to the
+// first corner, a = that corner - the tile origin).
+PixelMoments Tritree::full_moments(const IntensityMoments& mi, const ShapeMoments& g, int ox, int oy, int ax, int ay) {
+  PixelMoments m;
+  m.n = g.n;
+  m.sx = g.sx + ax * g.n;
+  m.sy = g.sy + ay * g.n;
+  m.sxx = g.sxx + 2 * ax * g.sx + ax * ax * g.n;
+  m.sxy = g.sxy + ax * g.sy + ay * g.sx + ax * ay * g.n;
+  m.syy = g.syy + 2 * ay * g.sy + ay * ay * g.n;
+  m.si = mi.si;
+  m.sxi = mi.sxi + ox * mi.si;
+  m.syi = mi.syi + oy * mi.si;
+  m.sii = mi.sii;
+  return m;
 }
 
 // A plain tile (inside the virtual grid, away from its last row and column:
@@ -481,8 +506,8 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
   if constexpr (2 * s <= S) plain_level<S, 2 * s>(tx0, ty0, sc);
 }
 
-void Tritree::tile_plain_any(int tx0, int ty0, const TileScratch& sc) {
-  switch (tile_) {
+void Tritree::tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc) {
+  switch (side) {
     case 2: tile_plain<2>(tx0, ty0, sc); break;
     case 4: tile_plain<4>(tx0, ty0, sc); break;
     case 8: tile_plain<8>(tx0, ty0, sc); break;
@@ -808,9 +833,11 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         if (x0 + S < layout_.vw && y0 + S < layout_.vh) {
-          tile_plain_any(x0, y0, sc);
+          tile_plain_of_side(S, x0, y0, sc);
         } else {
-          tile_bottom_up<false>(x0, y0, sc);
+          PixelMoments halves[2];
+          general_square(x0, y0, x0, y0, S, sc, halves);
+          carry_inside_tile(x0, y0);
         }
       }
     };
