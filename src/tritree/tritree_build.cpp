@@ -337,10 +337,10 @@ PixelMoments Tritree::full_moments(const IntensityMoments& mi, const ShapeMoment
 }
 
 // A plain tile (inside the virtual grid, away from its last row and column:
-// nothing crossing, stretched or on the image border): the same as
-// tile_bottom_up<true>, written out for speed, with the tile side S known at
-// compile time (so the levels unroll and every shape's u and v are
-// constants). Its 2 x 2 squares own their top-left 2 x 2 pixels; a half of
+// nothing crossing, stretched or on the image border), or such a square of a
+// general tile (general_square): the same tests as general_square's, with
+// the side S known at compile time (so the levels unroll and every shape's
+// u and v are constants). Its 2 x 2 squares own their top-left 2 x 2 pixels; a half of
 // area 2 px^2 owns a corner and edge or hypotenuse midpoints only, whose
 // residuals are closed forms.
 template <int S>
