@@ -119,6 +119,9 @@ class Tritree {
   void validate_image(ImageView<const std::uint8_t> gray) const;
   void general_square(int tx0, int ty0, int x0, int y0, int s, const TileScratch& sc, PixelMoments* out);
   void carry_inside_tile(int tx0, int ty0);
+  template <class ChildrenSums>
+  bool general_wants(const int* vx, const int* vy, bool moments_needed, int tx0, int ty0, PixelMoments& m,
+                     ChildrenSums children) const;
   static PixelMoments full_moments(const IntensityMoments& mi, const ShapeMoments& g, int ox, int oy, int ax,
                                    int ay);
   template <int S>

@@ -150,6 +150,25 @@ bool Tritree::wants_split(const int* rx, const int* ry, const PixelMoments* m, i
 
 // ---------------------------------------------------------------- pass 1
 
+// The test of a general tile's triangle inside the grid (virtual corners vx,
+// vy): a stretched one by the sums of its own pixels (its children do not
+// partition it), one larger than A_max without sums, the others from their
+// children's sums; m gets the sums it was tested with.
+template <class ChildrenSums>
+bool Tritree::general_wants(const int* vx, const int* vy, bool moments_needed, int tx0, int ty0, PixelMoments& m,
+                            ChildrenSums children) const {
+  int rx[3], ry[3];
+  for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
+  if (layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
+    if (twice_area(rx, ry) > 2 * params_.max_area_px2) return true;
+    m = moments_by_spans(rx, ry, tx0, ty0);
+    return wants_split(rx, ry, &m, tx0, ty0);
+  }
+  if (!moments_needed) return true;
+  m = children();
+  return wants_split(rx, ry, &m, tx0, ty0);
+}
+
 // A general tile's square of side s at (x0, y0) (virtual coordinates),
 // bottom-up. A square inside the grid and off its last row and column is a
 // plain one: tile_plain<s> does all of it (then its halves' intensity sums
@@ -234,25 +253,11 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
       if (in_grid(mx, my)) cell(mx, my) |= kNeed;
       continue;
     }
-    int rx[3], ry[3];
-    for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
-    PixelMoments& m = sides[k];
-    bool wants;
-    if (layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
-      if (twice_area(rx, ry) > two_amax) {
-        wants = true;
-      } else {
-        m = moments_by_spans(rx, ry, tx0, ty0);
-        wants = wants_split(rx, ry, &m, tx0, ty0);
-      }
-    } else if (!moments_needed) {
-      wants = true;
-    } else {
-      const auto& q0 = kQuad[k][0];
-      const auto& q1 = kQuad[k][1];
-      m = quad[(q0[1] * 2 + q0[0]) * 2 + q0[2]] + quad[(q1[1] * 2 + q1[0]) * 2 + q1[2]];
-      wants = wants_split(rx, ry, &m, tx0, ty0);
-    }
+    const auto& q0 = kQuad[k][0];
+    const auto& q1 = kQuad[k][1];
+    const bool wants = general_wants(vx, vy, moments_needed, tx0, ty0, sides[k], [&] {
+      return quad[(q0[1] * 2 + q0[0]) * 2 + q0[2]] + quad[(q1[1] * 2 + q1[0]) * 2 + q1[2]];
+    });
     // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
     const int cx0 = x0 + kQuad[k][0][0] * h + h / 2, cy0 = y0 + kQuad[k][0][1] * h + h / 2;
     const int cx1 = x0 + kQuad[k][1][0] * h + h / 2, cy1 = y0 + kQuad[k][1][1] * h + h / 2;
@@ -276,23 +281,8 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
     // bottom + left; '/' part 0 = top + left, part 1 = right + bottom.
     const int k0 = part == 0 ? 0 : (bs ? 2 : 1);
     const int k1 = part == 0 ? (bs ? 1 : 3) : (bs ? 3 : 2);
-    int rx[3], ry[3];
-    for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
-    PixelMoments& m = out[part];
-    bool wants;
-    if (layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
-      if (twice_area(rx, ry) > two_amax) {
-        wants = true;
-      } else {
-        m = moments_by_spans(rx, ry, tx0, ty0);
-        wants = wants_split(rx, ry, &m, tx0, ty0);
-      }
-    } else if (!half_moments_needed) {
-      wants = true;
-    } else {
-      m = sides[k0] + sides[k1];
-      wants = wants_split(rx, ry, &m, tx0, ty0);
-    }
+    const bool wants =
+        general_wants(vx, vy, half_moments_needed, tx0, ty0, out[part], [&] { return sides[k0] + sides[k1]; });
     int ax, ay, bx, by;
     midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
     midpoint(Tri{false, s, x0, y0, k1}, &bx, &by);
