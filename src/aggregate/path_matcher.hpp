@@ -45,8 +45,9 @@ class PathMatcher {
                  const KernelSet& kernels, int workers);
 
   // C(i, k) = ctx.aggregate_sample at sample i (ctx prepared for the frame).
-  // Sparse mode: the mesh predecessors too, on one worker while the others
-  // start on the rows (serial work that would otherwise leave workers idle).
+  // Sparse mode: the mesh predecessors too (unless use_predecessors() handed
+  // over the mesher's), on one worker while the others start on the rows
+  // (serial work that would otherwise leave workers idle).
   // Throws Error (after every worker is done) for a mesh whose edges reach
   // beyond the path rings.
   void compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool);
