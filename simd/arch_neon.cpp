@@ -26,9 +26,7 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.census_costs_row_u16 = &CensusCostsRowU16<xsimd::neon>::call;
   set.sum_rows_u16 = &SumRowsU16<xsimd::neon>::call;
   set.path_step_u16 = &PathStepU16<xsimd::neon>::call;
-  set.sum_argmin_u16 = &SumArgminU16<xsimd::neon>::call;
-  set.lr_min_u16 = &LrMinU16<xsimd::neon>::call;
-  set.min_outside_u16 = &MinOutsideU16<xsimd::neon>::call;
+  set.winner_u16 = &WinnerU16<xsimd::neon>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::neon>::call;
 }
 

@@ -8,7 +8,7 @@
 //     normalisation kernels is the full block ending at n, overlapping the
 //     last one: its first lanes write the same values again (no output is an
 //     input) or meet a min twice; an accumulated sum adds to the old values
-//     read first (PathStepU16, LrMinU16); the DP's scans start it from their
+//     read first (PathStepU16, WinnerU16's right view); the DP's scans start it from their
 //     exact values just outside it (DpStepU16). Otherwise (n below a block,
 //     and the accumulating cost kernels) the remainder goes to the narrower
 //     instantiation or runs the *same* block code once more on padded stack
@@ -999,111 +999,61 @@ void RgbToGrayRowU8<Arch>::call(const std::uint8_t* rgb, int n, std::uint8_t* gr
   }
 }
 
+// One pass over the sums for their minimum and the right view's winners
+// (total < best is min(total, best) == total and total != best: equality
+// compares, which every target has for u16 lanes, SSE2 has no unsigned u16
+// compare), one for the first k at the minimum, one for the rival (lanes j
+// with |j - k| <= 1 ORed to 0xFFFF by kAround, which never wins). A partial
+// last block is the full block ending at n; its right-view part from the
+// old values read before the other blocks store theirs, so its overlapping
+// lanes give the block before's results again.
 template <class Arch>
-int SumArgminU16<Arch>::call(const std::uint16_t* const* terms, int count, int n,
-                             std::uint16_t* total) {
+int WinnerU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
+                          std::uint16_t* best_k) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  const auto block = [&](int k) {
-    b16 acc = b16::load_unaligned(terms[0] + k);
-    for (int i = 1; i < count; ++i) acc = acc + b16::load_unaligned(terms[i] + k);
-    acc.store_unaligned(total + k);
-    return acc;
-  };
-  b16 low(detail::kU16Max);
-  int k = 0;
-  for (; k + lanes <= n; k += lanes) low = escape::min_u16(low, block(k));
-  // A partial last block is redone as the full block ending at n (total is no
-  // term, so its first lanes get the same sums again).
-  const bool overlap = k < n && n >= lanes;
-  if (overlap) low = escape::min_u16(low, block(n - lanes));
-  const int full = overlap ? n : k;
-  std::uint16_t m = escape::hmin_u16(low);
-  for (int j = full; j < n; ++j) {
-    std::uint32_t s = 0;
-    for (int i = 0; i < count; ++i) s += terms[i][j];
-    total[j] = static_cast<std::uint16_t>(s);
-    if (total[j] < m) m = total[j];
-  }
-  // The smallest k with total[k] == m: a min over (total == m ? k : 0xFFFF)
-  // (n <= 256, so 0xFFFF is no index), then the tail.
+  if (n < lanes) return winner_u16_scalar(total, n, rival, best_cost, best_k);
+  const bool overlap = n % lanes != 0;
+  const int tail = n - lanes;
   const b16 iota = b16::load_aligned(detail::kCount);
-  const b16 vm(m), none(detail::kU16Max);
+  b16 low(detail::kU16Max);
+  if (best_cost != nullptr) {
+    const auto offer = [&](int at, const b16& b, const b16& bk) {
+      const b16 t = b16::load_unaligned(total + at);
+      low = escape::min_u16(low, t);
+      const b16 m = escape::min_u16(t, b);
+      const auto take = (m == t) & (t != b);
+      m.store_unaligned(best_cost + at);
+      xsimd::select(take, iota + b16(static_cast<std::uint16_t>(at)), bk).store_unaligned(best_k + at);
+    };
+    const b16 tail_b = b16::load_unaligned(best_cost + tail), tail_k = b16::load_unaligned(best_k + tail);
+    for (int j = 0; j + lanes <= n; j += lanes)
+      offer(j, b16::load_unaligned(best_cost + j), b16::load_unaligned(best_k + j));
+    if (overlap) offer(tail, tail_b, tail_k);
+  } else {
+    for (int j = 0; j + lanes <= n; j += lanes) low = escape::min_u16(low, b16::load_unaligned(total + j));
+    if (overlap) low = escape::min_u16(low, b16::load_unaligned(total + tail));
+  }
+  // The first k at the minimum m: a min over (total == m ? k : 0xFFFF)
+  // (n <= 256, so 0xFFFF is no index).
+  const b16 vm(escape::hmin_u16(low)), none(detail::kU16Max);
   b16 first(detail::kU16Max);
   const auto first_in = [&](int j) {
     first = escape::min_u16(first, xsimd::select(b16::load_unaligned(total + j) == vm,
                                                  iota + b16(static_cast<std::uint16_t>(j)), none));
   };
-  for (int j = 0; j + lanes <= full; j += lanes) first_in(j);
-  if (overlap) first_in(n - lanes);
-  int best = escape::hmin_u16(first);
-  if (best == detail::kU16Max) {
-    best = full;
-    while (total[best] != m) ++best;
+  for (int j = 0; j + lanes <= n; j += lanes) first_in(j);
+  if (overlap) first_in(tail);
+  const int k = escape::hmin_u16(first);
+  if (rival != nullptr) {
+    const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
+    b16 r(detail::kU16Max);
+    for (int j = 0; j + lanes <= n; j += lanes)
+      r = escape::min_u16(r, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
+    if (overlap) r = escape::min_u16(r, b16::load_unaligned(total + tail) | b16::load_unaligned(around + tail));
+    *rival = escape::hmin_u16(r);
   }
-  return best;
-}
-
-// Lanes j with |j - k| <= 1 are ORed to 0xFFFF (kAround), which never wins.
-template <class Arch>
-std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k) {
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr int lanes = static_cast<int>(b16::size);
-  const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
-  b16 low(detail::kU16Max);
-  int j = 0;
-  const auto block = [&](int at) {
-    low = escape::min_u16(low, b16::load_unaligned(total + at) | b16::load_unaligned(around + at));
-  };
-  for (; j + lanes <= n; j += lanes) block(j);
-  if (j < n && n >= lanes) {  // the full block ending at n: a min may see a lane twice
-    block(n - lanes);
-    j = n;
-  }
-  std::uint16_t m = escape::hmin_u16(low);
-  for (; j < n; ++j)
-    if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];
-  return m;
-}
-
-// total < best is min(total, best) == total and total != best: equality
-// compares, which every target has for u16 lanes (SSE2 has no unsigned u16
-// compare).
-template <class Arch>
-void LrMinU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* best_cost,
-                          std::uint16_t* best_k) {
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr int lanes = static_cast<int>(b16::size);
-  const b16 iota = b16::load_aligned(detail::kCount);
-  // Block at k from the old best_cost b and best_k bk.
-  const auto block = [&](int k, const b16& b, const b16& bk) {
-    const b16 t = b16::load_unaligned(total + k);
-    const b16 m = escape::min_u16(t, b);
-    const auto take = (m == t) & (t != b);
-    m.store_unaligned(best_cost + k);
-    xsimd::select(take, iota + b16(static_cast<std::uint16_t>(k)), bk).store_unaligned(best_k + k);
-  };
-  // A partial last block is the full block ending at n, from the old values
-  // read before the other blocks store theirs: its overlapping lanes give the
-  // block before's results again (and no load straddles a store just made).
-  const bool overlap = n % lanes != 0 && n >= lanes;
-  const int tail = n - lanes;
-  b16 tail_b(std::uint16_t{0}), tail_k(std::uint16_t{0});
-  if (overlap) {
-    tail_b = b16::load_unaligned(best_cost + tail);
-    tail_k = b16::load_unaligned(best_k + tail);
-  }
-  int k = 0;
-  for (; k + lanes <= n; k += lanes) block(k, b16::load_unaligned(best_cost + k), b16::load_unaligned(best_k + k));
-  if (overlap) {
-    block(tail, tail_b, tail_k);
-    return;
-  }
-  for (; k < n; ++k)
-    if (total[k] < best_cost[k]) {
-      best_cost[k] = total[k];
-      best_k[k] = static_cast<std::uint16_t>(k);
-    }
+  return k;
 }
 
 }  // namespace simd

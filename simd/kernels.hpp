@@ -101,19 +101,9 @@ struct PathStepU16 {
 };
 
 template <class Arch>
-struct SumArgminU16 {
-  static int call(const std::uint16_t* const* terms, int count, int n, std::uint16_t* total);
-};
-
-template <class Arch>
-struct MinOutsideU16 {
-  static std::uint16_t call(const std::uint16_t* total, int n, int k);
-};
-
-template <class Arch>
-struct LrMinU16 {
-  static void call(const std::uint16_t* total, int n, std::uint16_t* best_cost,
-                   std::uint16_t* best_k);
+struct WinnerU16 {
+  static int call(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
+                  std::uint16_t* best_k);
 };
 
 template <class Arch>
@@ -137,9 +127,7 @@ struct RgbToGrayRowU8 {
   KEYWORD template struct CensusCostsRowU16<ARCH>;            \
   KEYWORD template struct SumRowsU16<ARCH>;                   \
   KEYWORD template struct PathStepU16<ARCH>;                  \
-  KEYWORD template struct SumArgminU16<ARCH>;                \
-  KEYWORD template struct LrMinU16<ARCH>;                    \
-  KEYWORD template struct MinOutsideU16<ARCH>;              \
+  KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)

@@ -182,28 +182,6 @@ TEST(PathStepScalar, KnownStep) {
   EXPECT_EQ(m, 2);
 }
 
-TEST_P(CensusPathKernels, SumArgminEqualsScalar) {
-  std::mt19937 rng(14);
-  for (int n = 1; n <= 256; ++n)
-    for (int count : {1, 2, 3, 8}) {
-      std::uniform_int_distribution<int> v(0, 65535 / count);
-      std::uniform_int_distribution<int> small(0, 3);  // many ties
-      std::vector<std::vector<std::uint16_t>> terms(static_cast<std::size_t>(count));
-      std::vector<const std::uint16_t*> tp;
-      for (auto& t : terms) {
-        t.resize(static_cast<std::size_t>(n + kSlack));
-        for (auto& x : t) x = static_cast<std::uint16_t>(n % 3 == 0 ? small(rng) : v(rng));
-        tp.push_back(t.data());
-      }
-      std::vector<std::uint16_t> a(static_cast<std::size_t>(n) + kSlack, 7), b = a;
-      const int ka = simd().sum_argmin_u16(tp.data(), count, n, a.data());
-      const int kb = scalar().sum_argmin_u16(tp.data(), count, n, b.data());
-      ASSERT_EQ(ka, kb) << "n=" << n << " count=" << count;
-      ASSERT_TRUE(std::equal(a.begin(), a.begin() + n, b.begin())) << "n=" << n;
-      for (int k = 0; k < kb; ++k) ASSERT_GT(b[static_cast<std::size_t>(k)], b[static_cast<std::size_t>(kb)]);
-    }
-}
-
 TEST(LrMinScalar, KeepsTheSmallestCostAndOnTiesTheFirstOffered) {
   // Two samples offer to the same right pixels; the first offered keeps ties,
   // and 0xFFFF (above every summed cost) never replaces the start value.
@@ -247,44 +225,69 @@ TEST(MinOutsideScalar, SkipsTheWinnerAndItsNeighbours) {
   EXPECT_EQ(min_outside_u16_scalar(v.data(), 3, 1), 0xFFFF);  // nothing outside
 }
 
-TEST_P(CensusPathKernels, LrMinEqualsScalar) {
-  std::mt19937 rng(15);
+TEST(WinnerScalar, IsTheThreeKernelsInOne) {
+  // Ties: the smallest k wins; the rival skips k - 1 .. k + 1; the right
+  // view's winners as lr_min_u16 leaves them.
+  const std::vector<std::uint16_t> s = {9, 3, 5, 3, 4, 7};
+  std::uint16_t rival = 0;
+  std::vector<std::uint16_t> best = {4, 4, 4, 4, 4, 4}, k = {8, 8, 8, 8, 8, 8};
+  EXPECT_EQ(winner_u16_scalar(s.data(), 6, &rival, best.data(), k.data()), 1);
+  EXPECT_EQ(rival, 3);  // s[3]: |3 - 1| > 1
+  EXPECT_EQ(best, (std::vector<std::uint16_t>{4, 3, 4, 3, 4, 4}));
+  EXPECT_EQ(k, (std::vector<std::uint16_t>{8, 1, 8, 3, 8, 8}));
+  EXPECT_EQ(winner_u16_scalar(s.data(), 3, &rival, nullptr, nullptr), 1);
+  EXPECT_EQ(rival, 0xFFFF);  // nothing outside 0 .. 2
+  EXPECT_EQ(winner_u16_scalar(s.data(), 1, nullptr, nullptr, nullptr), 0);
+}
+
+// Against the scalar twin, and the twin against the definitions it stands
+// for: the first argmin, min_outside_u16_scalar, lr_min_u16_scalar.
+TEST_P(CensusPathKernels, WinnerEqualsScalar) {
+  std::mt19937 rng(18);
   for (int n = 1; n <= 256; ++n)
-    for (int trial = 0; trial < 3; ++trial) {
-      // Small values: many ties between the running best and the offer.
-      std::uniform_int_distribution<int> v(0, trial == 0 ? 3 : 65535);
-      std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack), best_a(total.size()), k_a(total.size());
+    for (int trial = 0; trial < 5; ++trial) {
+      // Small values: ties for the winner, the rival and the right view.
+      std::uniform_int_distribution<int> v(trial < 2 ? 0 : 2, trial < 2 ? 3 : 65534);
+      std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack);
+      std::vector<std::uint16_t> best_a(total.size()), k_a(total.size());
       for (auto& x : total) x = static_cast<std::uint16_t>(v(rng));
       for (auto& x : best_a) x = static_cast<std::uint16_t>(v(rng));
       for (auto& x : k_a) x = static_cast<std::uint16_t>(v(rng));
-      if (trial == 2) total[static_cast<std::size_t>(n - 1)] = best_a[static_cast<std::size_t>(n - 1)] = 0xFFFF;
-      std::vector<std::uint16_t> best_b = best_a, k_b = k_a;
-      simd().lr_min_u16(total.data(), n, best_a.data(), k_a.data());
-      scalar().lr_min_u16(total.data(), n, best_b.data(), k_b.data());
-      ASSERT_EQ(best_a, best_b) << "n=" << n;
-      ASSERT_EQ(k_a, k_b) << "n=" << n;
-    }
-}
-
-TEST_P(CensusPathKernels, MinOutsideEqualsScalar) {
-  std::mt19937 rng(16);
-  for (int n = 1; n <= 256; ++n) {
-    std::uniform_int_distribution<int> v(1, 65535);
-    std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack);
-    for (auto& x : total) x = static_cast<std::uint16_t>(v(rng));
-    for (int k = 0; k < n; ++k) {
-      ASSERT_EQ(simd().min_outside_u16(total.data(), n, k), scalar().min_outside_u16(total.data(), n, k))
-          << "n=" << n << " k=" << k;
-      // The smallest values right at k - 1 .. k + 1: they must be left out.
-      std::vector<std::uint16_t> dip = total;
-      for (int j = std::max(0, k - 1); j <= std::min(n - 1, k + 1); ++j) dip[static_cast<std::size_t>(j)] = 0;
-      const std::uint16_t want = scalar().min_outside_u16(dip.data(), n, k);
-      ASSERT_EQ(simd().min_outside_u16(dip.data(), n, k), want) << "n=" << n << " k=" << k << " (dip)";
-      if (n > 3 && (k >= 2 || k + 2 < n)) {
-        ASSERT_GT(want, 0) << "the dip must not be the answer";
+      const int dip = std::uniform_int_distribution<int>(0, n - 1)(rng);
+      if (trial == 2) {  // the winner and, just above it, its neighbours: the rival must skip them
+        total[static_cast<std::size_t>(dip)] = 0;
+        if (dip > 0) total[static_cast<std::size_t>(dip - 1)] = 1;
+        if (dip + 1 < n) total[static_cast<std::size_t>(dip + 1)] = 1;
       }
+      if (trial == 3) total[static_cast<std::size_t>(n - 1)] = 0;  // the winner in the last lane
+      if (trial == 4) total[static_cast<std::size_t>(n - 1)] = best_a[static_cast<std::size_t>(n - 1)] = 0xFFFF;
+      std::vector<std::uint16_t> best_b = best_a, k_b = k_a, best_c = best_a, k_c = k_a;
+      const bool lr = trial != 1;
+      std::uint16_t rival_a = 1, rival_b = 2;
+      const int ka = simd().winner_u16(total.data(), n, &rival_a, lr ? best_a.data() : nullptr, k_a.data());
+      const int kb = scalar().winner_u16(total.data(), n, &rival_b, lr ? best_b.data() : nullptr, k_b.data());
+      ASSERT_EQ(ka, kb) << "n=" << n << " trial=" << trial;
+      ASSERT_EQ(rival_a, rival_b) << "n=" << n << " trial=" << trial;
+      ASSERT_EQ(best_a, best_b) << "n=" << n << " trial=" << trial;
+      ASSERT_EQ(k_a, k_b) << "n=" << n << " trial=" << trial;
+      ASSERT_EQ(simd().winner_u16(total.data(), n, nullptr, nullptr, nullptr), kb);
+      for (int j = 0; j < n; ++j) {
+        ASSERT_LE(total[static_cast<std::size_t>(kb)], total[static_cast<std::size_t>(j)]);
+        if (j < kb) {
+          ASSERT_LT(total[static_cast<std::size_t>(kb)], total[static_cast<std::size_t>(j)]);
+        }
+      }
+      ASSERT_EQ(rival_b, min_outside_u16_scalar(total.data(), n, kb));
+      if (trial == 2) {
+        ASSERT_EQ(kb, dip);
+        ASSERT_GT(rival_b, 1) << "n=" << n << " dip=" << dip;  // 0xFFFF when nothing is outside
+      }
+      if (lr) {
+        lr_min_u16_scalar(total.data(), n, best_c.data(), k_c.data());
+      }
+      ASSERT_EQ(best_b, best_c) << "n=" << n << (lr ? "" : ": no best_cost, nothing written");
+      ASSERT_EQ(k_b, k_c) << "n=" << n;
     }
-  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Sets, CensusPathKernels, ::testing::ValuesIn(test::simd_kernel_params()),

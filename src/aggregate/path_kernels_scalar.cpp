@@ -28,18 +28,6 @@ std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_
   return m;
 }
 
-int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
-                          std::uint16_t* total) {
-  int best = 0;
-  for (int k = 0; k < n; ++k) {
-    std::uint32_t s = 0;
-    for (int i = 0; i < count; ++i) s += terms[i][k];
-    total[k] = static_cast<std::uint16_t>(s);
-    if (total[k] < total[best]) best = k;
-  }
-  return best;
-}
-
 void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                        std::uint16_t* best_k) {
   for (int k = 0; k < n; ++k)
@@ -54,6 +42,16 @@ std::uint16_t min_outside_u16_scalar(const std::uint16_t* total, int n, int k) {
   for (int j = 0; j < n; ++j)
     if ((j < k - 1 || j > k + 1) && total[j] < m) m = total[j];
   return m;
+}
+
+int winner_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
+                      std::uint16_t* best_k) {
+  int k = 0;
+  for (int j = 1; j < n; ++j)
+    if (total[j] < total[k]) k = j;
+  if (rival != nullptr) *rival = min_outside_u16_scalar(total, n, k);
+  if (best_cost != nullptr) lr_min_u16_scalar(total, n, best_cost, best_k);
+  return k;
 }
 
 }  // namespace tristereo

@@ -41,8 +41,7 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   if (workers < 1 || workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: workers = " + std::to_string(workers));
   validate_params(params);
-  if (!kernels.path_step_u16 || !kernels.sum_argmin_u16 || !kernels.lr_min_u16 || !kernels.min_outside_u16 ||
-      !kernels.sum_rows_u16)
+  if (!kernels.path_step_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16)
     throw Error(ErrorCode::kInvalidArgument, "kernel set '" + std::string(kernels.name) + "' is incomplete");
   const int d = params.num_disp;
   const std::size_t n = static_cast<std::size_t>(max_width) * static_cast<std::size_t>(max_height);
@@ -549,26 +548,26 @@ void PathMatcher::RowDecider::begin_row(int y) {
 void PathMatcher::RowDecider::sample(int i, const std::uint16_t* s_row) {
   const int d = pm_.num_disp_;
   const int uniq = pm_.params_.validity.uniqueness_pct;
-  std::uint16_t* total = wk_.total.data();
-  const int k = pm_.kernels_->sum_argmin_u16(&s_row, 1, d, total);
+  std::uint16_t other = 0xFFFF;
+  std::uint16_t *lr_cost = nullptr, *lr_k = nullptr;
   if (lr_) {
     const auto base = static_cast<std::size_t>(samples_.width - 1 - samples_.x_of(i));
-    pm_.kernels_->lr_min_u16(total, d, wk_.lr_cost.data() + base, wk_.lr_k.data() + base);
-    wk_.row_k[static_cast<std::size_t>(i - v0_)] = static_cast<std::uint16_t>(k);
+    lr_cost = wk_.lr_cost.data() + base;
+    lr_k = wk_.lr_k.data() + base;
   }
-  if (uniq > 0 && (k > 1 || k + 2 < d)) {
-    // Unique when every S(k') with |k' - k| > 1 has 100 S(k') > (100 + U) S(k):
-    // the smallest of them decides.
-    const std::uint16_t other = pm_.kernels_->min_outside_u16(total, d, k);
-    if (std::uint32_t{other} * 100u <= std::uint32_t{total[k]} * static_cast<std::uint32_t>(100 + uniq)) {
-      disp_q4_[i] = kInvalidDispQ4;
-      if (lr_) wk_.row_k[static_cast<std::size_t>(i - v0_)] = kNoWinner;
-      ++rejected.uniqueness;
-      return;
-    }
+  const int k = pm_.kernels_->winner_u16(s_row, d, uniq > 0 ? &other : nullptr, lr_cost, lr_k);
+  if (lr_) wk_.row_k[static_cast<std::size_t>(i - v0_)] = static_cast<std::uint16_t>(k);
+  // Unique when every S(k') with |k' - k| > 1 has 100 S(k') > (100 + U) S(k):
+  // the smallest of them (other) decides.
+  if (uniq > 0 && (k > 1 || k + 2 < d) &&
+      std::uint32_t{other} * 100u <= std::uint32_t{s_row[k]} * static_cast<std::uint32_t>(100 + uniq)) {
+    disp_q4_[i] = kInvalidDispQ4;
+    if (lr_) wk_.row_k[static_cast<std::size_t>(i - v0_)] = kNoWinner;
+    ++rejected.uniqueness;
+    return;
   }
   int off = 0;
-  if (pm_.params_.dp.subpixel && k > 0 && k < d - 1) off = subpixel_offset_q4(total[k - 1], total[k], total[k + 1]);
+  if (pm_.params_.dp.subpixel && k > 0 && k < d - 1) off = subpixel_offset_q4(s_row[k - 1], s_row[k], s_row[k + 1]);
   disp_q4_[i] = static_cast<std::int16_t>(kDispOne * (pm_.params_.d_min + k) + off);
 }
 

@@ -125,23 +125,18 @@ struct KernelSet {
                                  int n, std::uint16_t* out, std::uint16_t* sum,
                                  int accumulate) = nullptr;
 
-  // total[k] = sum_{i < count} terms[i][k] (bounded by the caller to 65535),
-  // returns the smallest k minimising total. count >= 1, n >= 1.
-  int (*sum_argmin_u16)(const std::uint16_t* const* terms, int count, int n,
-                        std::uint16_t* total) = nullptr;
-
-  // The right view's running winner along one row (left-right check from the
-  // summed costs, docs/model.md section 6), for k in [0, n):
+  // One sample's decision inputs from its summed costs (docs/model.md
+  // section 6), for k in [0, n), 1 <= n <= 256: returns the smallest k
+  // minimising total[k]; when rival is given, *rival = the minimum of
+  // total[j] over |j - k| > 1, or 0xFFFF when there is none (the uniqueness
+  // test's rival); when best_cost is given, the right view's running winner
+  // along the row (left-right check from the summed costs):
   //   if (total[k] < best_cost[k]) { best_cost[k] = total[k]; best_k[k] = k; }
   // The caller offers a row's samples left to right, so of equal costs the
   // smallest k (the one offered first) stays; best_cost starts at 0xFFFF,
   // above every summed cost (validate_params keeps them <= 65534).
-  void (*lr_min_u16)(const std::uint16_t* total, int n, std::uint16_t* best_cost,
-                     std::uint16_t* best_k) = nullptr;
-
-  // The uniqueness test's rival: min of total[j] over j in [0, n) with
-  // |j - k| > 1, or 0xFFFF when there is none. 0 <= k < n <= 256.
-  std::uint16_t (*min_outside_u16)(const std::uint16_t* total, int n, int k) = nullptr;
+  int (*winner_u16)(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
+                    std::uint16_t* best_k) = nullptr;
 
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
   // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).

@@ -21,10 +21,8 @@ const KernelSet& scalar_kernel_set() {
     s.census_window_u16 = census_window_u16_scalar;
     s.census_costs_row_u16 = census_costs_row_u16_scalar;
     s.path_step_u16 = path_step_u16_scalar;
-    s.sum_argmin_u16 = sum_argmin_u16_scalar;
-    s.lr_min_u16 = lr_min_u16_scalar;
     s.sum_rows_u16 = sum_rows_u16_scalar;
-    s.min_outside_u16 = min_outside_u16_scalar;
+    s.winner_u16 = winner_u16_scalar;
     s.rgb_to_gray_row_u8 = rgb_to_gray_row_scalar;
     return s;
   }();

@@ -44,10 +44,10 @@ std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_
                                    std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
                                    int n, std::uint16_t* out, std::uint16_t* sum,
                                    int accumulate);
-int sum_argmin_u16_scalar(const std::uint16_t* const* terms, int count, int n,
-                          std::uint16_t* total);
 std::uint16_t min_outside_u16_scalar(const std::uint16_t* total, int n, int k);
 void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                        std::uint16_t* best_k);
+int winner_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
+                      std::uint16_t* best_k);
 
 }  // namespace tristereo
