@@ -399,14 +399,12 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     r[0] = kGuard;
     r[d + 1] = kGuard;
   }
-  // P1 and P2 for the step q -> i (section 3b: by the edge's length, P2 >= P1,
-  // and P2 shrunk across an intensity edge).
-  auto penalties = [&](int i, int q, std::uint16_t* p1, std::uint16_t* p2) {
-    const int px = samples.x_of(i), py = samples.y_of(i);
-    const int qx = samples.x_of(q), qy = samples.y_of(q);
+  // P1 and P2 for the step q -> p (section 3b: by the edge's length, P2 >= P1,
+  // and P2 shrunk across an intensity edge); ip, iq: I(p), I(q).
+  auto penalties = [&](int px, int py, int ip, int qx, int qy, int iq, std::uint16_t* p1, std::uint16_t* p2) {
     if (!penalties_by_gap_) {
       *p1 = static_cast<std::uint16_t>(p1_by_gap_[1]);
-      *p2 = p2_by_diff_[std::abs(gray.row(py)[px] - gray.row(qy)[qx])];
+      *p2 = p2_by_diff_[std::abs(ip - iq)];
       return;
     }
     const int gap = std::max(std::abs(px - qx), std::abs(py - qy));
@@ -414,7 +412,7 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     std::uint32_t b = p2_by_gap_[static_cast<std::size_t>(gap)];
     if (b < a) b = a;
     if (edge_scale > 0) {
-      const std::uint32_t di = static_cast<std::uint32_t>(std::abs(gray.row(py)[px] - gray.row(qy)[qx]));
+      const auto di = static_cast<std::uint32_t>(std::abs(ip - iq));
       b = a + (b - a) * static_cast<std::uint32_t>(edge_scale) / (static_cast<std::uint32_t>(edge_scale) + di);
     }
     *p1 = static_cast<std::uint16_t>(a);
@@ -426,13 +424,18 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
   int slot = forward ? ring_n - 1 : (n - 1) % ring_n + 1;  // slot of i, stepped before use
   int step = 0;
   // Predecessors: the horizontal one is the row's previous sample in the
-  // pass's order; a mesh's others come from find_predecessors' table.
+  // pass's order; a mesh's others come from the predecessor table, a dense
+  // frame's are the neighbouring pixels (predecessor()'s rule, without its
+  // divisions: the sample's x and y are the loop's).
   const bool dense = samples.dense();
+  const int w = samples.width, h = samples.height;
+  const Vertex* verts = dense ? nullptr : samples.mesh->vertices.data();
   const std::int32_t* preds = preds_.get();
   const auto per = static_cast<std::size_t>(directions_ - 2);
-  // Sample i's paths; `add`: S(i) holds the other pass's sums already;
-  // `q`: its horizontal predecessor, -1 for none.
-  const auto step_sample = [&](int i, bool add, int q) {
+  // Sample i at (x, y) with intensity ip; `add`: S(i) holds the other pass's
+  // sums already; `hq`: its horizontal predecessor's x and intensity, or
+  // hq_x = -1 for none.
+  const auto step_sample = [&](int i, bool add, int x, int y, int ip, int hq_x, int hq_i) {
     if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
     else slot = slot == 0 ? ring_n - 1 : slot - 1;
     const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
@@ -441,8 +444,8 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     std::uint16_t* out = ring[step & 1];
     const std::uint16_t* prev = zero;
     std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
-    if (q >= 0) {
-      penalties(i, q, &p1, &p2);
+    if (hq_x >= 0) {
+      penalties(x, y, ip, hq_x, y, hq_i, &p1, &p2);
       prev = ring[(step & 1) ^ 1] + 1;
       prev_min = row_min;
     }
@@ -454,12 +457,25 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
       std::uint16_t* o = path + row(slot, path_stride_);
       o[0] = kGuard;
       o[d + 1] = kGuard;
-      const int qr = dense ? predecessor(samples, r, i)
-                           : predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(r - 2)]);
+      int qr = -1, qx = 0, qy = 0;
+      if (dense) {
+        const PathDirection u = kPathDirections[r];
+        qy = y - u.dy;
+        if (qy >= 0 && qy < h) {
+          qx = x - u.dx >= 0 && x - u.dx < w ? x - u.dx : x;
+          qr = qy * w + qx;
+        }
+      } else {
+        qr = predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(r - 2)]);
+        if (qr >= 0) {
+          qx = verts[qr].x;
+          qy = verts[qr].y;
+        }
+      }
       const std::uint16_t* pr = zero;
       std::uint16_t pm = 0, a1 = 0, a2 = 0;
       if (qr >= 0) {
-        penalties(i, qr, &a1, &a2);
+        penalties(x, y, ip, qx, qy, gray.row(qy)[qx], &a1, &a2);
         // |i - qr| < ring_n (frame_ring; checked by find_predecessors in sparse mode).
         int qs = slot + (qr - i);
         if (qs < 0) qs += ring_n;
@@ -468,6 +484,20 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
         pm = mins[j][qs];
       }
       mins[j][slot] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
+    }
+  };
+  // A row's samples in the pass's order, each with the one before as its
+  // horizontal predecessor.
+  const auto step_row = [&](int y, int v0, int v1, bool add) {
+    const std::uint8_t* g = gray.row(y);
+    const int di = forward ? 1 : -1;
+    int hq_x = -1, hq_i = 0;
+    for (int i = forward ? v0 : v1 - 1; forward ? i < v1 : i >= v0; i += di) {
+      const int x = dense ? i - v0 : verts[i].x;
+      const int ip = g[x];
+      step_sample(i, add, x, y, ip, hq_x, hq_i);
+      hq_x = x;
+      hq_i = ip;
     }
   };
   for (int r = 0; r < samples.height; ++r) {
@@ -480,10 +510,7 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     const bool first = row_claim_[static_cast<std::size_t>(y)].fetch_add(1, std::memory_order_relaxed) == 0;
     if (!first)
       while (done.load(std::memory_order_acquire) == 0) std::this_thread::yield();
-    if (forward)
-      for (int i = v0; i < v1; ++i) step_sample(i, !first, i > v0 ? i - 1 : -1);
-    else
-      for (int i = v1 - 1; i >= v0; --i) step_sample(i, !first, i + 1 < v1 ? i + 1 : -1);
+    step_row(y, v0, v1, !first);
     if (first) {
       done.store(1, std::memory_order_release);
     } else if (decide != nullptr) {
