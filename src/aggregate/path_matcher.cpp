@@ -622,7 +622,7 @@ void PathMatcher::RowDecider::end_row() {
 
 // Rows go to the workers on demand (the left-right check compares samples of
 // one row); within a row the samples are taken left to right, so that
-// lr_min_u16's `<` keeps the smallest k among equal costs at a right pixel.
+// winner_u16's `<` keeps the smallest k among equal costs at a right pixel.
 PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPool& pool,
                                           std::int16_t* disp_q4) {
   RejectedSum rejected;
