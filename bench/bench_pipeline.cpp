@@ -13,6 +13,11 @@
 // frame's (counter `ceiling`) is what this machine gives N cores at that
 // moment with no sharing at all, and `of_ceiling` = speedup / ceiling is the
 // part of it the parallel pipeline achieves.
+// census_pixels/<scene>/D<d>/<kernels> times the census work a frame does at
+// every pixel in both modes: the census transform of both images and every
+// pixel's Hamming costs, row by row (counter `census_pixels_ms`); perf_report.py
+// takes it as the shared part of the sparse frame's lower bound
+// (docs/performance.md, "fourth session").
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -25,6 +30,8 @@
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
 #include "platform/thread_pool.hpp"
+#include "src/cost/match_context.hpp"
+#include "src/kernels/dispatch.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
@@ -98,6 +105,33 @@ void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dens
   state.counters["total_ms"] = total / n / 1e6;
   state.counters["samples"] = static_cast<double>(samples);
   state.counters["Mdisp_per_s"] = static_cast<double>(samples) * ndisp / ((cost + dp) / n / 1e9) / 1e6;
+}
+
+// The census work at every pixel, as the matcher's cost stage does it: the
+// transform of both images, then each row's per-pixel Hamming costs (here into
+// one row buffer; the matcher keeps a ring of the window's rows).
+void bench_census_pixels(benchmark::State& state, const Pair* pair, int ndisp, KernelChoice k) {
+  const int w = pair->left.width, h = pair->left.height;
+  StereoParams params;
+  params.num_disp = ndisp;
+  MatchContext ctx(w, h, params, kernel_set_for(k));
+  CensusScratch census;
+  census.resize(w);
+  const std::size_t stride = (static_cast<std::size_t>(ndisp) + 15) / 16 * 16;
+  std::vector<std::uint16_t> row(static_cast<std::size_t>(w) * stride + 64);
+  double total = 0;
+  for (auto _ : state) {
+    const std::int64_t t0 = monotonic_ns();
+    ctx.begin_frame(pair->left.view(), pair->right.view());
+    ctx.prepare_right_rows(0, h, &census);
+    for (int y = 0; y < h; ++y) {
+      ctx.census_pixel_costs(y, row.data(), stride);
+      benchmark::DoNotOptimize(row.data());
+    }
+    benchmark::ClobberMemory();
+    total += static_cast<double>(monotonic_ns() - t0);
+  }
+  state.counters["census_pixels_ms"] = total / static_cast<double>(state.iterations()) / 1e6;
 }
 
 // Frames on a 1-thread and an N-thread pipeline in alternation, each timed on
@@ -196,6 +230,17 @@ int main(int argc, char** argv) {
           }
         }
       }
+    }
+  }
+  for (const Pair& p : pairs) {
+    const bool synthetic = p.name.rfind("synthetic", 0) == 0;
+    const KernelChoice best = available_kernel_sets().back();
+    for (int ndisp : synthetic ? std::vector<int>{64, 128} : std::vector<int>{64}) {
+      const std::string name = "census_pixels/" + p.name + "/D" + std::to_string(ndisp) + "/" + to_string(best);
+      benchmark::RegisterBenchmark(name.c_str(), bench_census_pixels, &p, ndisp, best)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->MinTime(0.5);
     }
   }
   if (!pairs.empty() && max_threads > 1) {

@@ -189,9 +189,14 @@ def pipeline_section(a):
         data = json.load(f)
     med = {}
     pairs = {}  # frame_pair run name -> its repetitions, each with its own median of pairs
+    census = {}  # (scene, D) -> ms of the census work at every pixel (census_pixels/<scene>/D<d>/<kernels>)
     for b in data["benchmarks"]:
         if b["run_name"].startswith("frame_pair/") and b.get("run_type") == "iteration":
             pairs.setdefault(b["run_name"], []).append(b)
+            continue
+        if b["run_name"].startswith("census_pixels/") and b.get("aggregate_name") == "median":
+            _, scene, d = b["run_name"].split("/")[:3]
+            census[(scene, int(d[1:]))] = b["census_pixels_ms"]
             continue
         if b.get("aggregate_name") != "median" or not b["run_name"].startswith("frame/"):
             continue
@@ -224,17 +229,29 @@ def pipeline_section(a):
                         "%.2fx" % (base["cost_ms"] / b["cost_ms"]) if base else "-",
                         "%.2fx" % (base["total_ms"] / b["total_ms"]) if base else "-", b["Mdisp_per_s"]))
     lines.append("\n### Sparse vs dense, one thread (best kernel set)\n")
+    lines.append("*bound*: the sparse frame / dense frame that a sparse frame with no work of its own and "
+                 "per-sample work exactly f times the dense frame's would reach, f = samples / pixels: "
+                 "(T + C + f R) / dense, with T the dense frame's tritree (both modes build it), C the census "
+                 "transform and per-pixel Hamming costs (`census_pixels`, both modes do them at every pixel) "
+                 "and R = dense - T - C - the dense interpolation (docs/performance.md, \"fourth session\").\n")
     lines.append("| scene | D | kernels | samples sparse | DP ms sparse / dense | DP ratio | "
-                 "cost ms sparse / dense | frame ms sparse / dense | frame ratio |")
-    lines.append("|---|---|---|---|---|---|---|---|---|")
+                 "cost ms sparse / dense | frame ms sparse / dense | frame ratio | census at every pixel ms | bound |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
     for s in scenes:
         for d in sorted({k[1] for k in keys if k[0] == s}):
             for kern in reversed(kernel_order):
                 sp, de = med.get((s, d, "sparse", kern, 1)), med.get((s, d, "dense", kern, 1))
                 if sp and de:
-                    lines.append("| %s | %d | %s | %d | %.2f / %.2f | %.3f | %.2f / %.2f | %.2f / %.2f | %.3f |" % (
+                    c = census.get((s, d))
+                    bound = "-"
+                    if c is not None:
+                        f = sp["samples"] / de["samples"]
+                        rest = de["total_ms"] - de["tritree_ms"] - c - de["interp_ms"]
+                        bound = "%.3f" % ((de["tritree_ms"] + c + f * rest) / de["total_ms"])
+                    lines.append("| %s | %d | %s | %d | %.2f / %.2f | %.3f | %.2f / %.2f | %.2f / %.2f | %.3f | %s | %s |" % (
                         s, d, kern, sp["samples"], sp["dp_ms"], de["dp_ms"], sp["dp_ms"] / de["dp_ms"],
-                        sp["cost_ms"], de["cost_ms"], sp["total_ms"], de["total_ms"], sp["total_ms"] / de["total_ms"]))
+                        sp["cost_ms"], de["cost_ms"], sp["total_ms"], de["total_ms"], sp["total_ms"] / de["total_ms"],
+                        "%.2f" % c if c is not None else "-", bound))
                     break
     lines.append("\n### Threads (best kernel set, synthetic 640x480)\n")
     lines.append("| D | mode | threads | tritree | cost aggregation | DP | interpolation | total | speed-up vs 1 thread |")
