@@ -128,6 +128,20 @@ batch<std::uint16_t, A> popcount_u16(batch<std::uint16_t, A> v, const xsimd::gen
   v = (v + (v >> 4)) & b16(std::uint16_t{0x0F0F});
   return (v + (v >> 8)) & b16(std::uint16_t{0x001F});
 }
+// ---- the bit count of each byte, in place (the first three SWAR steps)
+template <class A>
+batch<std::uint16_t, A> byte_popcounts_u16(batch<std::uint16_t, A> v, const xsimd::generic&) {
+  using b16 = batch<std::uint16_t, A>;
+  v = v - ((v >> 1) & b16(std::uint16_t{0x5555}));
+  v = (v & b16(std::uint16_t{0x3333})) + ((v >> 2) & b16(std::uint16_t{0x3333}));
+  return (v + (v >> 4)) & b16(std::uint16_t{0x0F0F});
+}
+// ---- each u16 lane's two bytes added
+template <class A>
+batch<std::uint16_t, A> add_bytes_u16(const batch<std::uint16_t, A>& v, const xsimd::generic&) {
+  using b16 = batch<std::uint16_t, A>;
+  return (v & b16(std::uint16_t{0x00FF})) + (v >> 8);
+}
 // ---- u16 lane shifts with 0xFFFF fill, broadcasts of the first / last lane
 template <std::size_t S, class A>
 batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a, const xsimd::generic&) {
@@ -258,6 +272,19 @@ batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v, const xsi
   const __m256i hi = _mm256_shuffle_epi8(table, _mm256_and_si256(_mm256_srli_epi16(v, 4), nibble));
   return _mm256_maddubs_epi16(_mm256_add_epi8(lo, hi), _mm256_set1_epi8(1));
 }
+template <class A>
+batch<std::uint16_t, A> byte_popcounts_u16(const batch<std::uint16_t, A>& v, const xsimd::avx2&) {
+  const __m256i table = _mm256_setr_epi8(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4,
+                                         0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
+  const __m256i nibble = _mm256_set1_epi8(0x0F);
+  const __m256i lo = _mm256_shuffle_epi8(table, _mm256_and_si256(v, nibble));
+  const __m256i hi = _mm256_shuffle_epi8(table, _mm256_and_si256(_mm256_srli_epi16(v, 4), nibble));
+  return _mm256_add_epi8(lo, hi);
+}
+template <class A>
+batch<std::uint16_t, A> add_bytes_u16(const batch<std::uint16_t, A>& v, const xsimd::avx2&) {
+  return _mm256_maddubs_epi16(v, _mm256_set1_epi8(1));
+}
 // AVX2 packs work within each 128-bit half; the qword permute (0, 2, 1, 3)
 // puts the halves back in lane order.
 constexpr int kQwordOrder0213 = 0xD8;
@@ -342,6 +369,14 @@ batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, co
 template <class A>
 batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v, const xsimd::neon&) {
   return vpaddlq_u8(vcntq_u8(vreinterpretq_u8_u16(v)));
+}
+template <class A>
+batch<std::uint16_t, A> byte_popcounts_u16(const batch<std::uint16_t, A>& v, const xsimd::neon&) {
+  return vreinterpretq_u16_u8(vcntq_u8(vreinterpretq_u8_u16(v)));
+}
+template <class A>
+batch<std::uint16_t, A> add_bytes_u16(const batch<std::uint16_t, A>& v, const xsimd::neon&) {
+  return vpaddlq_u8(vreinterpretq_u8_u16(v));
 }
 template <class A>
 batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
@@ -460,6 +495,18 @@ batch<std::uint16_t, A> min_u16(const batch<std::uint16_t, A>& a,
 template <class A>
 batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v) {
   return detail::popcount_u16(v, A{});
+}
+// Each byte of each lane replaced by its bit count; add_bytes_u16 adds a
+// lane's two bytes. popcount_u16 is the two in a row: counts of several words
+// can be added as bytes first (while every byte stays below 256) and their
+// bytes added once.
+template <class A>
+batch<std::uint16_t, A> byte_popcounts_u16(const batch<std::uint16_t, A>& v) {
+  return detail::byte_popcounts_u16(v, A{});
+}
+template <class A>
+batch<std::uint16_t, A> add_bytes_u16(const batch<std::uint16_t, A>& v) {
+  return detail::add_bytes_u16(v, A{});
 }
 template <std::size_t S, class A>
 batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a) {

@@ -891,10 +891,12 @@ void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t
       r[p] = right_rev[p] - x;
     }
     std::uint16_t* o = out + static_cast<std::size_t>(x) * stride;
+    // The planes' counts are added per byte (at most 8 P <= 32 each), then
+    // each lane's two bytes once.
     const auto block = [&](int k) {
-      b16 acc = escape::popcount_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
-      for (int p = 1; p < P; ++p) acc = acc + escape::popcount_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
-      return acc;
+      b16 acc = escape::byte_popcounts_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
+      for (int p = 1; p < P; ++p) acc = acc + escape::byte_popcounts_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
+      return escape::add_bytes_u16(acc);
     };
     store_u16_blocks<lanes>(n, o, block);
   }
