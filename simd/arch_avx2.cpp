@@ -21,7 +21,7 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.dp_step = &DpStep<xsimd::avx2>::call;
   set.dp_step_u16 = &DpStepU16<xsimd::avx2>::call;
   set.dp_pointer_u16 = &DpPointerU16<xsimd::avx2>::call;
-  set.census_row_u16 = &CensusRowU16<xsimd::avx2>::call;
+  set.census_row_u8 = &CensusRowU8<xsimd::avx2>::call;
   set.census_window_u16 = &CensusWindowU16<xsimd::avx2>::call;
   set.census_costs_row_u16 = &CensusCostsRowU16<xsimd::avx2>::call;
   set.sum_rows_u16 = &SumRowsU16<xsimd::avx2>::call;

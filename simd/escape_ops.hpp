@@ -541,6 +541,15 @@ void widen(const batch<T, A>& a, batch<W, A>& lo, batch<W, A>& hi) {
   hi = xsimd::bitwise_cast<batch<W, A>>(xsimd::zip_hi(ordered, zero));
 }
 
+// The u16 words lo[i] | hi[i] << 8, in order: i < n/2 in first, the rest in second.
+template <class A>
+void interleave_bytes(const batch<std::uint8_t, A>& lo, const batch<std::uint8_t, A>& hi,
+                      batch<std::uint16_t, A>& first, batch<std::uint16_t, A>& second) {
+  const batch<std::uint8_t, A> l = detail::zip_order(lo, A{}), h = detail::zip_order(hi, A{});
+  first = xsimd::bitwise_cast<batch<std::uint16_t, A>>(xsimd::zip_lo(l, h));
+  second = xsimd::bitwise_cast<batch<std::uint16_t, A>>(xsimd::zip_hi(l, h));
+}
+
 // widen() without its order fix, for sums: lo and hi hold the widened
 // elements in an arch-defined permutation (in-lane halves on AVX2, none on
 // SSE2/NEON). Lane-wise sums of such pairs keep that permutation, so a kernel

@@ -71,8 +71,8 @@ struct DpPointerU16 {
 };
 
 template <class Arch>
-struct CensusRowU16 {
-  static void call(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+struct CensusRowU8 {
+  static void call(const std::uint8_t* const* rows, int win_w, int win_h, int width,
                    std::uint16_t* const* planes);
 };
 
@@ -122,7 +122,7 @@ struct RgbToGrayRowU8 {
   KEYWORD template struct DpStep<ARCH>;                       \
   KEYWORD template struct DpStepU16<ARCH>;                    \
   KEYWORD template struct DpPointerU16<ARCH>;                 \
-  KEYWORD template struct CensusRowU16<ARCH>;                 \
+  KEYWORD template struct CensusRowU8<ARCH>;                 \
   KEYWORD template struct CensusWindowU16<ARCH>;              \
   KEYWORD template struct CensusCostsRowU16<ARCH>;            \
   KEYWORD template struct SumRowsU16<ARCH>;                   \

@@ -28,11 +28,11 @@ class CensusPathKernels : public ::testing::TestWithParam<KernelChoice> {
 TEST(CensusScalar, KnownDescriptorAndDistance) {
   // 3x3 window around a centre of 5: neighbours 1 9 5 / 4 . 6 / 0 5 7, so the
   // bits (raster order, centre skipped) below 5 are 0, 3 and 5.
-  std::vector<std::uint16_t> r0 = {0, 1, 9, 5, 0}, r1 = {0, 4, 5, 6, 0}, r2 = {0, 0, 5, 7, 0};
-  const std::uint16_t* rows[3] = {r0.data() + 2, r1.data() + 2, r2.data() + 2};
+  std::vector<std::uint8_t> r0 = {0, 1, 9, 5, 0}, r1 = {0, 4, 5, 6, 0}, r2 = {0, 0, 5, 7, 0};
+  const std::uint8_t* rows[3] = {r0.data() + 2, r1.data() + 2, r2.data() + 2};
   std::uint16_t plane = 0;
   std::uint16_t* planes[1] = {&plane};
-  census_row_u16_scalar(rows, 3, 3, 1, planes);
+  census_row_u8_scalar(rows, 3, 3, 1, planes);
   EXPECT_EQ(plane, (1u << 0) | (1u << 3) | (1u << 5));
   std::vector<std::uint16_t> right = {0x0000, 0xFFFF, 0x0029};
   const std::uint16_t* rr[1] = {right.data()};
@@ -47,17 +47,17 @@ TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
   std::mt19937 rng(11);
   const int windows[][2] = {{3, 3}, {5, 5}, {7, 7}, {9, 7}, {7, 9}, {5, 3}, {9, 3}};
   for (const auto& win : windows)
-    for (int width : {1, 2, 7, 15, 16, 17, 31, 33, 64, 100, 257}) {
+    for (int width : {1, 2, 7, 15, 16, 17, 31, 32, 33, 48, 63, 64, 65, 100, 257}) {
       const int w = win[0], h = win[1];
       const int rx = w / 2;
       const int planes_n = (w * h - 1 + 15) / 16;
       std::uniform_int_distribution<int> px(0, 255), few(0, 3);
-      std::vector<std::vector<std::uint16_t>> rows(static_cast<std::size_t>(h));
-      std::vector<const std::uint16_t*> rp;
+      std::vector<std::vector<std::uint8_t>> rows(static_cast<std::size_t>(h));
+      std::vector<const std::uint8_t*> rp;
       const bool ties = width % 2 == 0;  // few distinct values: many equal neighbours
       for (auto& r : rows) {
         r.resize(static_cast<std::size_t>(width + 2 * rx));
-        for (auto& v : r) v = static_cast<std::uint16_t>(ties ? few(rng) * 85 : px(rng));
+        for (auto& v : r) v = static_cast<std::uint8_t>(ties ? few(rng) * 85 : px(rng));
         rp.push_back(r.data() + rx);
       }
       std::vector<std::uint16_t> a(static_cast<std::size_t>(4 * width), 0xAAAA), b = a;
@@ -67,8 +67,8 @@ TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
         pa[p] = a.data() + p * width;
         pb[p] = b.data() + p * width;
       }
-      simd().census_row_u16(rp.data(), w, h, width, pa);
-      scalar().census_row_u16(rp.data(), w, h, width, pb);
+      simd().census_row_u8(rp.data(), w, h, width, pa);
+      scalar().census_row_u8(rp.data(), w, h, width, pb);
       ASSERT_EQ(a, b) << w << "x" << h << " width " << width;
       // Planes beyond the descriptor are not written.
       for (int p = planes_n; p < 4; ++p) EXPECT_EQ(a[static_cast<std::size_t>(p * width)], 0xAAAA);

@@ -16,7 +16,7 @@ int census_popcount_u16(std::uint16_t v) {
   return static_cast<int>((x + (x >> 8)) & 0x1Fu);
 }
 
-void census_row_u16_scalar(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+void census_row_u8_scalar(const std::uint8_t* const* rows, int win_w, int win_h, int width,
                            std::uint16_t* const* planes) {
   const int rx = win_w / 2, ry = win_h / 2;
   const int n_planes = (win_w * win_h - 1 + 15) / 16;

@@ -119,7 +119,7 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   if (!kernels.accumulate_abs_diff_u16 || !kernels.accumulate_abs_diff_weighted_u32 ||
       !kernels.aggregate_window_box_u16 || !kernels.aggregate_window_weighted_u32 ||
       !kernels.normalize_costs_u16 || !kernels.normalize_costs_u32 || !kernels.dp_step ||
-      !kernels.census_row_u16 || !kernels.census_window_u16 || !kernels.census_costs_row_u16)
+      !kernels.census_row_u8 || !kernels.census_window_u16 || !kernels.census_costs_row_u16)
     fail(std::string("kernel set '") + (kernels.name ? kernels.name : "?") + "' is incomplete");
 
   const CostParams& c = params.cost;
@@ -175,27 +175,27 @@ void MatchContext::begin_frame(ImageView<const std::uint8_t> left_gray,
   height_ = left_gray.height;
 }
 
-// Census of row y of img into scratch.planes_: the window's rows widened to
-// u16 with the border replicated (clamped coordinates, docs/model.md section 2).
+// Census of row y of img into scratch.planes_: the window's rows with the
+// border replicated (clamped coordinates, docs/model.md section 2).
 void MatchContext::census_rows(ImageView<const std::uint8_t> img, int y,
                                CensusScratch& scratch) const {
   const CostParams& c = params_.cost;
   const int rx = c.census_w / 2, ry = c.census_h / 2;
   const int w = width_;
   const std::size_t row_len = static_cast<std::size_t>(scratch.max_width_) + 8 + kKernelSlack;
-  const std::uint16_t* rows[9];
+  const std::uint8_t* rows[9];
   for (int j = 0; j < c.census_h; ++j) {
     const std::uint8_t* src = img.row(std::clamp(y - ry + j, 0, height_ - 1));
-    std::uint16_t* dst = scratch.rows_.data() + static_cast<std::size_t>(j) * row_len + 4;
-    for (int x = -rx; x < 0; ++x) dst[x] = src[0];
-    for (int x = 0; x < w; ++x) dst[x] = src[x];
-    for (int x = w; x < w + rx; ++x) dst[x] = src[w - 1];
+    std::uint8_t* dst = scratch.rows_.data() + static_cast<std::size_t>(j) * row_len + 4;
+    std::fill(dst - rx, dst, src[0]);
+    std::copy(src, src + w, dst);
+    std::fill(dst + w, dst + w + rx, src[w - 1]);
     rows[j] = dst;
   }
   std::uint16_t* planes[4];
   const std::size_t plane_len = static_cast<std::size_t>(scratch.max_width_) + kKernelSlack;
   for (int p = 0; p < 4; ++p) planes[p] = scratch.planes_.data() + static_cast<std::size_t>(p) * plane_len;
-  kernels_->census_row_u16(rows, c.census_w, c.census_h, w, planes);
+  kernels_->census_row_u8(rows, c.census_w, c.census_h, w, planes);
 }
 
 void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* census) {

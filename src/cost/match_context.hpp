@@ -73,7 +73,7 @@ class CensusScratch {
  private:
   friend class MatchContext;
   int max_width_ = 0;
-  std::vector<std::uint16_t> rows_;    // 9 padded rows
+  std::vector<std::uint8_t> rows_;     // 9 padded rows
   std::vector<std::uint16_t> planes_;  // 4 rows of descriptor planes
 };
 

@@ -86,10 +86,10 @@ struct KernelSet {
   // descriptor is 1 when the b-th neighbour of its win_w x win_h window (raster
   // order, centre skipped) is below the centre; bits 16p .. 16p + 15 go to
   // planes[p][x], p < ceil((win_w win_h - 1) / 16). rows[j], j < win_h, point at
-  // x = 0 of the window's rows as u16 (values 0..255), readable from -win_w/2 to
-  // width - 1 + win_w/2 (the caller replicates the border). width >= 1.
-  void (*census_row_u16)(const std::uint16_t* const* rows, int win_w, int win_h, int width,
-                         std::uint16_t* const* planes) = nullptr;
+  // x = 0 of the window's rows, readable from -win_w/2 to width - 1 + win_w/2
+  // (the caller replicates the border). width >= 1.
+  void (*census_row_u8)(const std::uint8_t* const* rows, int win_w, int win_h, int width,
+                        std::uint16_t* const* planes) = nullptr;
 
   // Hamming cost over a support window, one descriptor plane per entry:
   //   sum[k] = sum_{i < count} popcount(left[i] ^ right_rev[i][k]), k in [0, n).

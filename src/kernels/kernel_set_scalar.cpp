@@ -17,7 +17,7 @@ const KernelSet& scalar_kernel_set() {
     s.dp_step = dp_step_scalar;
     s.dp_step_u16 = dp_step_u16_scalar;
     s.dp_pointer_u16 = dp_pointer_u16_scalar;
-    s.census_row_u16 = census_row_u16_scalar;
+    s.census_row_u8 = census_row_u8_scalar;
     s.census_window_u16 = census_window_u16_scalar;
     s.census_costs_row_u16 = census_costs_row_u16_scalar;
     s.path_step_u16 = path_step_u16_scalar;

@@ -33,7 +33,7 @@ void dp_step_u16_scalar(const std::uint16_t* cost_q4, const std::uint16_t* prev,
 int dp_pointer_u16_scalar(const std::uint16_t* prev, std::uint32_t penalty, int n, int k);
 
 int census_popcount_u16(std::uint16_t v);
-void census_row_u16_scalar(const std::uint16_t* const* rows, int win_w, int win_h, int width,
+void census_row_u8_scalar(const std::uint8_t* const* rows, int win_w, int win_h, int width,
                            std::uint16_t* const* planes);
 void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* left,
                               int count, int n, std::uint16_t* sum);
