@@ -25,6 +25,9 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.census_window_u16 = &CensusWindowU16<xsimd::avx2>::call;
   set.census_costs_row_u16 = &CensusCostsRowU16<xsimd::avx2>::call;
   set.sum_rows_u16 = &SumRowsU16<xsimd::avx2>::call;
+  set.census_costs_row_u8 = &CensusCostsRowU8<xsimd::avx2>::call;
+  set.sum_rows_u8 = &SumRowsU8<xsimd::avx2>::call;
+  set.normalize_costs_u8 = &NormalizeCostsU8<xsimd::avx2>::call;
   set.path_step_u16 = &PathStepU16<xsimd::avx2>::call;
   set.winner_u16 = &WinnerU16<xsimd::avx2>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::avx2>::call;

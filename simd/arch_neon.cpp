@@ -25,6 +25,9 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.census_window_u16 = &CensusWindowU16<xsimd::neon>::call;
   set.census_costs_row_u16 = &CensusCostsRowU16<xsimd::neon>::call;
   set.sum_rows_u16 = &SumRowsU16<xsimd::neon>::call;
+  set.census_costs_row_u8 = &CensusCostsRowU8<xsimd::neon>::call;
+  set.sum_rows_u8 = &SumRowsU8<xsimd::neon>::call;
+  set.normalize_costs_u8 = &NormalizeCostsU8<xsimd::neon>::call;
   set.path_step_u16 = &PathStepU16<xsimd::neon>::call;
   set.winner_u16 = &WinnerU16<xsimd::neon>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::neon>::call;

@@ -385,30 +385,69 @@ void AggregateWindowWeightedU32<Arch>::call(const std::uint8_t* const* right_rev
   if (k < n) run_at(n - lanes);
 }
 
+namespace detail {
+// The Q32 normalisation of u16 sums (one limb): col1 = hi(s*i0) + lo(s*i1) +
+// half, col2 = hi(s*i1) + lo(s*i2).
+template <class Arch>
+struct NormalizeQ32U16 {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  b16 i0, i1, i2, low, half;
+  explicit NormalizeQ32U16(std::uint64_t inv_q32)
+      : i0(static_cast<std::uint16_t>(inv_q32)),
+        i1(static_cast<std::uint16_t>(inv_q32 >> kLimbBits)),
+        i2(static_cast<std::uint16_t>(inv_q32 >> (2 * kLimbBits))),
+        low(static_cast<std::uint16_t>(kColumnLow)),
+        half(static_cast<std::uint16_t>(kColumnHalf)) {}
+  b16 operator()(const b16& s) const {
+    const b16 a = escape::mulhi_u16(s, i0);
+    const b16 b = escape::mullo_u16(s, i1);
+    const b16 col2 = escape::mulhi_u16(s, i1) + escape::mullo_u16(s, i2);
+    // col1 = a + b + half can reach 2^17: shift the parts separately and
+    // carry the sum of their low 12 bits.
+    const b16 col1_shifted =
+        (a >> kColumnShift) + (b >> kColumnShift) + (((a & low) + (b & low) + half) >> kColumnShift);
+    return col1_shifted + (col2 << kCol2Shift);
+  }
+};
+}  // namespace detail
+
 template <class Arch>
 void NormalizeCostsU16<Arch>::call(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
                                    std::uint16_t* cost_q4) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
-  // sum has one limb: col1 = hi(s*i0) + lo(s*i1) + half, col2 = hi(s*i1) + lo(s*i2).
-  const b16 i0(static_cast<std::uint16_t>(inv_q32));
-  const b16 i1(static_cast<std::uint16_t>(inv_q32 >> detail::kLimbBits));
-  const b16 i2(static_cast<std::uint16_t>(inv_q32 >> (2 * detail::kLimbBits)));
-  const b16 low(static_cast<std::uint16_t>(detail::kColumnLow));
-  const b16 half(static_cast<std::uint16_t>(detail::kColumnHalf));
+  const detail::NormalizeQ32U16<Arch> normalize(inv_q32);
   detail::for_output_blocks<static_cast<int>(b16::size)>(
-      sum, n, cost_q4, [&](const std::uint16_t* s_ptr, std::uint16_t* c_ptr) {
-        const b16 s = b16::load_unaligned(s_ptr);
-        const b16 a = escape::mulhi_u16(s, i0);
-        const b16 b = escape::mullo_u16(s, i1);
-        const b16 col2 = escape::mulhi_u16(s, i1) + escape::mullo_u16(s, i2);
-        // col1 = a + b + half can reach 2^17: shift the parts separately and
-        // carry the sum of their low 12 bits.
-        const b16 col1_shifted = (a >> detail::kColumnShift) + (b >> detail::kColumnShift) +
-                                 (((a & low) + (b & low) + half) >> detail::kColumnShift);
-        (col1_shifted + (col2 << detail::kCol2Shift)).store_unaligned(c_ptr);
+      sum, n, cost_q4,
+      [&](const std::uint16_t* s_ptr, std::uint16_t* c_ptr) {
+        normalize(b16::load_unaligned(s_ptr)).store_unaligned(c_ptr);
       },
       detail::narrower_or_null<NormalizeCostsU16, Arch>(
           [&](auto f, auto s_ptr, auto c_ptr, int m) { f(s_ptr, inv_q32, m, c_ptr); }));
+}
+
+// Byte sums widened to u16 lanes, then as NormalizeCostsU16. A run shorter
+// than a byte register goes through u16 copies to NormalizeCostsU16.
+template <class Arch>
+void NormalizeCostsU8<Arch>::call(const std::uint8_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4) {
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b8::size);
+  if (n < lanes) {
+    std::uint16_t wide[lanes];
+    for (int k = 0; k < n; ++k) wide[k] = sum[k];
+    NormalizeCostsU16<Arch>::call(wide, inv_q32, n, cost_q4);
+    return;
+  }
+  const detail::NormalizeQ32U16<Arch> normalize(inv_q32);
+  const auto block = [&](int k) {
+    b16 lo, hi;
+    escape::widen(b8::load_unaligned(sum + k), lo, hi);
+    normalize(lo).store_unaligned(cost_q4 + k);
+    normalize(hi).store_unaligned(cost_q4 + k + lanes / 2);
+  };
+  int k = 0;
+  for (; k + lanes <= n; k += lanes) block(k);
+  if (k < n) block(n - lanes);  // the full block ending at n
 }
 
 template <class Arch>
@@ -926,6 +965,55 @@ void CensusCostsRowU16<Arch>::call(const std::uint16_t* const* right_rev, const 
   }
 }
 
+namespace detail {
+// census_costs_row with byte costs: two u16 blocks of costs (at most 16 P
+// each) narrowed into one byte register. A run shorter than a byte register
+// stores its n costs from a copy.
+template <class Arch, int P>
+void census_costs_row_u8(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width,
+                         int n, std::size_t stride, std::uint8_t* out) {
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b8::size), half = lanes / 2;
+  for (int x = 0; x < width; ++x) {
+    b16 l[P];
+    const std::uint16_t* r[P];
+    for (int p = 0; p < P; ++p) {
+      l[p] = b16(left[p][x]);
+      r[p] = right_rev[p] - x;
+    }
+    std::uint8_t* o = out + static_cast<std::size_t>(x) * stride;
+    const auto costs16 = [&](int k) {
+      b16 acc = escape::byte_popcounts_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
+      for (int p = 1; p < P; ++p) acc = acc + escape::byte_popcounts_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
+      return escape::add_bytes_u16(acc);
+    };
+    const auto block = [&](int k) { return escape::narrow_u16(costs16(k), costs16(k + half)); };
+    int k = 0;
+    for (; k + lanes <= n; k += lanes) block(k).store_unaligned(o + k);
+    if (k == n) continue;
+    if (n >= lanes) {
+      block(n - lanes).store_unaligned(o + n - lanes);
+    } else {
+      alignas(64) std::uint8_t tmp[lanes];
+      block(0).store_aligned(tmp);
+      std::memcpy(o, tmp, static_cast<std::size_t>(n));
+    }
+  }
+}
+}  // namespace detail
+
+template <class Arch>
+void CensusCostsRowU8<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                  int planes, int width, int n, std::size_t stride, std::uint8_t* out) {
+  switch (planes) {
+    case 1: detail::census_costs_row_u8<Arch, 1>(right_rev, left, width, n, stride, out); break;
+    case 2: detail::census_costs_row_u8<Arch, 2>(right_rev, left, width, n, stride, out); break;
+    case 3: detail::census_costs_row_u8<Arch, 3>(right_rev, left, width, n, stride, out); break;
+    default: detail::census_costs_row_u8<Arch, 4>(right_rev, left, width, n, stride, out); break;
+  }
+}
+
 // Each block's sum stays in a register while the rows are added.
 template <class Arch>
 void SumRowsU16<Arch>::call(const std::uint16_t* const* rows, int count, std::size_t n,
@@ -947,6 +1035,29 @@ void SumRowsU16<Arch>::call(const std::uint16_t* const* rows, int count, std::si
     std::uint32_t s = 0;
     for (int i = 0; i < count; ++i) s += rows[i][j];
     sum[j] = static_cast<std::uint16_t>(s);
+  }
+}
+
+// SumRowsU16 on bytes.
+template <class Arch>
+void SumRowsU8<Arch>::call(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum) {
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  constexpr std::size_t lanes = b8::size;
+  const auto block = [&](std::size_t j) {
+    b8 acc = b8::load_unaligned(rows[0] + j);
+    for (int i = 1; i < count; ++i) acc = acc + b8::load_unaligned(rows[i] + j);
+    acc.store_unaligned(sum + j);
+  };
+  std::size_t j = 0;
+  for (; j + lanes <= n; j += lanes) block(j);
+  if (j < n && n >= lanes) {  // the full block ending at n (sum is no row)
+    block(n - lanes);
+    return;
+  }
+  for (; j < n; ++j) {
+    std::uint32_t s = 0;
+    for (int i = 0; i < count; ++i) s += rows[i][j];
+    sum[j] = static_cast<std::uint8_t>(s);
   }
 }
 

@@ -89,8 +89,24 @@ struct CensusCostsRowU16 {
 };
 
 template <class Arch>
+struct CensusCostsRowU8 {
+  static void call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int planes,
+                   int width, int n, std::size_t stride, std::uint8_t* out);
+};
+
+template <class Arch>
 struct SumRowsU16 {
   static void call(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
+};
+
+template <class Arch>
+struct SumRowsU8 {
+  static void call(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum);
+};
+
+template <class Arch>
+struct NormalizeCostsU8 {
+  static void call(const std::uint8_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4);
 };
 
 template <class Arch>
@@ -126,6 +142,9 @@ struct RgbToGrayRowU8 {
   KEYWORD template struct CensusWindowU16<ARCH>;              \
   KEYWORD template struct CensusCostsRowU16<ARCH>;            \
   KEYWORD template struct SumRowsU16<ARCH>;                   \
+  KEYWORD template struct CensusCostsRowU8<ARCH>;             \
+  KEYWORD template struct SumRowsU8<ARCH>;                    \
+  KEYWORD template struct NormalizeCostsU8<ARCH>;             \
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;

@@ -136,6 +136,14 @@ TEST_P(CensusPathKernels, CensusCostsRowEqualsScalarAndWindows) {
         census_window_u16_scalar(rx.data(), lx.data(), planes, n, c.data() + static_cast<std::size_t>(x) * stride);
       }
       ASSERT_EQ(b, c) << "n=" << n << " planes=" << planes << " width=" << width;
+      // The byte costs: the same values, and the bytes past n of each pixel
+      // untouched.
+      std::vector<std::uint8_t> a8(stride * static_cast<std::size_t>(width), 0xA5), b8 = a8;
+      simd().census_costs_row_u8(rp.data(), lp.data(), planes, width, n, stride, a8.data());
+      scalar().census_costs_row_u8(rp.data(), lp.data(), planes, width, n, stride, b8.data());
+      ASSERT_EQ(a8, b8) << "n=" << n << " planes=" << planes << " width=" << width;
+      for (std::size_t i = 0; i < b8.size(); ++i)
+        ASSERT_EQ(b8[i], i % stride < static_cast<std::size_t>(n) ? b[i] : 0xA5) << "n=" << n << " at " << i;
     }
   }
 }
@@ -214,6 +222,32 @@ TEST_P(CensusPathKernels, SumRowsEqualsScalar) {
       std::uint32_t s0 = 0;
       for (const auto& r : rows) s0 += r[0];
       ASSERT_EQ(b[0], static_cast<std::uint16_t>(s0));
+    }
+}
+
+TEST_P(CensusPathKernels, SumRowsU8EqualsScalar) {
+  std::mt19937 rng(18);
+  std::uniform_int_distribution<int> v(0, 255);  // the sums wrap mod 2^8 alike
+  for (int count = 1; count <= 25; count += (count < 9 ? 1 : 8))
+    for (std::size_t n : {std::size_t{1}, std::size_t{7}, std::size_t{16}, std::size_t{31}, std::size_t{32},
+                          std::size_t{33}, std::size_t{64}, std::size_t{100}, std::size_t{1000}}) {
+      std::vector<std::vector<std::uint8_t>> rows(static_cast<std::size_t>(count), std::vector<std::uint8_t>(n));
+      std::vector<const std::uint8_t*> rp;
+      for (auto& r : rows) {
+        for (auto& x : r) x = static_cast<std::uint8_t>(v(rng));
+        rp.push_back(r.data());
+      }
+      std::vector<std::uint8_t> a(n + 1, 1), b(n + 1, 2);
+      simd().sum_rows_u8(rp.data(), count, n, a.data());
+      scalar().sum_rows_u8(rp.data(), count, n, b.data());
+      ASSERT_EQ(std::vector<std::uint8_t>(a.begin(), a.end() - 1), std::vector<std::uint8_t>(b.begin(), b.end() - 1))
+          << "count=" << count << " n=" << n;
+      ASSERT_EQ(a[n], 1);
+      for (std::size_t j = 0; j < n; ++j) {
+        std::uint32_t s0 = 0;
+        for (const auto& r : rows) s0 += r[j];
+        ASSERT_EQ(b[j], static_cast<std::uint8_t>(s0));
+      }
     }
 }
 

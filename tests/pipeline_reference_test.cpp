@@ -102,11 +102,17 @@ TEST(SyntheticBitExact, DefaultSceneSparseAndDense) {
 TEST(RandomBitExact, ThousandImagesAndParameterSets) {
   test::Rng rng(20261122);
   int cases = 0;
+  // The census box sums run in bytes when descriptor bits x window pixels <=
+  // 255 (PathMatcher::byte_costs_), else in u16: both must be covered.
+  int census_byte_sums = 0, census_u16_sums = 0;
   for (int i = 0; i < 1000; ++i) {
     const int w = rng.uniform(2, 40), h = rng.uniform(2, 30);
     const ImageU8 left = test::random_image(rng, w, h);
     const ImageU8 right = test::shifted_view(rng, left, rng.uniform(0, 6), rng.uniform(0, 10));
     const StereoParams p = test::random_params(rng, 24);
+    if (p.cost.kind == CostKind::kCensus && p.optimizer == Optimizer::kPaths)
+      ++((p.cost.census_w * p.cost.census_h - 1) * p.cost.window_w * p.cost.window_h <= 255 ? census_byte_sums
+                                                                                             : census_u16_sums);
     const StereoOutput ref = run_reference(left, right, p);
     const StereoOutput got = run_integer(left, right, p, 1 + i % 3);
     const std::string diff = first_difference(ref, got);
@@ -120,6 +126,8 @@ TEST(RandomBitExact, ThousandImagesAndParameterSets) {
     ++cases;
   }
   EXPECT_EQ(cases, 1000);
+  EXPECT_GE(census_byte_sums, 30) << census_byte_sums;
+  EXPECT_GE(census_u16_sums, 30) << census_u16_sums;
 }
 
 TEST(RandomBitExact, RgbInputUsesTheSameGrayRule) {

@@ -121,6 +121,9 @@ TEST_P(SimdKernels, DispatchGivesTheSetsOwnTable) {
   EXPECT_NE(s.aggregate_window_weighted_u32, scalar().aggregate_window_weighted_u32);
   EXPECT_NE(s.normalize_costs_u16, scalar().normalize_costs_u16);
   EXPECT_NE(s.normalize_costs_u32, scalar().normalize_costs_u32);
+  EXPECT_NE(s.normalize_costs_u8, scalar().normalize_costs_u8);
+  EXPECT_NE(s.census_costs_row_u8, scalar().census_costs_row_u8);
+  EXPECT_NE(s.sum_rows_u8, scalar().sum_rows_u8);
   EXPECT_NE(s.dp_step, scalar().dp_step);
   EXPECT_NE(s.dp_step_u16, scalar().dp_step_u16);
   EXPECT_NE(s.dp_pointer_u16, scalar().dp_pointer_u16);
@@ -366,6 +369,22 @@ TEST_P(SimdKernels, NormalizeCostsU16) {
     simd().normalize_costs_u16(sum.data(), inv, n, a.data());
     scalar().normalize_costs_u16(sum.data(), inv, n, b.data());
     ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " inv=" << inv;
+  });
+}
+
+TEST_P(SimdKernels, NormalizeCostsU8) {
+  for_each_case(5, [&](int n, int offset, int c, std::mt19937& rng) {
+    const Input<std::uint8_t> sum(pattern<std::uint8_t>(rng, n, c, 0, 0xff), offset);
+    const std::uint64_t inv = pick_inv(rng, c + offset);
+    Guarded<std::uint16_t> a(std::vector<std::uint16_t>(n, 0x5A5A), 0x5A5A);
+    Guarded<std::uint16_t> b = a, wide_out = a;
+    simd().normalize_costs_u8(sum.data(), inv, n, a.data());
+    scalar().normalize_costs_u8(sum.data(), inv, n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset << " inv=" << inv;
+    // The scalar twin is normalize_costs_u16 of the widened sums.
+    std::vector<std::uint16_t> wide(sum.data(), sum.data() + n);
+    scalar().normalize_costs_u16(wide.data(), inv, n, wide_out.data());
+    ASSERT_EQ(diff(b, wide_out), "") << "n=" << n;
   });
 }
 

@@ -41,7 +41,8 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   if (workers < 1 || workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: workers = " + std::to_string(workers));
   validate_params(params);
-  if (!kernels.path_step_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16)
+  if (!kernels.path_step_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16 || !kernels.sum_rows_u8 ||
+      !kernels.normalize_costs_u8)
     throw Error(ErrorCode::kInvalidArgument, "kernel set '" + std::string(kernels.name) + "' is incomplete");
   const int d = params.num_disp;
   const std::size_t n = static_cast<std::size_t>(max_width) * static_cast<std::size_t>(max_height);
@@ -67,7 +68,11 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   }
   max_width_ = max_width;
   const bool by_rows = params.cost.kind == CostKind::kCensus;
+  const int census_bits = params.cost.census_w * params.cost.census_h - 1;
+  byte_costs_ = by_rows && census_bits * params.cost.window_w * params.cost.window_h <= 255;
   ring_len_ = by_rows ? static_cast<std::size_t>(params.cost.window_h) * static_cast<std::size_t>(max_width) * cost_stride_ : 0;
+  // Byte rows take half the u16 elements.
+  const auto cost_elems = [this](std::size_t n) { return byte_costs_ ? (n + 1) / 2 : n; };
   costs_len_ = n * cost_stride_;
   preds_len_ = n * static_cast<std::size_t>(directions_ - 2);
   costs_ = untouched<std::uint16_t>(costs_len_);
@@ -98,8 +103,8 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
     w.scratch.resize(d);
     w.total.assign(cost_stride_ + 64, 0);
     if (by_rows) {
-      w.pixel_rows = untouched<std::uint16_t>(ring_len_);
-      w.column_sums = untouched<std::uint16_t>(static_cast<std::size_t>(max_width) * cost_stride_);
+      w.pixel_rows = untouched<std::uint16_t>(cost_elems(ring_len_));
+      w.column_sums = untouched<std::uint16_t>(cost_elems(static_cast<std::size_t>(max_width) * cost_stride_));
       w.slot_row.assign(static_cast<std::size_t>(params.cost.window_h), -1);
     }
     if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kSummedCosts) {
@@ -147,7 +152,9 @@ std::size_t PathMatcher::working_memory_bytes() const {
     bytes += (2 * path_stride_ + 64) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
              capacity_bytes(w.total) + capacity_bytes(w.slot_row) +
              capacity_bytes(w.lr_cost) + capacity_bytes(w.lr_k) + capacity_bytes(w.row_k) +
-             (w.pixel_rows ? (ring_len_ + static_cast<std::size_t>(max_width_) * cost_stride_) * sizeof(std::uint16_t) : 0);
+             (w.pixel_rows ? (ring_len_ + static_cast<std::size_t>(max_width_) * cost_stride_) *
+                                 (byte_costs_ ? sizeof(std::uint8_t) : sizeof(std::uint16_t))
+                           : 0);
   return bytes;
 }
 
@@ -185,7 +192,11 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
       side_tasks();
       Worker& wk = workers_[static_cast<std::size_t>(w)];
       row_homes_.for_each(w, [&](int c) {
-        census_costs_by_rows(ctx, samples, wk, c * kRowsPerChunk, std::min(samples.height, (c + 1) * kRowsPerChunk));
+        const int y0 = c * kRowsPerChunk, y1 = std::min(samples.height, (c + 1) * kRowsPerChunk);
+        if (byte_costs_)
+          census_costs_by_rows<std::uint8_t>(ctx, samples, wk, y0, y1);
+        else
+          census_costs_by_rows<std::uint16_t>(ctx, samples, wk, y0, y1);
       });
     });
   } else {
@@ -212,6 +223,8 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
 // (clipped) window columns and takes the mean by the model's Q32 rule. The
 // same integer sums as MatchContext::aggregate_sample, with each pixel's
 // popcounts done once instead of once per sample whose window holds it.
+// T = std::uint8_t (byte_costs_) holds the same integers in half the bytes.
+template <class T>
 void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk,
                                        int y0, int y1) {
   const int d = num_disp_;
@@ -221,17 +234,23 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
   const std::size_t row_len = static_cast<std::size_t>(max_width_) * cost_stride_;
   auto pixel_row = [&](int y) {
     const auto slot = static_cast<std::size_t>(y % slots);
-    std::uint16_t* r = wk.pixel_rows.get() + slot * row_len;
+    T* r = reinterpret_cast<T*>(wk.pixel_rows.get()) + slot * row_len;
     if (wk.slot_row[slot] != y) {
       ctx.census_pixel_costs(y, r, cost_stride_);
       wk.slot_row[slot] = y;
     }
     return r;
   };
-  std::uint16_t* cols = wk.column_sums.get();
-  std::uint16_t* sum = wk.total.data();
-  const std::uint16_t* parts[kMaxWindowSide];
-  const std::uint16_t* cells[kMaxDirectCells];
+  T* cols = reinterpret_cast<T*>(wk.column_sums.get());
+  T* sum = reinterpret_cast<T*>(wk.total.data());
+  const T* parts[kMaxWindowSide];
+  const T* cells[kMaxDirectCells];
+  const auto sum_rows = [this](const T* const* rows, int count, std::size_t n, T* out) {
+    if constexpr (sizeof(T) == 1)
+      kernels_->sum_rows_u8(rows, count, n, out);
+    else
+      kernels_->sum_rows_u16(rows, count, n, out);
+  };
   const int window_cells = params_.cost.window_w * params_.cost.window_h;
   for (int y = y0; y < y1; ++y) {
     const int samples_in_row = samples.row_end(y) - samples.row_begin(y);
@@ -245,7 +264,7 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
     // direct sums: the same integers, added in another order.
     const bool direct = window_cells <= kMaxDirectCells &&
                         std::int64_t{samples_in_row} * params_.cost.window_w * (rows - 1) < std::int64_t{w} * rows;
-    if (!direct) kernels_->sum_rows_u16(parts, rows, static_cast<std::size_t>(w) * cost_stride_, cols);
+    if (!direct) sum_rows(parts, rows, static_cast<std::size_t>(w) * cost_stride_, cols);
     for (int i = samples.row_begin(y); i < samples.row_end(y); ++i) {
       const int x = samples.x_of(i);
       const int wx0 = std::max(0, x - rx), wx1 = std::min(w - 1, x + rx);
@@ -253,15 +272,18 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
         int c = 0;
         for (int r = 0; r < rows; ++r)
           for (int xx = wx0; xx <= wx1; ++xx) cells[c++] = parts[r] + static_cast<std::size_t>(xx) * cost_stride_;
-        kernels_->sum_rows_u16(cells, c, static_cast<std::size_t>(d), sum);
+        sum_rows(cells, c, static_cast<std::size_t>(d), sum);
       } else {
-        const std::uint16_t* at[kMaxWindowSide];
+        const T* at[kMaxWindowSide];
         for (int xx = wx0; xx <= wx1; ++xx) at[xx - wx0] = cols + static_cast<std::size_t>(xx) * cost_stride_;
-        kernels_->sum_rows_u16(at, wx1 - wx0 + 1, static_cast<std::size_t>(d), sum);
+        sum_rows(at, wx1 - wx0 + 1, static_cast<std::size_t>(d), sum);
       }
       const auto pixels = static_cast<std::uint64_t>((wx1 - wx0 + 1) * (wy1 - wy0 + 1));
-      kernels_->normalize_costs_u16(sum, (std::uint64_t{1} << 32) / pixels, d,
-                                    costs_.get() + row(i, cost_stride_));
+      std::uint16_t* cost_q4 = costs_.get() + row(i, cost_stride_);
+      if constexpr (sizeof(T) == 1)
+        kernels_->normalize_costs_u8(sum, (std::uint64_t{1} << 32) / pixels, d, cost_q4);
+      else
+        kernels_->normalize_costs_u16(sum, (std::uint64_t{1} << 32) / pixels, d, cost_q4);
     }
   }
 }

@@ -153,6 +153,9 @@ class PathMatcher {
   std::size_t costs_len_ = 0, preds_len_ = 0;
   int max_width_ = 0;
   std::size_t ring_len_ = 0;  // per worker: window_h x max_width x cost_stride_ (census only)
+  // The census box sums in bytes: descriptor bits x window pixels <= 255, so
+  // no per-pixel cost nor window sum exceeds a byte (census only).
+  bool byte_costs_ = false;
   LargeArray<std::uint16_t> costs_;
   LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
@@ -182,6 +185,7 @@ class PathMatcher {
     std::vector<std::uint16_t> total;
     // Census costs by rows (compute_costs): window_h rows of per-pixel costs,
     // their column sums, and which image row each ring slot holds.
+    // u16 elements, or bytes (byte_costs_) in the first half.
     LargeArray<std::uint16_t> pixel_rows;
     LargeArray<std::uint16_t> column_sums;
     std::vector<int> slot_row;
@@ -191,6 +195,7 @@ class PathMatcher {
     std::vector<std::uint16_t> lr_cost, lr_k, row_k;
   };
   std::vector<Worker> workers_;
+  template <class T>
   void census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk, int y0, int y1);
   WorkChunks rows_, dirs_;
   HomeChunks row_homes_;  // census costs by rows: chunks of 16 rows

@@ -54,6 +54,11 @@ void normalize_costs_u16_scalar(const std::uint16_t* sum, std::uint64_t inv_q32,
     cost_q4[k] = static_cast<std::uint16_t>((sum[k] * inv_q32 * kCostScale + kInvHalf) >> kInvShift);
 }
 
+void normalize_costs_u8_scalar(const std::uint8_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4) {
+  for (int k = 0; k < n; ++k)
+    cost_q4[k] = static_cast<std::uint16_t>((sum[k] * inv_q32 * kCostScale + kInvHalf) >> kInvShift);
+}
+
 void normalize_costs_u32_scalar(const std::uint32_t* sum, std::uint64_t inv_q32, int n,
                                 std::uint16_t* cost_q4) {
   for (int k = 0; k < n; ++k)

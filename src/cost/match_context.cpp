@@ -119,7 +119,8 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   if (!kernels.accumulate_abs_diff_u16 || !kernels.accumulate_abs_diff_weighted_u32 ||
       !kernels.aggregate_window_box_u16 || !kernels.aggregate_window_weighted_u32 ||
       !kernels.normalize_costs_u16 || !kernels.normalize_costs_u32 || !kernels.dp_step ||
-      !kernels.census_row_u8 || !kernels.census_window_u16 || !kernels.census_costs_row_u16)
+      !kernels.census_row_u8 || !kernels.census_window_u16 || !kernels.census_costs_row_u16 ||
+      !kernels.census_costs_row_u8)
     fail(std::string("kernel set '") + (kernels.name ? kernels.name : "?") + "' is incomplete");
 
   const CostParams& c = params.cost;
@@ -239,6 +240,15 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* cen
 }
 
 void MatchContext::census_pixel_costs(int y, std::uint16_t* out, std::size_t stride) const {
+  census_pixel_costs_into(y, out, stride);
+}
+
+void MatchContext::census_pixel_costs(int y, std::uint8_t* out, std::size_t stride) const {
+  census_pixel_costs_into(y, out, stride);
+}
+
+template <class T>
+void MatchContext::census_pixel_costs_into(int y, T* out, std::size_t stride) const {
   const std::uint16_t* right[4];
   const std::uint16_t* left[4];
   for (int p = 0; p < census_planes_; ++p) {
@@ -247,7 +257,10 @@ void MatchContext::census_pixel_costs(int y, std::uint16_t* out, std::size_t str
                rev_offset(0);
     left[p] = left_census_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * census_stride_;
   }
-  kernels_->census_costs_row_u16(right, left, census_planes_, width_, params_.num_disp, stride, out);
+  if constexpr (sizeof(T) == 1)
+    kernels_->census_costs_row_u8(right, left, census_planes_, width_, params_.num_disp, stride, out);
+  else
+    kernels_->census_costs_row_u16(right, left, census_planes_, width_, params_.num_disp, stride, out);
 }
 
 // Mean Hamming distance over the clipped window, in Q4 (0 .. 16 * bits).

@@ -110,6 +110,8 @@ class MatchContext {
   // aggregate_sample computes per sample, docs/model.md section 2). The rows
   // y reads must be prepared.
   void census_pixel_costs(int y, std::uint16_t* out, std::size_t stride) const;
+  // The same costs as bytes (each is at most 64).
+  void census_pixel_costs(int y, std::uint8_t* out, std::size_t stride) const;
   int census_planes() const { return census_planes_; }
   // Census descriptor plane p of left pixel (x, y) of the current frame.
   std::uint16_t left_census(int p, int x, int y) const {
@@ -164,6 +166,8 @@ class MatchContext {
   UntouchedVector<std::uint16_t> left_census_;
   UntouchedVector<std::uint16_t> right_census_rev_;
   void census_rows(ImageView<const std::uint8_t> img, int y, CensusScratch& scratch) const;
+  template <class T>
+  void census_pixel_costs_into(int y, T* out, std::size_t stride) const;
   void aggregate_census(int x0, int x1, int y0, int y1, std::uint16_t* cost_q4,
                         CostScratch& scratch) const;
   std::uint8_t ws_[256] = {};              // similarity weight by |L(p) - L(c)|

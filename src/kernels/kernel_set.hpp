@@ -108,10 +108,21 @@ struct KernelSet {
                                int planes, int width, int n, std::size_t stride,
                                std::uint16_t* out) = nullptr;
 
+  // census_costs_row_u16 with one byte per cost (at most 64 bits differ).
+  void (*census_costs_row_u8)(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                              int planes, int width, int n, std::size_t stride, std::uint8_t* out) = nullptr;
+
   // sum[j] = sum_{i < count} rows[i][j] (mod 2^16), j in [0, n): the census
   // cost's box sums, over a window's rows and then its columns. count >= 1.
   void (*sum_rows_u16)(const std::uint16_t* const* rows, int count, std::size_t n,
                        std::uint16_t* sum) = nullptr;
+  // The same on bytes (mod 2^8): the box sums of a census whose window sum
+  // cannot exceed 255 (descriptor bits x window pixels <= 255), half the bytes.
+  void (*sum_rows_u8)(const std::uint8_t* const* rows, int count, std::size_t n,
+                      std::uint8_t* sum) = nullptr;
+  // normalize_costs_u16 of byte sums.
+  void (*normalize_costs_u8)(const std::uint8_t* sum, std::uint64_t inv_q32, int n,
+                             std::uint16_t* cost_q4) = nullptr;
 
   // One step of a path (docs/model.md section 3b), for k in [0, n):
   //   out[k] = cost[k] + min(prev[k], prev[k-1] + p1, prev[k+1] + p1, prev_min + p2) - prev_min

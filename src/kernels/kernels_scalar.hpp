@@ -23,6 +23,7 @@ void aggregate_window_weighted_u32_scalar(const std::uint8_t* const* right_rev,
                                           std::uint32_t* sum);
 void normalize_costs_u16_scalar(const std::uint16_t* sum, std::uint64_t inv_q32, int n,
                                 std::uint16_t* cost_q4);
+void normalize_costs_u8_scalar(const std::uint8_t* sum, std::uint64_t inv_q32, int n, std::uint16_t* cost_q4);
 void normalize_costs_u32_scalar(const std::uint32_t* sum, std::uint64_t inv_q32, int n,
                                 std::uint16_t* cost_q4);
 void dp_step_scalar(const std::uint16_t* cost_q4, const std::uint32_t* prev,
@@ -39,7 +40,10 @@ void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::
                               int count, int n, std::uint16_t* sum);
 void census_costs_row_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
                                  int planes, int width, int n, std::size_t stride, std::uint16_t* out);
+void census_costs_row_u8_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                int planes, int width, int n, std::size_t stride, std::uint8_t* out);
 void sum_rows_u16_scalar(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
+void sum_rows_u8_scalar(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum);
 std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_t* prev,
                                    std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
                                    int n, std::uint16_t* out, std::uint16_t* sum,
