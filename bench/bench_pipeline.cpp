@@ -109,7 +109,8 @@ void bench_frame(benchmark::State& state, const Pair* pair, int ndisp, bool dens
 
 // The census work at every pixel, as the matcher's cost stage does it: the
 // transform of both images, then each row's per-pixel Hamming costs (here into
-// one row buffer; the matcher keeps a ring of the window's rows).
+// one row buffer; the matcher keeps a ring of the window's rows), in bytes
+// when the matcher's box sums are (descriptor bits x window pixels <= 255).
 void bench_census_pixels(benchmark::State& state, const Pair* pair, int ndisp, KernelChoice k) {
   const int w = pair->left.width, h = pair->left.height;
   StereoParams params;
@@ -118,6 +119,8 @@ void bench_census_pixels(benchmark::State& state, const Pair* pair, int ndisp, K
   CensusScratch census;
   census.resize(w);
   const std::size_t stride = (static_cast<std::size_t>(ndisp) + 15) / 16 * 16;
+  const CostParams& c = params.cost;
+  const bool bytes = (c.census_w * c.census_h - 1) * c.window_w * c.window_h <= 255;
   std::vector<std::uint16_t> row(static_cast<std::size_t>(w) * stride + 64);
   double total = 0;
   for (auto _ : state) {
@@ -125,7 +128,10 @@ void bench_census_pixels(benchmark::State& state, const Pair* pair, int ndisp, K
     ctx.begin_frame(pair->left.view(), pair->right.view());
     ctx.prepare_right_rows(0, h, &census);
     for (int y = 0; y < h; ++y) {
-      ctx.census_pixel_costs(y, row.data(), stride);
+      if (bytes)
+        ctx.census_pixel_costs(y, reinterpret_cast<std::uint8_t*>(row.data()), stride);
+      else
+        ctx.census_pixel_costs(y, row.data(), stride);
       benchmark::DoNotOptimize(row.data());
     }
     benchmark::ClobberMemory();
