@@ -119,16 +119,7 @@ batch<std::uint16_t, A> min_u16(const batch<std::uint16_t, A>& a,
                                 const batch<std::uint16_t, A>& b, const xsimd::generic&) {
   return xsimd::min(a, b);  // native on AVX2 and NEON
 }
-// ---- bit count of each u16 lane (SWAR: pairs, nibbles, bytes, then the two bytes)
-template <class A>
-batch<std::uint16_t, A> popcount_u16(batch<std::uint16_t, A> v, const xsimd::generic&) {
-  using b16 = batch<std::uint16_t, A>;
-  v = v - ((v >> 1) & b16(std::uint16_t{0x5555}));
-  v = (v & b16(std::uint16_t{0x3333})) + ((v >> 2) & b16(std::uint16_t{0x3333}));
-  v = (v + (v >> 4)) & b16(std::uint16_t{0x0F0F});
-  return (v + (v >> 8)) & b16(std::uint16_t{0x001F});
-}
-// ---- the bit count of each byte, in place (the first three SWAR steps)
+// ---- the bit count of each byte, in place (SWAR: pairs, nibbles, bytes)
 template <class A>
 batch<std::uint16_t, A> byte_popcounts_u16(batch<std::uint16_t, A> v, const xsimd::generic&) {
   using b16 = batch<std::uint16_t, A>;
@@ -261,17 +252,8 @@ batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b, const xsimd::avx2&) {
   return _mm256_mulhi_epu16(a, b);
 }
-// Each byte's bit count from a 16-entry nibble table (vpshufb), then the two
-// bytes of each u16 lane added (vpmaddubsw with weights 1).
-template <class A>
-batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v, const xsimd::avx2&) {
-  const __m256i table = _mm256_setr_epi8(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4,
-                                         0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
-  const __m256i nibble = _mm256_set1_epi8(0x0F);
-  const __m256i lo = _mm256_shuffle_epi8(table, _mm256_and_si256(v, nibble));
-  const __m256i hi = _mm256_shuffle_epi8(table, _mm256_and_si256(_mm256_srli_epi16(v, 4), nibble));
-  return _mm256_maddubs_epi16(_mm256_add_epi8(lo, hi), _mm256_set1_epi8(1));
-}
+// Each byte's bit count from a 16-entry nibble table (vpshufb); a lane's two
+// bytes added by vpmaddubsw with weights 1.
 template <class A>
 batch<std::uint16_t, A> byte_popcounts_u16(const batch<std::uint16_t, A>& v, const xsimd::avx2&) {
   const __m256i table = _mm256_setr_epi8(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4,
@@ -366,10 +348,6 @@ batch<std::uint16_t, A> broadcast_first_u16(const batch<std::uint16_t, A>& a, co
 
 #if XSIMD_WITH_NEON
 // vcnt counts the bits of each byte; the pairwise widening add sums each u16's two.
-template <class A>
-batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v, const xsimd::neon&) {
-  return vpaddlq_u8(vcntq_u8(vreinterpretq_u8_u16(v)));
-}
 template <class A>
 batch<std::uint16_t, A> byte_popcounts_u16(const batch<std::uint16_t, A>& v, const xsimd::neon&) {
   return vreinterpretq_u16_u8(vcntq_u8(vreinterpretq_u8_u16(v)));
@@ -491,11 +469,6 @@ batch<std::uint16_t, A> min_u16(const batch<std::uint16_t, A>& a,
                                 const batch<std::uint16_t, A>& b) {
   return detail::min_u16(a, b, A{});
 }
-// popcount(v) of each lane: SWAR (SSE2), nibble table (AVX2), vcnt (NEON).
-template <class A>
-batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v) {
-  return detail::popcount_u16(v, A{});
-}
 // Each byte of each lane replaced by its bit count; add_bytes_u16 adds a
 // lane's two bytes. popcount_u16 is the two in a row: counts of several words
 // can be added as bytes first (while every byte stays below 256) and their
@@ -507,6 +480,11 @@ batch<std::uint16_t, A> byte_popcounts_u16(const batch<std::uint16_t, A>& v) {
 template <class A>
 batch<std::uint16_t, A> add_bytes_u16(const batch<std::uint16_t, A>& v) {
   return detail::add_bytes_u16(v, A{});
+}
+// popcount(v) of each lane: SWAR (SSE2), nibble table (AVX2), vcnt (NEON).
+template <class A>
+batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v) {
+  return add_bytes_u16(byte_popcounts_u16(v));
 }
 template <std::size_t S, class A>
 batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a) {

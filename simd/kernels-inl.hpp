@@ -927,13 +927,17 @@ void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const st
 }
 
 namespace detail {
-// CensusCostsRowU16 with the plane count known: the planes' left descriptors
-// stay broadcast in registers across the pixel's disparity blocks.
-template <class Arch, int P>
-void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width,
-                      int n, std::size_t stride, std::uint16_t* out) {
+// A row's per-pixel Hamming costs with the plane count known: the planes' left
+// descriptors stay broadcast in registers across the pixel's disparity blocks.
+// The planes' counts are added per byte (at most 8 P <= 32 each), then each
+// lane's two bytes once. Byte costs (T = u8) narrow two u16 registers of them
+// into one; a byte run shorter than a register stores its n costs from a copy.
+template <class Arch, int P, class T>
+void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width, int n,
+                      std::size_t stride, T* out) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr int lanes = static_cast<int>(b16::size);
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  constexpr int lanes16 = static_cast<int>(b16::size), lanes8 = static_cast<int>(b8::size);
   for (int x = 0; x < width; ++x) {
     b16 l[P];
     const std::uint16_t* r[P];
@@ -941,15 +945,38 @@ void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t
       l[p] = b16(left[p][x]);
       r[p] = right_rev[p] - x;
     }
-    std::uint16_t* o = out + static_cast<std::size_t>(x) * stride;
-    // The planes' counts are added per byte (at most 8 P <= 32 each), then
-    // each lane's two bytes once.
-    const auto block = [&](int k) {
+    T* o = out + static_cast<std::size_t>(x) * stride;
+    const auto costs16 = [&](int k) {
       b16 acc = escape::byte_popcounts_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
       for (int p = 1; p < P; ++p) acc = acc + escape::byte_popcounts_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
       return escape::add_bytes_u16(acc);
     };
-    store_u16_blocks<lanes>(n, o, block);
+    if constexpr (sizeof(T) == 2) {
+      store_u16_blocks<lanes16>(n, o, costs16);
+    } else {
+      const auto block = [&](int k) { return escape::narrow_u16(costs16(k), costs16(k + lanes16)); };
+      int k = 0;
+      for (; k + lanes8 <= n; k += lanes8) block(k).store_unaligned(o + k);
+      if (k == n) continue;
+      if (n >= lanes8) {
+        block(n - lanes8).store_unaligned(o + n - lanes8);
+      } else {
+        alignas(64) std::uint8_t tmp[lanes8];
+        block(0).store_aligned(tmp);
+        std::memcpy(o, tmp, static_cast<std::size_t>(n));
+      }
+    }
+  }
+}
+
+template <class Arch, class T>
+void census_costs_row_of_planes(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                int planes, int width, int n, std::size_t stride, T* out) {
+  switch (planes) {
+    case 1: census_costs_row<Arch, 1>(right_rev, left, width, n, stride, out); break;
+    case 2: census_costs_row<Arch, 2>(right_rev, left, width, n, stride, out); break;
+    case 3: census_costs_row<Arch, 3>(right_rev, left, width, n, stride, out); break;
+    default: census_costs_row<Arch, 4>(right_rev, left, width, n, stride, out); break;
   }
 }
 }  // namespace detail
@@ -957,108 +984,50 @@ void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t
 template <class Arch>
 void CensusCostsRowU16<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
                                    int planes, int width, int n, std::size_t stride, std::uint16_t* out) {
-  switch (planes) {
-    case 1: detail::census_costs_row<Arch, 1>(right_rev, left, width, n, stride, out); break;
-    case 2: detail::census_costs_row<Arch, 2>(right_rev, left, width, n, stride, out); break;
-    case 3: detail::census_costs_row<Arch, 3>(right_rev, left, width, n, stride, out); break;
-    default: detail::census_costs_row<Arch, 4>(right_rev, left, width, n, stride, out); break;
-  }
+  detail::census_costs_row_of_planes<Arch>(right_rev, left, planes, width, n, stride, out);
+}
+
+template <class Arch>
+void CensusCostsRowU8<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                  int planes, int width, int n, std::size_t stride, std::uint8_t* out) {
+  detail::census_costs_row_of_planes<Arch>(right_rev, left, planes, width, n, stride, out);
 }
 
 namespace detail {
-// census_costs_row with byte costs: two u16 blocks of costs (at most 16 P
-// each) narrowed into one byte register. A run shorter than a byte register
-// stores its n costs from a copy.
-template <class Arch, int P>
-void census_costs_row_u8(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width,
-                         int n, std::size_t stride, std::uint8_t* out) {
-  using b8 = xsimd::batch<std::uint8_t, Arch>;
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr int lanes = static_cast<int>(b8::size), half = lanes / 2;
-  for (int x = 0; x < width; ++x) {
-    b16 l[P];
-    const std::uint16_t* r[P];
-    for (int p = 0; p < P; ++p) {
-      l[p] = b16(left[p][x]);
-      r[p] = right_rev[p] - x;
-    }
-    std::uint8_t* o = out + static_cast<std::size_t>(x) * stride;
-    const auto costs16 = [&](int k) {
-      b16 acc = escape::byte_popcounts_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
-      for (int p = 1; p < P; ++p) acc = acc + escape::byte_popcounts_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
-      return escape::add_bytes_u16(acc);
-    };
-    const auto block = [&](int k) { return escape::narrow_u16(costs16(k), costs16(k + half)); };
-    int k = 0;
-    for (; k + lanes <= n; k += lanes) block(k).store_unaligned(o + k);
-    if (k == n) continue;
-    if (n >= lanes) {
-      block(n - lanes).store_unaligned(o + n - lanes);
-    } else {
-      alignas(64) std::uint8_t tmp[lanes];
-      block(0).store_aligned(tmp);
-      std::memcpy(o, tmp, static_cast<std::size_t>(n));
-    }
+// sum_rows on lanes of T (u16, or bytes), mod 2^(8 sizeof T): each block's sum
+// stays in a register while the rows are added.
+template <class Arch, class T>
+void sum_rows(const T* const* rows, int count, std::size_t n, T* sum) {
+  using bt = xsimd::batch<T, Arch>;
+  constexpr std::size_t lanes = bt::size;
+  const auto block = [&](std::size_t j) {
+    bt acc = bt::load_unaligned(rows[0] + j);
+    for (int i = 1; i < count; ++i) acc = acc + bt::load_unaligned(rows[i] + j);
+    acc.store_unaligned(sum + j);
+  };
+  std::size_t j = 0;
+  for (; j + lanes <= n; j += lanes) block(j);
+  if (j < n && n >= lanes) {  // the full block ending at n (sum is no row)
+    block(n - lanes);
+    return;
+  }
+  for (; j < n; ++j) {
+    std::uint32_t s = 0;
+    for (int i = 0; i < count; ++i) s += rows[i][j];
+    sum[j] = static_cast<T>(s);
   }
 }
 }  // namespace detail
 
 template <class Arch>
-void CensusCostsRowU8<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
-                                  int planes, int width, int n, std::size_t stride, std::uint8_t* out) {
-  switch (planes) {
-    case 1: detail::census_costs_row_u8<Arch, 1>(right_rev, left, width, n, stride, out); break;
-    case 2: detail::census_costs_row_u8<Arch, 2>(right_rev, left, width, n, stride, out); break;
-    case 3: detail::census_costs_row_u8<Arch, 3>(right_rev, left, width, n, stride, out); break;
-    default: detail::census_costs_row_u8<Arch, 4>(right_rev, left, width, n, stride, out); break;
-  }
-}
-
-// Each block's sum stays in a register while the rows are added.
-template <class Arch>
 void SumRowsU16<Arch>::call(const std::uint16_t* const* rows, int count, std::size_t n,
                             std::uint16_t* sum) {
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr std::size_t lanes = b16::size;
-  const auto block = [&](std::size_t j) {
-    b16 acc = b16::load_unaligned(rows[0] + j);
-    for (int i = 1; i < count; ++i) acc = acc + b16::load_unaligned(rows[i] + j);
-    acc.store_unaligned(sum + j);
-  };
-  std::size_t j = 0;
-  for (; j + lanes <= n; j += lanes) block(j);
-  if (j < n && n >= lanes) {  // the full block ending at n (sum is no row)
-    block(n - lanes);
-    return;
-  }
-  for (; j < n; ++j) {
-    std::uint32_t s = 0;
-    for (int i = 0; i < count; ++i) s += rows[i][j];
-    sum[j] = static_cast<std::uint16_t>(s);
-  }
+  detail::sum_rows<Arch>(rows, count, n, sum);
 }
 
-// SumRowsU16 on bytes.
 template <class Arch>
 void SumRowsU8<Arch>::call(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum) {
-  using b8 = xsimd::batch<std::uint8_t, Arch>;
-  constexpr std::size_t lanes = b8::size;
-  const auto block = [&](std::size_t j) {
-    b8 acc = b8::load_unaligned(rows[0] + j);
-    for (int i = 1; i < count; ++i) acc = acc + b8::load_unaligned(rows[i] + j);
-    acc.store_unaligned(sum + j);
-  };
-  std::size_t j = 0;
-  for (; j + lanes <= n; j += lanes) block(j);
-  if (j < n && n >= lanes) {  // the full block ending at n (sum is no row)
-    block(n - lanes);
-    return;
-  }
-  for (; j < n; ++j) {
-    std::uint32_t s = 0;
-    for (int i = 0; i < count; ++i) s += rows[i][j];
-    sum[j] = static_cast<std::uint8_t>(s);
-  }
+  detail::sum_rows<Arch>(rows, count, n, sum);
 }
 
 // ------------------------------------------------------------------ paths

@@ -44,42 +44,47 @@ void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::
   }
 }
 
-void census_costs_row_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
-                                 int planes, int width, int n, std::size_t stride, std::uint16_t* out) {
+namespace {
+template <class T>
+void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int planes,
+                      int width, int n, std::size_t stride, T* out) {
   for (int x = 0; x < width; ++x)
     for (int k = 0; k < n; ++k) {
       int s = 0;
       for (int p = 0; p < planes; ++p)
         s += census_popcount_u16(static_cast<std::uint16_t>(left[p][x] ^ right_rev[p][k - x]));
-      out[static_cast<std::size_t>(x) * stride + static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(s);
+      out[static_cast<std::size_t>(x) * stride + static_cast<std::size_t>(k)] = static_cast<T>(s);
     }
+}
+}  // namespace
+
+void census_costs_row_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+                                 int planes, int width, int n, std::size_t stride, std::uint16_t* out) {
+  census_costs_row(right_rev, left, planes, width, n, stride, out);
 }
 
 void census_costs_row_u8_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
                                 int planes, int width, int n, std::size_t stride, std::uint8_t* out) {
-  for (int x = 0; x < width; ++x)
-    for (int k = 0; k < n; ++k) {
-      int s = 0;
-      for (int p = 0; p < planes; ++p)
-        s += census_popcount_u16(static_cast<std::uint16_t>(left[p][x] ^ right_rev[p][k - x]));
-      out[static_cast<std::size_t>(x) * stride + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(s);
-    }
+  census_costs_row(right_rev, left, planes, width, n, stride, out);
 }
 
-void sum_rows_u8_scalar(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum) {
+namespace {
+template <class T>
+void sum_rows(const T* const* rows, int count, std::size_t n, T* sum) {
   for (std::size_t j = 0; j < n; ++j) {
     std::uint32_t s = 0;
     for (int i = 0; i < count; ++i) s += rows[i][j];
-    sum[j] = static_cast<std::uint8_t>(s);
+    sum[j] = static_cast<T>(s);
   }
+}
+}  // namespace
+
+void sum_rows_u8_scalar(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum) {
+  sum_rows(rows, count, n, sum);
 }
 
 void sum_rows_u16_scalar(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum) {
-  for (std::size_t j = 0; j < n; ++j) {
-    std::uint32_t s = 0;
-    for (int i = 0; i < count; ++i) s += rows[i][j];
-    sum[j] = static_cast<std::uint16_t>(s);
-  }
+  sum_rows(rows, count, n, sum);
 }
 
 }  // namespace tristereo
