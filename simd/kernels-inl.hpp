@@ -893,17 +893,18 @@ namespace detail {
 // Always inlined: census_costs_row calls it once per pixel, and as a call
 // (GCC 12 did not inline it) its block read the broadcast descriptors back
 // from the stack: census_pixels on Cones took 1.80 ms instead of 1.37.
-template <int kLanes, class Block>
-inline __attribute__((always_inline)) void store_u16_blocks(int n, std::uint16_t* out, Block block) {
+// T is the lane type (u16 costs or sums, byte costs).
+template <int kLanes, class T, class Block>
+inline __attribute__((always_inline)) void store_blocks(int n, T* out, Block block) {
   int k = 0;
   for (; k + kLanes <= n; k += kLanes) block(k).store_unaligned(out + k);
   if (k == n) return;
   if (n >= kLanes) {
     block(n - kLanes).store_unaligned(out + n - kLanes);
   } else {
-    alignas(64) std::uint16_t tmp[kLanes];
+    alignas(64) T tmp[kLanes];
     block(k).store_aligned(tmp);
-    std::memcpy(out + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
+    std::memcpy(out + k, tmp, static_cast<std::size_t>(n - k) * sizeof(T));
   }
 }
 }  // namespace detail
@@ -923,7 +924,7 @@ void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const st
       acc = acc + escape::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
     return acc;
   };
-  detail::store_u16_blocks<lanes>(n, sum, block);
+  detail::store_blocks<lanes>(n, sum, block);
 }
 
 namespace detail {
@@ -931,7 +932,7 @@ namespace detail {
 // descriptors stay broadcast in registers across the pixel's disparity blocks.
 // The planes' counts are added per byte (at most 8 P <= 32 each), then each
 // lane's two bytes once. Byte costs (T = u8) narrow two u16 registers of them
-// into one; a byte run shorter than a register stores its n costs from a copy.
+// into one.
 template <class Arch, int P, class T>
 void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width, int n,
                       std::size_t stride, T* out) {
@@ -951,21 +952,10 @@ void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t
       for (int p = 1; p < P; ++p) acc = acc + escape::byte_popcounts_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
       return escape::add_bytes_u16(acc);
     };
-    if constexpr (sizeof(T) == 2) {
-      store_u16_blocks<lanes16>(n, o, costs16);
-    } else {
-      const auto block = [&](int k) { return escape::narrow_u16(costs16(k), costs16(k + lanes16)); };
-      int k = 0;
-      for (; k + lanes8 <= n; k += lanes8) block(k).store_unaligned(o + k);
-      if (k == n) continue;
-      if (n >= lanes8) {
-        block(n - lanes8).store_unaligned(o + n - lanes8);
-      } else {
-        alignas(64) std::uint8_t tmp[lanes8];
-        block(0).store_aligned(tmp);
-        std::memcpy(o, tmp, static_cast<std::size_t>(n));
-      }
-    }
+    if constexpr (sizeof(T) == 2)
+      store_blocks<lanes16>(n, o, costs16);
+    else
+      store_blocks<lanes8>(n, o, [&](int k) { return escape::narrow_u16(costs16(k), costs16(k + lanes16)); });
   }
 }
 
