@@ -59,9 +59,14 @@ void SampleFill::configure(int max_samples, int max_triangles, int workers) {
 
 int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool) {
   const int n = samples.count();
+  // Without a branch on the data: a quarter of the samples or so are
+  // invalid, spread out, and the branch mispredicted at every other one.
+  std::int32_t* pending_ids = pending_.get();
   int pending = 0;
-  for (int i = 0; i < n; ++i)
-    if (disp_q4[i] == kInvalidDispQ4) pending_[static_cast<std::size_t>(pending++)] = i;
+  for (int i = 0; i < n; ++i) {
+    pending_ids[pending] = i;
+    pending += disp_q4[i] == kInvalidDispQ4 ? 1 : 0;
+  }
   if (pending == 0) return 0;
   return samples.dense() ? fill_grid(samples, disp_q4, pool, pending) : fill_mesh(samples, disp_q4, pool, pending);
 }
@@ -110,30 +115,36 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   std::int32_t* cand = candidate_.get();
   for (int j = 0; j < pending; ++j) cand[pending_[static_cast<std::size_t>(j)]] = INT_MAX;
   // Offers along triangle t's edges to its corners invalid at the start of the
-  // round; false when all three are valid (t can never carry a value again).
+  // round. True when t must be walked again: only when all three corners are
+  // invalid. With one or two valid corners, every invalid one takes an offer
+  // from t, so all three are valid after this round and t can never carry a
+  // value again (the first round keeps a few percent of the triangles, not
+  // the quarter to a third that have an invalid corner).
   const auto walk = [&](std::int32_t t, auto offer) {
     const Triangle& tr = tris[t];
     const int a = tr[0], b = tr[1], c = tr[2];
     const int da = disp_q4[a], db = disp_q4[b], dc = disp_q4[c];
     const bool ia = da == kInvalidDispQ4, ib = db == kInvalidDispQ4, ic = dc == kInvalidDispQ4;
     if (!(ia || ib || ic)) return false;
+    if (ia && ib && ic) return true;
     const int va = ia ? INT_MAX : da, vb = ib ? INT_MAX : db, vc = ic ? INT_MAX : dc;
     if (ia) offer(a, std::min(vb, vc));
     if (ib) offer(b, std::min(va, vc));
     if (ic) offer(c, std::min(va, vb));
-    return true;
+    return false;
   };
   const auto offer_alone = [cand](int i, int v) {
     if (v < cand[i]) cand[i] = v;
   };
   // One round's walk over n triangles (live[0, n) when `listed`, else all of
-  // them); keeps those that still have an invalid corner in live[0, kept).
-  // With a pool and enough triangles, by chunks: each chunk keeps its
-  // triangles in place in its own stretch of live_, joined up after; each
-  // worker offers into its own candidates, merged after (a corner can be in
-  // two workers' chunks; an atomic min per offer cost more than the walk it
-  // shared). A sample still pending has INT_MAX in every worker's array (the
-  // merge left it so), so only a worker's first round sets its array.
+  // them); keeps those walk() keeps in live[0, kept). With a pool and enough
+  // triangles, by chunks: each chunk keeps its triangles in place in its own
+  // stretch of live_, joined up after; each worker offers into its own
+  // candidates, and the round's end takes the smallest of them (a corner can
+  // be in two workers' chunks; an atomic min per offer cost more than the
+  // walk it shared). A sample still pending has INT_MAX in every worker's
+  // array (it took no offer anywhere), so only a worker's first round sets
+  // its array.
   const int workers = pool != nullptr ? std::min(pool->size(), static_cast<int>(worker_candidate_.size()) + 1) : 1;
   bool workers_ready = false;
   const auto walk_round = [&](bool listed, int n, int chunk) {
@@ -167,10 +178,6 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
       }
     });
     workers_ready = true;
-    for (int j = 0; j < pending; ++j) {
-      const auto i = static_cast<std::size_t>(pending_[static_cast<std::size_t>(j)]);
-      for (int w = 1; w < workers; ++w) cand[i] = std::min(cand[i], worker_candidate_[static_cast<std::size_t>(w - 1)][i]);
-    }
     int kept = 0;
     for (int c = 0; c < chunks; ++c) {
       const std::int32_t* from = live + static_cast<std::ptrdiff_t>(c) * chunk;
@@ -178,13 +185,18 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
     }
     return kept;
   };
-  // The first round walks every triangle and keeps those with an invalid
-  // corner (a quarter to a third of them); each later one walks what the one
+  // The first round walks every triangle; each later one walks what the one
   // before kept.
   int n_live = walk_round(false, n_tris, kTrianglesPerChunk);
   int filled = 0;
   for (;;) {
-    const int now = write_round(pending_.get(), &pending, disp_q4, [cand](int, int i) { return cand[i]; });
+    const auto smallest_offer = [&](int, int i) {
+      int v = cand[i];
+      if (workers_ready)
+        for (int w = 1; w < workers; ++w) v = std::min(v, worker_candidate_[static_cast<std::size_t>(w - 1)][static_cast<std::size_t>(i)]);
+      return v;
+    };
+    const int now = write_round(pending_.get(), &pending, disp_q4, smallest_offer);
     filled += now;
     if (now == 0 || pending == 0) break;
     n_live = walk_round(true, n_live, kLiveTrianglesPerChunk);
