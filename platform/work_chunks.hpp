@@ -104,6 +104,16 @@ class HomeChunks {
     }
   }
 
+  // Claims one item in the same order as for_each: true with *i, false when
+  // every item is taken.
+  bool next(int worker, int* i) {
+    for (int k = 0; k < homes_; ++k) {
+      int i_end = 0;
+      if (chunks_[(worker + k) % homes_].next(i, &i_end)) return true;
+    }
+    return false;
+  }
+
  private:
   WorkChunks chunks_[kMaxHomes];
   int count_ = 0;

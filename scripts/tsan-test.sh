@@ -15,7 +15,7 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-${repo}/build-tsan}"
-regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|Tritree\.IdenticalForAnyThreadCount|PathAggregation|FillThreads|PipelineThreads\.(SyntheticScene|WorkersArePinned|SecondPipeline|Reconfigure))}"
+regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|SideWork|Tritree\.IdenticalForAnyThreadCount|PathAggregation|FillThreads|PipelineThreads\.(SyntheticScene|WorkersArePinned|SecondPipeline|Reconfigure))}"
 targets=(thread_pool_test work_chunks_test platform_test tritree_test paths_test sample_fill_test pipeline_threads_test)
 jobs="${TSAN_JOBS:-$(nproc)}"
 

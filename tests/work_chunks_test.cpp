@@ -2,6 +2,8 @@
 // of the requested size, however many workers ask at once; a slow worker
 // takes fewer chunks; reset() makes it reusable. HomeChunks: the same, and a
 // worker takes its own home's items first, in order, then the other homes'.
+// SideWork: the other workers take its chunks while worker 0 runs a serial
+// step, drain() takes the rest, every chunk exactly once.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "platform/side_work.hpp"
 #include "platform/thread_pool.hpp"
 #include "platform/work_chunks.hpp"
 
@@ -162,6 +165,83 @@ TEST(HomeChunks, SlowWorkerIsHelpedWithItsHome) {
   });
   EXPECT_EQ(taken_from_home0[0] + taken_from_home0[1], 100);
   EXPECT_GT(taken_from_home0[1], taken_from_home0[0]);
+}
+
+TEST(HomeChunks, NextClaimsInTheOrderOfForEach) {
+  HomeChunks items;
+  items.reset(9, 3);
+  std::vector<int> order;
+  int i = 0;
+  while (items.next(5, &i)) order.push_back(i);  // worker 5: home 5 % 3
+  EXPECT_EQ(order, (std::vector<int>{6, 7, 8, 0, 1, 2, 3, 4, 5}));
+  EXPECT_FALSE(items.next(0, &i));
+}
+
+TEST(SideWork, EveryRowOnceBesideSerialStepsAndDrain) {
+  for (const int workers : {1, 2, 3}) {
+    ThreadPool pool;
+    pool.start(workers, {}, /*pin=*/false);
+    for (const int rows : {0, 1, 7, 480}) {
+      std::vector<std::atomic<int>> seen(static_cast<std::size_t>(rows));
+      // In the first serial step, a chunk taken beside it waits (10 s at
+      // most) until the step has begun, and the step waits until such a chunk
+      // is done: proof that the side work runs beside it, whatever the timing.
+      std::atomic<int> done_beside{0};
+      std::atomic<bool> first_step{false}, serial_running{false}, serial_over{false};
+      const auto wait_for = [](const auto& ready) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!ready() && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+      };
+      const auto task = [&](int worker, int y0, int y1) {
+        EXPECT_GE(worker, 0);
+        EXPECT_LT(worker, workers);
+        EXPECT_LE(y1 - y0, 4);
+        for (int y = y0; y < y1; ++y) seen[static_cast<std::size_t>(y)].fetch_add(1);
+        if (first_step.load()) {
+          wait_for([&] { return serial_running.load() || serial_over.load(); });
+          if (serial_running.load()) done_beside.fetch_add(y1 - y0);
+        }
+      };
+      SideWork side(0, rows, 4, workers, task);
+      int serial_calls = 0;
+      const std::thread::id owner = std::this_thread::get_id();
+      for (int step = 0; step < 3; ++step) {
+        first_step.store(step == 0);
+        serial_over.store(false);
+        side.beside(&pool, [&] {
+          EXPECT_EQ(std::this_thread::get_id(), owner);  // the serial step runs on the calling thread
+          ++serial_calls;
+          serial_running.store(true);
+          if (step == 0 && workers > 1 && rows >= 8) wait_for([&] { return done_beside.load() > 0; });
+          serial_running.store(false);
+          serial_over.store(true);
+        });
+        first_step.store(false);
+      }
+      EXPECT_EQ(serial_calls, 3);
+      if (workers > 1 && rows >= 8) {
+        EXPECT_GT(done_beside.load(), 0) << workers << " workers, " << rows << " rows";
+      }
+      if (workers == 1) {
+        EXPECT_EQ(done_beside.load(), 0);  // nobody beside the serial step
+      }
+      pool.run([&](int worker) { side.drain(worker); });
+      for (int y = 0; y < rows; ++y)
+        ASSERT_EQ(seen[static_cast<std::size_t>(y)].load(), 1) << "row " << y << ", " << workers << " workers";
+    }
+  }
+}
+
+TEST(SideWork, WithoutAPoolTheSerialStepRunsAlone) {
+  int rows_done = 0;
+  const auto task = [&](int, int y0, int y1) { rows_done += y1 - y0; };
+  SideWork side(10, 30, 4, 1, task);
+  int serial_calls = 0;
+  side.beside(nullptr, [&] { ++serial_calls; });
+  EXPECT_EQ(serial_calls, 1);
+  EXPECT_EQ(rows_done, 0);
+  side.drain(0);
+  EXPECT_EQ(rows_done, 20);
 }
 
 }  // namespace

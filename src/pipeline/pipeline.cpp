@@ -13,6 +13,7 @@
 
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
+#include "platform/side_work.hpp"
 #include "platform/thread_pool.hpp"
 #include "platform/work_chunks.hpp"
 #include "src/aggregate/path_matcher.hpp"
@@ -74,18 +75,18 @@ struct Pipeline::Impl {
   }
   PathMatcher::Rejected match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
                                    const SampleLayout& samples, std::int16_t* sample_disp,
-                                   std::int64_t* cost_ns, std::int64_t* dp_ns);
+                                   std::int64_t* cost_ns, std::int64_t* dp_ns, SideWork* right_rows = nullptr);
   void interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
                        ImageView<std::int16_t> out);
   // The tritree, and for the path optimizer's sparse frames the mesh's
   // predecessors, offered as the leaves are emitted (no scan of the mesh).
-  void build_mesh(Tritree& tree, ImageView<const std::uint8_t> gray, Mesh& mesh) {
+  void build_mesh(Tritree& tree, ImageView<const std::uint8_t> gray, Mesh& mesh, SideWork* side = nullptr) {
     if (config.params.optimizer != Optimizer::kPaths || config.params.dense) {
-      tree.build(gray, mesh, &pool);
+      tree.build(gray, mesh, &pool, nullptr, side);
       return;
     }
     PredecessorTable preds = paths.predecessor_table();
-    tree.build(gray, mesh, &pool, &preds);
+    tree.build(gray, mesh, &pool, &preds, side);
     paths.use_predecessors(&mesh, preds);
   }
 };
@@ -230,21 +231,26 @@ ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8&
 
 // Matching of one view: costs at the samples, the configured optimizer, the
 // winner (and, paths only, uniqueness and the left-right check from the summed
-// costs). Returns the samples those tests rejected.
+// costs). Returns the samples those tests rejected. `right_rows`: the rows'
+// preparation begun beside the tritree (begin_frame done), else all of it here.
 PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg,
                                                  ImageView<const std::uint8_t> rg,
                                                  const SampleLayout& samples, std::int16_t* sample_disp,
-                                                 std::int64_t* cost_ns, std::int64_t* dp_ns) {
+                                                 std::int64_t* cost_ns, std::int64_t* dp_ns, SideWork* right_rows) {
   const std::int64_t t0 = monotonic_ns();
   const int workers = pool.size();
   const int height = lg.height;
   // Right rows (and census descriptors) for the cost kernels.
-  match.begin_frame(lg, rg);
-  pool.run([&](int w) {
-    int y0, y1;
-    ThreadPool::split_range(0, height, workers, w, &y0, &y1);
-    match.prepare_right_rows(y0, y1, &this->workers[static_cast<std::size_t>(w)].census);
-  });
+  if (right_rows != nullptr) {
+    pool.run([&](int w) { right_rows->drain(w); });
+  } else {
+    match.begin_frame(lg, rg);
+    pool.run([&](int w) {
+      int y0, y1;
+      ThreadPool::split_range(0, height, workers, w, &y0, &y1);
+      match.prepare_right_rows(y0, y1, &this->workers[static_cast<std::size_t>(w)].census);
+    });
+  }
   const std::int64_t t_prepared = monotonic_ns();
   if (config.params.optimizer == Optimizer::kPaths) {
     paths.compute_costs(match, samples, pool);
@@ -337,10 +343,16 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   const int width = lg.width, height = lg.height;
   const StereoParams& params = m.config.params;
 
-  // 1. Tritree on the left image.
+  // 1. Tritree on the left image; while it runs a serial step, the other
+  // workers prepare the right image's rows for the matching (SideWork).
   Mesh& mesh = m.out.mesh;
   m.mark(PipelineStage::kTritree, true);
-  m.build_mesh(m.tritree, lg, mesh);
+  m.match.begin_frame(lg, rg);
+  const auto prepare_rows = [&m](int w, int y0, int y1) {
+    m.match.prepare_right_rows(y0, y1, &m.workers[static_cast<std::size_t>(w)].census);
+  };
+  SideWork right_rows(0, height, kRowsPerChunk, m.pool.size(), prepare_rows);
+  m.build_mesh(m.tritree, lg, mesh, &right_rows);
   const std::int64_t t_tritree = monotonic_ns();
   m.mark(PipelineStage::kTritree, false);
   m.mark(PipelineStage::kMatching, true);
@@ -358,7 +370,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   validity.samples = samples.count();
 
   std::int64_t cost_ns = 0, dp_ns = 0;
-  const PathMatcher::Rejected rejected = m.match_view(lg, rg, samples, sample_disp, &cost_ns, &dp_ns);
+  const PathMatcher::Rejected rejected = m.match_view(lg, rg, samples, sample_disp, &cost_ns, &dp_ns, &right_rows);
   validity.uniqueness_rejected = rejected.uniqueness;
   validity.lr_rejected = rejected.left_right;
   const std::int64_t t_matched = monotonic_ns();

@@ -35,6 +35,7 @@
 
 namespace tristereo {
 
+class SideWork;
 class ThreadPool;
 
 // What the last build() left behind, for the interpolation by midpoints
@@ -83,8 +84,10 @@ class Tritree {
   // writes each vertex's path predecessors (src/aggregate/predecessor_offers.hpp)
   // as it emits the leaves, and sets preds->filled and preds->reach; a
   // 2-pixel strip leaves filled false.
+  // With `side`, the pool's other workers take its chunks while the build
+  // runs a serial step (platform/side_work.hpp).
   void build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool = nullptr,
-             PredecessorTable* preds = nullptr);
+             PredecessorTable* preds = nullptr, SideWork* side = nullptr);
   // Pass 1 runs on at most this many pool workers (each has its tile scratch).
   static constexpr int kMaxTileWorkers = 8;
 

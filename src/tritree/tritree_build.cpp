@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "platform/clock.hpp"
+#include "platform/side_work.hpp"
 #include "platform/thread_pool.hpp"
 #include "src/aggregate/predecessor_offers.hpp"
 #include "src/tritree/fill_rule.hpp"
@@ -800,7 +801,8 @@ TritreeGrid Tritree::grid() const {
   return g;
 }
 
-void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool, PredecessorTable* preds) {
+void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* pool, PredecessorTable* preds,
+                    SideWork* side) {
   validate_image(gray);
   if (preds != nullptr && preds->directions != 4 && preds->directions != 8)
     throw Error(ErrorCode::kInvalidArgument, "tritree: predecessor table for " + std::to_string(preds->directions) +
@@ -814,10 +816,17 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
   criterion_splits_ = forced_splits_ = 0;
   stretched_count_ = 0;
 
+  // The serial steps, with the side work beside them on the other workers.
+  const auto serial = [&](auto step) {
+    if (side != nullptr)
+      side->beside(pool, step);
+    else
+      step();
+  };
   if (layout_.strip()) {
     times_.criterion_ns = 0;
   } else {
-    std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1));
+    serial([&] { std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1)); });
     const int S = tile_;
     const auto tile_row = [&](int ty, const TileScratch& sc) {
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
@@ -851,7 +860,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     } else {
       for (int ty = 0; ty < layout_.tiles_y; ++ty) tile_row(ty, scratch_[0]);
     }
-    carry_across_tile_borders();
+    serial([&] { carry_across_tile_borders(); });
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
@@ -885,8 +894,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     } else {
       for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty);
     }
-    collect_stretched(mesh);
-    if (pred_slots_ > 0) finish_predecessors(mesh, preds);
+    serial([&] {
+      collect_stretched(mesh);
+      if (pred_slots_ > 0) finish_predecessors(mesh, preds);
+    });
   }
   finish(mesh, layout_.strip() ? nullptr : pool);
   times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
