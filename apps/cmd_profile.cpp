@@ -522,6 +522,7 @@ int cmd_profile(int argc, char** argv) {
   rc.window_h = config.params.cost.window_h;
   rc.psnr_db = config.params.tritree.psnr_deci_db / 10.0;
   rc.max_area_px2 = config.params.tritree.max_area_px2;
+  rc.min_area_px2 = config.params.tritree.min_area_px2;
   rc.threads = pipeline.worker_count();
   rc.kernels = to_string(pipeline.active_kernels());
   rc.cpus = config.cpus;

@@ -162,7 +162,7 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 "  \"vertices\": %zu,\n  \"triangles\": %zu,\n"
                 "  \"sample_fraction\": %.6f,\n"
                 "  \"forced_splits\": %lld,\n  \"criterion_splits\": %lld,\n"
-                "  \"params\": {\"psnr_db\": %.1f, \"max_area_px2\": %d, \"window\": \"%dx%d\", "
+                "  \"params\": {\"psnr_db\": %.1f, \"max_area_px2\": %d, \"min_area_px2\": %d, \"window\": \"%dx%d\", "
                 "\"weights\": \"%s\", \"truncation\": %d, \"lambda_q4\": %d, \"gap\": \"%s\", "
                 "\"subpixel\": %s, \"cost\": \"%s\", \"census\": \"%dx%d\", \"optimizer\": \"%s\", "
                 "\"paths\": %d, \"p1_q4\": %d, \"p2_q4\": %d, \"p2_edge\": %d, \"lr_max_diff_q4\": %d, "
@@ -177,7 +177,7 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 pixels > 0 ? static_cast<double>(o.mesh.vertices.size()) / pixels : 0.0,
                 static_cast<long long>(o.mesh.forced_splits),
                 static_cast<long long>(o.mesh.criterion_splits), p.tritree.psnr_deci_db / 10.0,
-                p.tritree.max_area_px2, p.cost.window_w, p.cost.window_h, to_string(p.cost.weights),
+                p.tritree.max_area_px2, p.tritree.min_area_px2, p.cost.window_w, p.cost.window_h, to_string(p.cost.weights),
                 p.cost.truncation, p.dp.lambda_q4, to_string(p.dp.gap),
                 p.dp.subpixel ? "true" : "false", to_string(p.cost.kind), p.cost.census_w,
                 p.cost.census_h, to_string(p.optimizer), p.paths.directions, p.paths.p1_q4,

@@ -17,6 +17,7 @@ constexpr FieldOption kFieldOptions[] = {
     {"d_min", "--dmin"},
     {"tritree.psnr_deci_db", "--psnr (in 0.1 dB)"},
     {"tritree.max_area_px2", "--max-area"},
+    {"tritree.min_area_px2", "--min-area"},
     {"cost.window_w", "--window width"},
     {"cost.window_h", "--window height"},
     {"cost.truncation", "--truncation"},

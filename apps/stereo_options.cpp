@@ -9,7 +9,7 @@
 namespace tristereo::cli {
 
 void add_stereo_options(std::set<std::string>& v, std::set<std::string>& f) {
-  for (const char* o : {"ndisp", "dmin", "psnr", "max-area", "window", "weights", "lambda", "gap",
+  for (const char* o : {"ndisp", "dmin", "psnr", "max-area", "min-area", "window", "weights", "lambda", "gap",
                         "truncation", "gamma-color", "gamma-proximity", "kernels", "threads", "cpus",
                         "cost", "census", "ad-weight", "optimizer", "paths", "p1", "p2", "p2-edge",
                         "path-gap", "lr-max-diff", "lr-source", "uniqueness", "fill", "mode"})
@@ -31,12 +31,21 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   p.num_disp = a.get_int("ndisp", 64);
   p.d_min = a.get_int("dmin", 0);
   p.dense = a.flag("dense");
-  const double psnr = a.get_double("psnr", 40.0);
+  const double psnr = a.get_double("psnr", p.tritree.psnr_deci_db / 10.0);
   if (!(psnr >= kMinPsnrDeciDb / 10.0 && psnr <= kMaxPsnrDeciDb / 10.0))
     throw UsageError("--psnr " + a.get("psnr", "") + " is out of range [" + std::to_string(kMinPsnrDeciDb / 10) +
                      ", " + std::to_string(kMaxPsnrDeciDb / 10) + "] dB");
   p.tritree.psnr_deci_db = static_cast<int>(std::lround(psnr * 10));
   p.tritree.max_area_px2 = a.get_int("max-area", p.tritree.max_area_px2);
+  p.tritree.min_area_px2 = a.get_int("min-area", p.tritree.min_area_px2);
+  if (!a.has("min-area") && a.has("max-area") && p.tritree.max_area_px2 >= 1 &&
+      p.tritree.min_area_px2 > largest_min_area_px2(p.tritree.max_area_px2)) {
+    int needed = 1;  // the smallest A_max that allows it: a power of two >= 2 A_min
+    while (needed < 2 * p.tritree.min_area_px2) needed *= 2;
+    throw UsageError("--max-area " + std::to_string(p.tritree.max_area_px2) +
+                     " is too small for the default minimum area of " + std::to_string(p.tritree.min_area_px2) +
+                     " px^2 (that needs --max-area >= " + std::to_string(needed) + "); add --min-area 1");
+  }
   if (a.has("window")) {
     auto [w, h] = parse_size("--window", a.get("window", ""));
     p.cost.window_w = w;
@@ -85,11 +94,16 @@ const char* stereo_options_help() {
   return R"(Model options (docs/model.md):
   --mode default|paper the starting point of the options below: this project's
                        defaults, or the paper's model (--cost ad --optimizer dp
-                       --window 5x5 --truncation 30 --lr-max-diff -1)
+                       --window 5x5 --truncation 30 --lr-max-diff -1
+                       --psnr 40 --min-area 1)
   --ndisp D            number of disparities searched, 1..256 (required)
   --dmin N             smallest disparity (default 0)
-  --psnr DB            tritree split threshold, 10..70 dB in 0.1 steps (default 40)
+  --psnr DB            tritree split threshold, 10..70 dB in 0.1 steps (default 44;
+                       paper 40)
   --max-area PX        tritree maximum triangle area, 1..1024 px^2 (default 100)
+  --min-area PX        tritree minimum area: only triangles whose halves have at
+                       least PX px^2 split, 1..32 with the default --max-area
+                       (half the largest power of two <= it; default 2, paper 1)
   --window WxH         support window, odd sides 1..31 (default 3x3; paper 5x5)
   --weights box|adaptive   support weights (default box)
   --gamma-color G      adaptive weights: colour scale (default 10)

@@ -34,7 +34,7 @@ struct RunOptions {
 };
 
 const char* kKnownKeys =
-    "dmin, dense, psnr, max_area, window, weights, truncation, asw_gamma_color, "
+    "dmin, dense, psnr, max_area, min_area, window, weights, truncation, asw_gamma_color, "
     "asw_gamma_proximity, lambda_q4, gap, subpixel, threads, kernels";
 
 // The model's parameters from keyword arguments; range checks stay with
@@ -50,6 +50,7 @@ StereoParams params_from_kwargs(int ndisp, const py::kwargs& kw, RunOptions* run
     else if (key == "dense") p.dense = v.cast<bool>();
     else if (key == "psnr") p.tritree.psnr_deci_db = static_cast<int>(std::lround(v.cast<double>() * 10));
     else if (key == "max_area") p.tritree.max_area_px2 = v.cast<int>();
+    else if (key == "min_area") p.tritree.min_area_px2 = v.cast<int>();
     else if (key == "window") {
       if (py::isinstance<py::int_>(v)) {
         p.cost.window_w = p.cost.window_h = v.cast<int>();

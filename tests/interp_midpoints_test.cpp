@@ -70,6 +70,7 @@ TEST(InterpolateMidpoints, RandomImagesSizesAndParameters) {
       const int areas[] = {1, 2, 7, 16, 100, 300, 1024};
       tp.max_area_px2 = areas[rng.uniform(0, 6)];
       tp.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
+      tp.min_area_px2 = rng.uniform(1, largest_min_area_px2(tp.max_area_px2));
       Tritree tree;
       tree.configure(w, h, tp);
       Mesh m;
@@ -78,7 +79,8 @@ TEST(InterpolateMidpoints, RandomImagesSizesAndParameters) {
       const int split = rng.uniform(0, tree.grid().layout.tiles_y);
       expect_same_as_reference(tree, m, vd, split,
                                std::to_string(w) + "x" + std::to_string(h) + " A_max " +
-                                   std::to_string(tp.max_area_px2) + " eps " + std::to_string(tp.psnr_deci_db));
+                                   std::to_string(tp.max_area_px2) + " A_min " + std::to_string(tp.min_area_px2) +
+                                   " eps " + std::to_string(tp.psnr_deci_db));
       if (HasFatalFailure()) return;
       ++cases;
     }

@@ -119,6 +119,7 @@ TEST(RandomBitExact, ThousandImagesAndParameterSets) {
     ASSERT_EQ(diff, "") << "case " << i << ": " << w << "x" << h << " D=" << p.num_disp
                         << " dmin=" << p.d_min << " dense=" << p.dense
                         << " psnr=" << p.tritree.psnr_deci_db << " amax=" << p.tritree.max_area_px2
+                        << " amin=" << p.tritree.min_area_px2
                         << " win=" << p.cost.window_w << "x" << p.cost.window_h
                         << " weights=" << to_string(p.cost.weights) << " tc=" << p.cost.truncation
                         << " lambda=" << p.dp.lambda_q4 << " gap=" << to_string(p.dp.gap)

@@ -63,7 +63,9 @@ TEST(FillThreads, IdenticalForAnyPoolAndToTheRounds) {
       for (int x = 0; x < w; ++x)
         img.at(x, y) = static_cast<std::uint8_t>(y < h / 4 ? x / 4 : rng.uniform(0, 255));
     Tritree tree;
-    tree.configure(w, h, TritreeParams{});
+    TritreeParams fine;  // leaves down to 1 px^2: enough triangles for the chunks below
+    fine.min_area_px2 = 1;
+    tree.configure(w, h, fine);
     Mesh mesh;
     tree.build(img.view(), mesh);
     for (const bool dense : {false, true}) {

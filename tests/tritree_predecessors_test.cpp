@@ -94,11 +94,13 @@ void expect_same_predecessors(const ImageU8& gray, const StereoParams& p, int wo
   }
 }
 
-StereoParams params_for(int directions, int max_area, int psnr_deci_db) {
+// min_area is clamped to the largest one max_area allows.
+StereoParams params_for(int directions, int max_area, int psnr_deci_db, int min_area) {
   StereoParams p;
   p.paths.directions = directions;
   p.tritree.max_area_px2 = max_area;
   p.tritree.psnr_deci_db = psnr_deci_db;
+  p.tritree.min_area_px2 = std::min(min_area, largest_min_area_px2(max_area));
   return p;
 }
 
@@ -107,10 +109,11 @@ TEST(TritreePredecessors, SameAsTheScanOnRandomImages) {
   for (int it = 0; it < 300; ++it) {
     const int w = rng.uniform(2, 90), h = rng.uniform(2, 70);
     const StereoParams p = params_for(rng.uniform(0, 1) ? 8 : 4, rng.uniform(1, 200),
-                                      rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb));
+                                      rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb), rng.uniform(1, 4));
     const int workers = rng.uniform(1, 3);
     SCOPED_TRACE(::testing::Message() << "image " << it << " " << w << "x" << h << ", " << p.paths.directions
-                                      << " directions, A_max " << p.tritree.max_area_px2 << ", PSNR "
+                                      << " directions, A_max " << p.tritree.max_area_px2 << ", A_min "
+                                      << p.tritree.min_area_px2 << ", PSNR "
                                       << p.tritree.psnr_deci_db << " dB/10, " << workers << " workers");
     expect_same_predecessors(mixed_image(rng, w, h), p, workers);
     if (HasFatalFailure()) return;
@@ -125,10 +128,11 @@ TEST(TritreePredecessors, SameAsTheScanOnSpecialSizes) {
   for (const auto& size : sizes)
     for (const int area : {1, 7, 100, 1000})
       for (const int directions : {4, 8}) {
+        const int min_area = directions == 4 ? 1 : 2;
         SCOPED_TRACE(::testing::Message() << size.first << "x" << size.second << ", A_max " << area << ", "
-                                          << directions << " directions");
-        expect_same_predecessors(mixed_image(rng, size.first, size.second), params_for(directions, area, 400),
-                                 size.first * size.second > 5000 ? 2 : 1);
+                                          << directions << " directions, A_min " << min_area);
+        expect_same_predecessors(mixed_image(rng, size.first, size.second),
+                                 params_for(directions, area, 400, min_area), size.first * size.second > 5000 ? 2 : 1);
         if (HasFatalFailure()) return;
       }
 }
@@ -139,7 +143,8 @@ TEST(TritreePredecessors, SameAsTheScanOnMiddlebury) {
     const ImageU8 gray = to_gray(test::load_middlebury(name).left);
     for (const int directions : {4, 8}) {
       SCOPED_TRACE(::testing::Message() << name << ", " << directions << " directions");
-      expect_same_predecessors(gray, params_for(directions, 100, 400), 2);
+      expect_same_predecessors(gray, params_for(directions, 100, directions == 4 ? 400 : 440, directions == 4 ? 1 : 2),
+                               2);
       if (HasFatalFailure()) return;
     }
   }
@@ -162,7 +167,7 @@ TEST(TritreePredecessors, SlotsDecodeKeysAndIds) {
 TEST(TritreePredecessors, UnfilledTableIsNotUsed) {
   Rng rng(9);
   const ImageU8 a = mixed_image(rng, 40, 30), b = mixed_image(rng, 40, 30);
-  const StereoParams p = params_for(4, 30, 400);
+  const StereoParams p = params_for(4, 30, 400, 2);
   const KernelSet& ks = kernel_set_for(KernelChoice::kAuto);
   Tritree tree;
   tree.configure(40, 30, p.tritree);

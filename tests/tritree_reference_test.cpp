@@ -47,8 +47,16 @@ void expect_bit_exact(const ImageU8& gray, const TritreeParams& params, const st
   const Mesh integer = build_integer(gray, params);
   const Mesh reference = reference::build_tritree(gray, params);
   EXPECT_TRUE(integer == reference)
-      << what << " (psnr_deci_db " << params.psnr_deci_db << ", max_area_px2 "
-      << params.max_area_px2 << "): " << describe_difference(integer, reference);
+      << what << " (psnr_deci_db " << params.psnr_deci_db << ", max_area_px2 " << params.max_area_px2
+      << ", min_area_px2 " << params.min_area_px2 << "): " << describe_difference(integer, reference);
+}
+
+// A minimum area valid with params.max_area_px2: 1 or 2 most of the time (the
+// paper mode's and the default), else any up to the largest allowed.
+int random_min_area(Rng& rng, int max_area_px2) {
+  const int largest = largest_min_area_px2(max_area_px2);
+  const int pick = rng.uniform(0, 3);
+  return std::min(largest, pick <= 1 ? 1 + pick : rng.uniform(1, largest));
 }
 
 // Random scene families: noise, smooth + noise, steps, and blends of them.
@@ -80,10 +88,13 @@ TEST(TritreeReference, MiddleburyAtDefaultAndOtherPsnr) {
   TRISTEREO_REQUIRE_MIDDLEBURY();
   for (const std::string& name : test::middlebury_names()) {
     const ImageU8 gray = to_gray(test::load_middlebury(name).left);
-    for (int psnr_deci_db : {400, 300, 350, 450}) {
-      TritreeParams params;
-      params.psnr_deci_db = psnr_deci_db;
-      expect_bit_exact(gray, params, name);
+    for (int psnr_deci_db : {400, 300, 350, 440, 450}) {
+      for (int min_area : {1, 2, 8}) {
+        TritreeParams params;
+        params.psnr_deci_db = psnr_deci_db;
+        params.min_area_px2 = min_area;
+        expect_bit_exact(gray, params, name);
+      }
     }
     // Informative only (never asserted): size of the default mesh and one
     // single-run build time of the integer path.
@@ -112,6 +123,7 @@ TEST(TritreeReference, SyntheticScenes) {
     TritreeParams params;
     params.psnr_deci_db = rng.uniform(250, 500);
     params.max_area_px2 = rng.uniform(16, 400);
+    params.min_area_px2 = random_min_area(rng, params.max_area_px2);
     expect_bit_exact(img, params, "synthetic scene " + std::to_string(it));
   }
 }
@@ -125,6 +137,7 @@ TEST(TritreeReference, RandomSmallImagesAndParameters) {
     TritreeParams params;
     params.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
     params.max_area_px2 = rng.uniform(1, kMaxAreaLimitPx2);
+    params.min_area_px2 = random_min_area(rng, params.max_area_px2);
     expect_bit_exact(img, params, "random image " + std::to_string(it) + " " +
                                       std::to_string(w) + "x" + std::to_string(h));
     if (HasFailure()) return;  // one report is enough
@@ -139,11 +152,14 @@ TEST(TritreeReference, SpecialSizes) {
   Rng rng(99);
   for (const auto& size : sizes) {
     for (int area : {1, 5, 100, kMaxAreaLimitPx2}) {
-      const ImageU8 img = random_scene(rng, size.first, size.second);
-      TritreeParams params;
-      params.max_area_px2 = area;
-      params.psnr_deci_db = rng.uniform(300, 500);
-      expect_bit_exact(img, params, std::to_string(size.first) + "x" + std::to_string(size.second));
+      for (int min_area : {1, largest_min_area_px2(area)}) {
+        const ImageU8 img = random_scene(rng, size.first, size.second);
+        TritreeParams params;
+        params.max_area_px2 = area;
+        params.min_area_px2 = min_area;
+        params.psnr_deci_db = rng.uniform(300, 500);
+        expect_bit_exact(img, params, std::to_string(size.first) + "x" + std::to_string(size.second));
+      }
     }
   }
 }
@@ -154,10 +170,13 @@ TEST(TritreeReference, ExtremeParameters) {
     const ImageU8 img = random_scene(rng, rng.uniform(2, 60), rng.uniform(2, 60));
     for (int psnr : {kMinPsnrDeciDb, kMaxPsnrDeciDb}) {
       for (int area : {1, kMaxAreaLimitPx2}) {
-        TritreeParams params;
-        params.psnr_deci_db = psnr;
-        params.max_area_px2 = area;
-        expect_bit_exact(img, params, "extreme " + std::to_string(it));
+        for (int min_area : {1, largest_min_area_px2(area)}) {
+          TritreeParams params;
+          params.psnr_deci_db = psnr;
+          params.max_area_px2 = area;
+          params.min_area_px2 = min_area;
+          expect_bit_exact(img, params, "extreme " + std::to_string(it));
+        }
       }
     }
   }
@@ -176,6 +195,14 @@ TEST(TritreeReference, RejectsBadInput) {
   EXPECT_THROW(reference::build_tritree(ImageU8(5, 5), bad), Error);
   bad = ok;
   bad.psnr_deci_db = 99;
+  EXPECT_THROW(reference::build_tritree(ImageU8(5, 5), bad), Error);
+  bad = ok;
+  bad.min_area_px2 = 0;
+  EXPECT_THROW(reference::build_tritree(ImageU8(5, 5), bad), Error);
+  bad.min_area_px2 = largest_min_area_px2(bad.max_area_px2) + 1;  // 33 with A_max 100
+  EXPECT_THROW(reference::build_tritree(ImageU8(5, 5), bad), Error);
+  bad.max_area_px2 = 3;  // the default minimum area 2 needs A_max >= 4
+  bad.min_area_px2 = 2;
   EXPECT_THROW(reference::build_tritree(ImageU8(5, 5), bad), Error);
 }
 

@@ -357,6 +357,7 @@ TEST(Tritree, Golden3x3ConstantHandDerived) {
   ImageU8 img(3, 3, 1, 77);
   TritreeParams params;
   params.max_area_px2 = 1;
+  params.min_area_px2 = 1;  // the only one allowed with A_max = 1
   const Mesh m = build_mesh(img, params);
   const std::vector<Vertex> vertices = {{0, 0}, {2, 0}, {1, 1}, {0, 2}, {2, 2}};
   // In the hierarchy's order ('\\' tile): the upper right half (4, 0, 1)
@@ -376,6 +377,23 @@ TEST(Tritree, Golden3x3ConstantHandDerived) {
   EXPECT_EQ(two.vertices, (std::vector<Vertex>{{0, 0}, {2, 0}, {0, 2}, {2, 2}}));
   EXPECT_EQ(two.triangles, (std::vector<Triangle>{{0, 1, 3}, {0, 3, 2}}));
   EXPECT_EQ(two.criterion_splits + two.forced_splits, 0);
+  // A spike at the centre, A_max = 4 (the same 4-wide tile): with a minimum
+  // area of 1 px^2 the half owning (1,1) fails the plane test and both halves
+  // split at (1,1) (one by the criterion, one forced); with 2 px^2 a half of
+  // area 2 does not want to split, so the mesh is the two halves again.
+  ImageU8 spike(3, 3, 1, 0);
+  spike.at(1, 1) = 255;
+  params.max_area_px2 = 4;
+  params.min_area_px2 = 1;
+  const Mesh fine = build_mesh(spike, params);
+  EXPECT_EQ(fine.vertices, vertices);
+  EXPECT_EQ(fine.criterion_splits, 1);
+  EXPECT_EQ(fine.forced_splits, 1);
+  params.min_area_px2 = 2;
+  const Mesh coarse = build_mesh(spike, params);
+  EXPECT_EQ(coarse.vertices, (std::vector<Vertex>{{0, 0}, {2, 0}, {0, 2}, {2, 2}}));
+  EXPECT_EQ(coarse.triangles, (std::vector<Triangle>{{0, 1, 3}, {0, 3, 2}}));
+  EXPECT_EQ(coarse.criterion_splits + coarse.forced_splits, 0);
 }
 
 TEST(Tritree, Golden4x2StripAndStretched4x4) {
@@ -384,6 +402,7 @@ TEST(Tritree, Golden4x2StripAndStretched4x4) {
   strip.at(1, 0) = 255;
   TritreeParams params;
   params.max_area_px2 = 1;
+  params.min_area_px2 = 1;
   const Mesh s = build_mesh(strip, params);
   EXPECT_EQ(s.vertices, (std::vector<Vertex>{{0, 0}, {3, 0}, {0, 1}, {3, 1}}));
   EXPECT_EQ(s.triangles, (std::vector<Triangle>{{0, 1, 3}, {0, 3, 2}}));
@@ -498,7 +517,10 @@ void expect_valid_mesh(const ImageU8& gray, const TritreeParams& params, const M
   if (!check_criterion || layout.strip()) return;
 
   // Every leaf passes the criterion (area, then PSNR by brute force) unless it
-  // cannot split: its virtual area (undo the stretch) is 1 px^2.
+  // may not want to split: its virtual area (undo the stretch) is below twice
+  // the minimum area. A leaf below the minimum area itself comes from a split
+  // forced by a crossing triangle (docs/model.md): only with a minimum area
+  // above 2 px^2 (smaller triangles never cross) and partial tiles.
   const std::uint64_t mse_q8 = mse_threshold_q8(params.psnr_deci_db);
   const auto virtual_of = [&](const Vertex& v) {
     return Vertex{layout.stretch_x && v.x == w - 1 ? layout.vw : v.x,
@@ -506,7 +528,14 @@ void expect_valid_mesh(const ImageU8& gray, const TritreeParams& params, const M
   };
   for (const Triangle& t : m.triangles) {
     const Vertex a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
-    if (area2_of(virtual_of(a), virtual_of(b), virtual_of(c)) < 4) continue;
+    const Vertex va = virtual_of(a), vb = virtual_of(b), vc = virtual_of(c);
+    const std::int64_t virtual_a2 = area2_of(va, vb, vc);
+    if (virtual_a2 < 2 * std::int64_t{params.min_area_px2}) {
+      ASSERT_GT(params.min_area_px2, 2) << "leaf below the minimum area";
+      ASSERT_TRUE(layout.tiles_x * layout.tile > layout.vw || layout.tiles_y * layout.tile > layout.vh)
+          << "leaf below the minimum area without partial tiles";
+    }
+    if (virtual_a2 < 4 * std::int64_t{params.min_area_px2}) continue;
     const std::int64_t a2 = area2_of(a, b, c);
     ASSERT_LE(a2, 2 * params.max_area_px2) << "leaf larger than A_max";
     std::int64_t n_px = 0;
@@ -526,8 +555,9 @@ TEST(Tritree, InvariantsOnRandomImages) {
     TritreeParams params;
     params.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
     params.max_area_px2 = rng.uniform(1, 64);
+    params.min_area_px2 = rng.uniform(1, largest_min_area_px2(params.max_area_px2));
     const Mesh m = build_mesh(img, params);
-    SCOPED_TRACE(::testing::Message() << "image " << it << " " << w << "x" << h);
+    SCOPED_TRACE(::testing::Message() << "image " << it << " " << w << "x" << h << " A_min " << params.min_area_px2);
     expect_valid_mesh(img, params, m);
     if (HasFatalFailure()) return;
   }
@@ -541,13 +571,17 @@ TEST(Tritree, InvariantsOnSpecialSizes) {
   Rng rng(77);
   for (const auto& size : sizes) {
     for (int area : {1, 7, 100}) {
-      const ImageU8 img = mixed_image(rng, size.first, size.second);
-      TritreeParams params;
-      params.max_area_px2 = area;
-      const Mesh m = build_mesh(img, params);
-      SCOPED_TRACE(::testing::Message() << size.first << "x" << size.second << " A_max " << area);
-      expect_valid_mesh(img, params, m, /*check_criterion=*/size.first * size.second < 20000);
-      if (HasFatalFailure()) return;
+      for (int min_area : {1, largest_min_area_px2(area)}) {
+        const ImageU8 img = mixed_image(rng, size.first, size.second);
+        TritreeParams params;
+        params.max_area_px2 = area;
+        params.min_area_px2 = min_area;
+        const Mesh m = build_mesh(img, params);
+        SCOPED_TRACE(::testing::Message() << size.first << "x" << size.second << " A_max " << area << " A_min "
+                                          << min_area);
+        expect_valid_mesh(img, params, m, /*check_criterion=*/size.first * size.second < 20000);
+        if (HasFatalFailure()) return;
+      }
     }
   }
 }
@@ -556,11 +590,12 @@ TEST(Tritree, InvariantsOnMiddlebury) {
   TRISTEREO_REQUIRE_MIDDLEBURY();
   for (const std::string& name : test::middlebury_names()) {
     const ImageU8 gray = to_gray(test::load_middlebury(name).left);
-    const TritreeParams params;  // defaults: 40 dB, 100 px^2
-    const Mesh m = build_mesh(gray, params);
-    SCOPED_TRACE(name);
-    expect_valid_mesh(gray, params, m);
-    EXPECT_GT(m.vertices.size(), 1000u);  // a textured scene is refined well below A_max
+    for (const TritreeParams& params : {TritreeParams{}, paper_params().tritree}) {  // 44 dB, 2 px^2; 40 dB, 1 px^2
+      const Mesh m = build_mesh(gray, params);
+      SCOPED_TRACE(name + " A_min " + std::to_string(params.min_area_px2));
+      expect_valid_mesh(gray, params, m);
+      EXPECT_GT(m.vertices.size(), 1000u);  // a textured scene is refined well below A_max
+    }
   }
 }
 
@@ -589,6 +624,7 @@ TEST(Tritree, BuildDoesNotAllocate) {
   const ImageU8 large = mixed_image(rng, 90, 70);
   TritreeParams params;
   params.max_area_px2 = 4;  // deep refinement
+  params.min_area_px2 = 1;
   Tritree tree;
   tree.configure(90, 70, params);
   Mesh mesh;
@@ -607,9 +643,10 @@ TEST(Tritree, IdenticalForAnyThreadCount) {
   Rng rng(31);
   for (const auto& size : {std::pair<int, int>{150, 101}, std::pair<int, int>{451, 376}}) {
     const ImageU8 img = mixed_image(rng, size.first, size.second);
-    for (int area : {4, 100}) {
+    for (const auto& [area, min_area] : {std::pair<int, int>{4, 1}, {100, 1}, {100, 2}, {100, 8}}) {
       TritreeParams params;
       params.max_area_px2 = area;
+      params.min_area_px2 = min_area;
       const Mesh serial = build_mesh(img, params);
       for (int workers : {1, 2, 3}) {
         ThreadPool pool;
@@ -619,7 +656,8 @@ TEST(Tritree, IdenticalForAnyThreadCount) {
         Mesh mesh;
         tree.reserve(mesh);
         tree.build(cview(img), mesh, &pool);
-        EXPECT_EQ(mesh, serial) << workers << " workers, " << size.first << "x" << size.second << " A_max " << area;
+        EXPECT_EQ(mesh, serial) << workers << " workers, " << size.first << "x" << size.second << " A_max " << area
+                                << " A_min " << min_area;
       }
     }
   }
@@ -677,6 +715,11 @@ TEST(Tritree, RejectsBadConfiguration) {
   bad.max_area_px2 = 0;
   EXPECT_THROW(tree.configure(10, 10, bad), Error);
   bad.max_area_px2 = kMaxAreaLimitPx2 + 1;
+  EXPECT_THROW(tree.configure(10, 10, bad), Error);
+  bad = ok;
+  bad.min_area_px2 = 0;
+  EXPECT_THROW(tree.configure(10, 10, bad), Error);
+  bad.min_area_px2 = largest_min_area_px2(bad.max_area_px2) + 1;
   EXPECT_THROW(tree.configure(10, 10, bad), Error);
   bad = ok;
   bad.psnr_deci_db = kMinPsnrDeciDb - 1;

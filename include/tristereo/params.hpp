@@ -47,9 +47,22 @@ enum class LrSource { kSummedCosts, kMirroredPass };
 // Gap policy tau(g) of the smoothness term P(g) = round(lambda * tau(g)).
 enum class GapPolicy { kInvSquare, kInverse, kConstant };
 
+// The largest TritreeParams::min_area_px2 allowed with this max_area_px2: half
+// the largest power of two <= max_area_px2 (at least 1), so that a triangle
+// larger than A_max, stretched or not, is never kept whole by the minimum area.
+constexpr int largest_min_area_px2(int max_area_px2) {
+  int p = 1;
+  while (p * 2 <= max_area_px2) p *= 2;
+  return p >= 2 ? p / 2 : 1;
+}
+
 struct TritreeParams {
-  int psnr_deci_db = 400;   // split when PSNR of the plane fit < this / 10 dB
+  int psnr_deci_db = 440;   // split when PSNR of the plane fit < this / 10 dB
   int max_area_px2 = 100;   // split when area > this
+  // Only triangles whose children would have at least this area want to split
+  // (the paper's minimum area; 1 = down to 1 px^2 leaves, the paper mode's).
+  // 1..largest_min_area_px2(max_area_px2).
+  int min_area_px2 = 2;
 };
 
 struct CostParams {

@@ -133,6 +133,23 @@ def test_strides_and_colour_give_the_same_frame(tmp_path):
     assert p.process(np.asfortranarray(left), np.asfortranarray(right)).digest == ref
 
 
+def test_tritree_keywords_are_the_programs(tmp_path):
+    # psnr, max_area and min_area as `match --psnr --max-area --min-area`: the same mesh.
+    cli("synth", tmp_path, "--width", 96, "--height", 64, "--ndisp", 16, "--seed", 3)
+    left, right = tristereo.read_image(tmp_path / "left.png"), tristereo.read_image(tmp_path / "right.png")
+    stats = tmp_path / "stats.json"
+    counts = []
+    for min_area in (1, 2, 8):
+        out = tristereo.Pipeline(96, 64, ndisp=16, psnr=40, max_area=64, min_area=min_area).process(left, right)
+        cli("match", tmp_path / "left.png", tmp_path / "right.png", "--ndisp", 16, "--psnr", 40, "--max-area", 64,
+            "--min-area", min_area, "--stats", stats)
+        assert f'"vertices": {out.vertices.shape[0]},' in stats.read_text()
+        counts.append(out.vertices.shape[0])
+    assert counts[0] > counts[1] > counts[2]  # a larger minimum area keeps fewer samples
+    with pytest.raises(ValueError, match="min_area_px2 = 33 is out of range"):
+        tristereo.Pipeline(96, 64, ndisp=16, min_area=33)
+
+
 def test_bad_input_raises_with_the_library_message(tmp_path):
     left, right = scene_arrays(tmp_path)
     h, w = left.shape

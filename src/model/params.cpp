@@ -29,6 +29,11 @@ void validate_params(const StereoParams& p) {
   check_range("d_min", p.d_min, -(kMaxDispSpan - p.num_disp), kMaxDispSpan - p.num_disp);
   check_range("tritree.psnr_deci_db", p.tritree.psnr_deci_db, kMinPsnrDeciDb, kMaxPsnrDeciDb);
   check_range("tritree.max_area_px2", p.tritree.max_area_px2, 1, kMaxAreaLimitPx2);
+  if (p.tritree.min_area_px2 < 1 || p.tritree.min_area_px2 > largest_min_area_px2(p.tritree.max_area_px2))
+    bad("tritree.min_area_px2 = " + std::to_string(p.tritree.min_area_px2) + " is out of range [1, " +
+        std::to_string(largest_min_area_px2(p.tritree.max_area_px2)) +
+        "] (at most half the largest power of two <= the maximum area, " +
+        std::to_string(p.tritree.max_area_px2) + " px^2)");
   check_window_side("cost.window_w", p.cost.window_w);
   check_window_side("cost.window_h", p.cost.window_h);
   check_range("cost.truncation", p.cost.truncation, 1, 255);
@@ -91,6 +96,8 @@ int max_cost_q4(const CostParams& c) {
 
 StereoParams paper_params() {
   StereoParams p;
+  p.tritree.psnr_deci_db = 400;
+  p.tritree.min_area_px2 = 1;
   p.optimizer = Optimizer::kRowDp;
   p.cost.kind = CostKind::kAd;
   p.cost.window_w = 5;

@@ -184,6 +184,7 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
      << "    \"window\": [" << c.window_w << ", " << c.window_h << "],\n"
      << "    \"psnr_db\": " << fixed(c.psnr_db, 1) << ",\n"
      << "    \"max_area_px2\": " << c.max_area_px2 << ",\n"
+     << "    \"min_area_px2\": " << c.min_area_px2 << ",\n"
      << "    \"threads\": " << c.threads << ",\n"
      << "    \"kernels\": " << json_quote(c.kernels) << ",\n"
      << "    \"cpus\": [" << cpu_list_text(c.cpus) << "],\n"

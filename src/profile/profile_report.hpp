@@ -28,6 +28,7 @@ struct ProfileRunConfig {
   int window_h = 0;
   double psnr_db = 0;
   int max_area_px2 = 0;
+  int min_area_px2 = 0;
   int threads = 0;        // workers actually running
   std::string kernels;    // kernel set actually active
   std::vector<int> cpus;  // requested pinning (empty = allowed set)

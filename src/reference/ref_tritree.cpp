@@ -101,7 +101,9 @@ class Builder {
       if (n.where == Where::kCrossing) {
         need_[m] = true;
       } else if (n.where == Where::kInside && n.splittable) {
-        n.wants = wants_split(real(n.v));
+        // The minimum area: only a triangle whose children would have at
+        // least A_min (virtual area) may want to split.
+        n.wants = twice_area(n.v) >= 4 * params_.min_area_px2 && wants_split(real(n.v));
         bool own = n.wants;
         for (int c : n.child) {
           if (c >= 0 && nodes_[c].splittable) own = own || need(midpoint_key(nodes_[c].v));
@@ -274,6 +276,7 @@ Mesh build_tritree(const ImageU8& gray, const TritreeParams& params) {
   check_range("image pixel count", static_cast<long long>(gray.pixels.size()), expected, expected);
   check_range("max_area_px2", params.max_area_px2, 1, kMaxAreaLimitPx2);
   check_range("psnr_deci_db", params.psnr_deci_db, kMinPsnrDeciDb, kMaxPsnrDeciDb);
+  check_range("min_area_px2", params.min_area_px2, 1, largest_min_area_px2(params.max_area_px2));
   return Builder(gray, params).run();
 }
 

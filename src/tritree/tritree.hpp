@@ -63,7 +63,8 @@ class Tritree {
   // kMaxImageSide each); pages are touched only by the frames that use them.
   // Throws Error(kInvalidArgument) naming the bad value (sizes,
   // params.max_area_px2 outside 1..kMaxAreaLimitPx2, psnr_deci_db outside
-  // kMinPsnrDeciDb..kMaxPsnrDeciDb); the tree is then unconfigured.
+  // kMinPsnrDeciDb..kMaxPsnrDeciDb, min_area_px2 outside
+  // 1..largest_min_area_px2(max_area_px2)); the tree is then unconfigured.
   void configure(int max_width, int max_height, const TritreeParams& params);
   bool configured() const { return max_width_ > 0; }
 

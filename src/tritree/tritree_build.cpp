@@ -225,8 +225,9 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
     }
     out[0] = a;
     out[1] = b;
-    const bool wa = wants_split(rx[0], ry[0], &a, tx0, ty0);
-    const bool wb = wants_split(rx[1], ry[1], &b, tx0, ty0);
+    const bool may_want = params_.min_area_px2 <= 1;  // virtual area 2 px^2
+    const bool wa = may_want && wants_split(rx[0], ry[0], &a, tx0, ty0);
+    const bool wb = may_want && wants_split(rx[1], ry[1], &b, tx0, ty0);
     cell(x0 + 1, y0 + 1) |= need_byte(wa | wb, wa, wb);
     return;
   }
@@ -241,6 +242,9 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
                                          {{1, 1, 1}, {0, 1, 1}},   // bottom: BR.B + BL.B
                                          {{0, 1, 0}, {0, 0, 1}}};  // left: BL.A + TL.B
   const bool moments_needed = s * s / 2 <= two_amax;  // side triangles: area2 = s^2 / 2
+  // Below twice the minimum area the test is made for the sums alone.
+  const bool sides_may_want = s * s / 2 >= 4 * params_.min_area_px2;
+  const bool halves_may_want = s * s >= 4 * params_.min_area_px2;
   PixelMoments sides[4];
   for (int k = 0; k < 4; ++k) {
     const Tri t{false, s, x0, y0, k};
@@ -258,7 +262,7 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
     const auto& q1 = kQuad[k][1];
     const bool wants = general_wants(vx, vy, moments_needed, tx0, ty0, sides[k], [&] {
       return quad[(q0[1] * 2 + q0[0]) * 2 + q0[2]] + quad[(q1[1] * 2 + q1[0]) * 2 + q1[2]];
-    });
+    }) && sides_may_want;
     // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
     const int cx0 = x0 + kQuad[k][0][0] * h + h / 2, cy0 = y0 + kQuad[k][0][1] * h + h / 2;
     const int cx1 = x0 + kQuad[k][1][0] * h + h / 2, cy1 = y0 + kQuad[k][1][1] * h + h / 2;
@@ -283,7 +287,8 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
     const int k0 = part == 0 ? 0 : (bs ? 2 : 1);
     const int k1 = part == 0 ? (bs ? 1 : 3) : (bs ? 3 : 2);
     const bool wants =
-        general_wants(vx, vy, half_moments_needed, tx0, ty0, out[part], [&] { return sides[k0] + sides[k1]; });
+        general_wants(vx, vy, half_moments_needed, tx0, ty0, out[part], [&] { return sides[k0] + sides[k1]; }) &&
+        halves_may_want;
     int ax, ay, bx, by;
     midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
     midpoint(Tri{false, s, x0, y0, k1}, &bx, &by);
@@ -343,9 +348,10 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
   const std::ptrdiff_t istride = gray_.stride_bytes;
   const std::uint64_t mse = mse_q8_;
 
-  // Side 2.
+  // Side 2. Its halves (virtual area 2 px^2) want to split only with a
+  // minimum area of 1 px^2; otherwise only their sums are needed.
   {
-    const bool test = 4 <= two_amax;
+    const bool test = 4 <= two_amax && params_.min_area_px2 <= 1;
     const bool keep_moments = S >= 4 && 8 <= two_amax;  // the side triangles of side 4 are tested
     constexpr int n = S / 2;
     IntensityMoments* out = sc.half_i[0];
@@ -362,7 +368,8 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
         const std::int32_t i01 = r1[x], i11 = r1[x + 1];
         const std::int32_t i02 = r2[x], i22 = r2[x + 2];
         const bool bs = (((x >> 1) + (y >> 1)) & 1) == 0;
-        bool wa = true, wb = true;
+        // Untested: larger than A_max (wants), or below the minimum area (does not).
+        bool wa = two_amax < 4, wb = two_amax < 4;
         const std::int32_t e_top = 2 * i10 - i00 - i20, e_left = 2 * i01 - i00 - i02;
         if (test) {
           // Residuals are area2 (= 4) times the error against the mean of the
@@ -430,6 +437,11 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
   constexpr std::int32_t side_area2 = s * s / 2, half_area2 = s * s;
   const bool test_sides = side_area2 <= two_amax;
   const bool test_halves = half_area2 <= two_amax;
+  // Below twice the minimum area a triangle does not want to split (its sums
+  // are still made: the level above needs them). Never so above A_max
+  // (largest_min_area_px2).
+  const bool sides_may_want = side_area2 >= 4 * params_.min_area_px2;
+  const bool halves_may_want = half_area2 >= 4 * params_.min_area_px2;
   const std::array<ShapeMoments, 4>& side_g = side_shape_[l];
   const std::array<ShapeMoments, 4>& half_g = half_shape_[l];
   const IntensityMoments* quads = sc.half_i[l - 1];
@@ -454,10 +466,14 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
         m[2] = q(i, j, 1, 1, 1) + q(i, j, 0, 1, 1);
         m[3] = q(i, j, 0, 1, 0) + q(i, j, 0, 0, 1);
         // Corners in clockwise order from A, then the centre (corners()).
-        w[0] = fixed_shape_fails<s, 0, h, h>(m[0], side_g[0], img, istride, tx0, ty0, x0, y0);
-        w[1] = fixed_shape_fails<0, s, -h, h>(m[1], side_g[1], img, istride, tx0, ty0, x1, y0);
-        w[2] = fixed_shape_fails<-s, 0, -h, -h>(m[2], side_g[2], img, istride, tx0, ty0, x1, y1);
-        w[3] = fixed_shape_fails<0, -s, h, -h>(m[3], side_g[3], img, istride, tx0, ty0, x0, y1);
+        if (sides_may_want) {
+          w[0] = fixed_shape_fails<s, 0, h, h>(m[0], side_g[0], img, istride, tx0, ty0, x0, y0);
+          w[1] = fixed_shape_fails<0, s, -h, h>(m[1], side_g[1], img, istride, tx0, ty0, x1, y0);
+          w[2] = fixed_shape_fails<-s, 0, -h, -h>(m[2], side_g[2], img, istride, tx0, ty0, x1, y1);
+          w[3] = fixed_shape_fails<0, -s, h, -h>(m[3], side_g[3], img, istride, tx0, ty0, x0, y1);
+        } else {
+          w[0] = w[1] = w[2] = w[3] = false;
+        }
       }
       at(cx, y0) |= need_byte(w[0] | nq00 | nq10, false, w[0]);
       at(x1, cy) |= need_byte(w[1] | nq10 | nq11, w[1], false);
@@ -488,6 +504,8 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
           wa = fixed_shape_fails<s, 0, 0, s>(out[0], half_g[2], img, istride, tx0, ty0, x0, y0);
           wb = fixed_shape_fails<0, s, -s, s>(out[1], half_g[3], img, istride, tx0, ty0, x1, y0);
         }
+        wa &= halves_may_want;
+        wb &= halves_may_want;
       }
       const bool own_a = wa | n_top | (bs ? n_right : n_left);
       const bool own_b = wb | n_bottom | (bs ? n_left : n_right);

@@ -66,6 +66,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   check_range("max_height", max_height, 2, kMaxImageSide);
   check_range("max_area_px2", params.max_area_px2, 1, kMaxAreaLimitPx2);
   check_range("psnr_deci_db", params.psnr_deci_db, kMinPsnrDeciDb, kMaxPsnrDeciDb);
+  check_range("min_area_px2", params.min_area_px2, 1, largest_min_area_px2(params.max_area_px2));
 
   const std::size_t pixels = static_cast<std::size_t>(max_width) * max_height;
   tile_ = tile_side_for(params.max_area_px2);

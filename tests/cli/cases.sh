@@ -51,6 +51,11 @@ run error 2 '--window height 33 is out of range \[1, 31\]' "window too tall" "$M
 run error 2 '--psnr 5 is out of range \[10, 70\] dB' "PSNR threshold out of range" "$M --ndisp 16 --psnr 5"
 run error 2 "--psnr: 'nan' is not a number" "PSNR threshold nan" "$M --ndisp 16 --psnr nan"
 run error 2 '--max-area 0 is out of range' "maximum area 0" "$M --ndisp 16 --max-area 0"
+run error 2 '--min-area 0 is out of range \[1, 32\]' "minimum area 0" "$M --ndisp 16 --min-area 0"
+run error 2 '--max-area 3 is too small for the default minimum area of 2 px\^2 \(that needs --max-area >= 4\); add --min-area 1' \
+  "maximum area too small for the default minimum area" "$M --ndisp 16 --max-area 3"
+run error 2 '--min-area 2 is out of range \[1, 1\] \(at most half the largest power of two <= the maximum area, 3 px\^2\)' \
+  "minimum area too large for the maximum area" "$M --ndisp 16 --max-area 3 --min-area 2"
 run error 2 '--truncation 256 is out of range' "truncation 256" "$M --ndisp 16 --truncation 256"
 run error 2 '--lambda -1 is out of range' "negative smoothness" "$M --ndisp 16 --lambda -1"
 run error 2 '--gamma-color 0 is out of range' "adaptive weight scale 0" "$M --ndisp 16 --weights adaptive --gamma-color 0"

@@ -15,6 +15,7 @@ static StereoParams golden_params(int ndisp, bool dense, Weights w) {
   p.dense = dense;
   p.tritree.psnr_deci_db = 400;
   p.tritree.max_area_px2 = 100;
+  p.tritree.min_area_px2 = 1;
   p.cost.window_w = 5;
   p.cost.window_h = 5;
   p.cost.weights = w;

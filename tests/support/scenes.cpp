@@ -84,6 +84,9 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   p.dense = rng.uniform(0, 3) == 0;
   p.tritree.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
   p.tritree.max_area_px2 = rng.uniform(0, 1) ? rng.uniform(1, 40) : rng.uniform(1, kMaxAreaLimitPx2);
+  // From the threshold's last digit rather than a draw of its own, so the
+  // draws after it (and the kernels' coverage they give) stay as they were.
+  p.tritree.min_area_px2 = std::min(1 + p.tritree.psnr_deci_db % 3, largest_min_area_px2(p.tritree.max_area_px2));
   p.cost.window_w = 2 * rng.uniform(0, 7) + 1;
   p.cost.window_h = 2 * rng.uniform(0, 7) + 1;
   p.cost.weights = rng.uniform(0, 1) ? Weights::kBox : Weights::kAdaptive;
