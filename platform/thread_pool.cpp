@@ -5,6 +5,7 @@
 
 #include "platform/affinity.hpp"
 #include "platform/clock.hpp"
+#include "platform/cpu_relax.hpp"
 #include "platform/cpu_features.hpp"
 #include "tristereo/status.hpp"
 
@@ -31,14 +32,6 @@ constexpr int kPausesPerClockRead = 64;
 // available_cpus().
 thread_local std::vector<int> t_affinity_before_pools;
 thread_local int t_pools_pinning_this_thread = 0;
-
-inline void cpu_relax() noexcept {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__) || defined(__arm__)
-  asm volatile("yield" ::: "memory");
-#endif
-}
 
 }  // namespace
 

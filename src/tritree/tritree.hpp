@@ -21,6 +21,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -195,6 +196,9 @@ class Tritree {
   // (level l: side 2^(l+1)), and of one level's side triangles.
   // (one per pass-1 worker, at most kMaxTileWorkers).
   std::array<TileScratch, kMaxTileWorkers> scratch_{};
+  // Pass 1 on a pool: each row of tiles marks itself done, so a row of the
+  // second parity starts as soon as its two neighbours are (configure()).
+  std::unique_ptr<std::atomic<std::uint8_t>[]> row_done_;
   // Pass 3: vertex ids, the leaves as rotated triangles.
   std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices
   Band* bands_ = nullptr;                 // one per row of tiles

@@ -4,9 +4,11 @@
 #include <atomic>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <type_traits>
 
 #include "platform/clock.hpp"
+#include "platform/cpu_relax.hpp"
 #include "platform/side_work.hpp"
 #include "platform/thread_pool.hpp"
 #include "src/aggregate/predecessor_offers.hpp"
@@ -864,17 +866,36 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     if (workers > 1 && layout_.tiles_y > 2) {
       // Rows taken as workers come free (a fixed deal left one worker two
       // rows more, or the slow general last row on top), from the bottom up
-      // so that the last row, all general tiles, goes first.
-      for (int parity = 0; parity < 2; ++parity) {
-        const int top = layout_.tiles_y - 1 - ((layout_.tiles_y - 1 - parity) & 1);  // last row of this parity
-        std::atomic<int> next{0};
-        pool->run([&](int w) {
-          if (w >= workers) return;
-          for (int ty = top - 2 * next.fetch_add(1, std::memory_order_relaxed); ty >= 0;
-               ty = top - 2 * next.fetch_add(1, std::memory_order_relaxed))
-            tile_row(ty, scratch_[w]);
-        });
-      }
+      // so that the last row, all general tiles, goes first: the last row's
+      // parity first, then the other's. A row of the second parity shares
+      // grid points with its two neighbours only, and waits for those alone
+      // (they were all taken before it, so they finish), not for the whole
+      // first parity: the barrier between the parities left a worker idle
+      // for up to a row.
+      const int tiles_y = layout_.tiles_y;
+      const int first = (tiles_y + 1) / 2;  // rows of the last row's parity
+      for (int ty = 0; ty < tiles_y; ++ty) row_done_[ty].store(0, std::memory_order_relaxed);
+      std::atomic<int> next{0};
+      pool->run([&](int w) {
+        if (w >= workers) return;
+        for (int k = next.fetch_add(1, std::memory_order_relaxed); k < tiles_y;
+             k = next.fetch_add(1, std::memory_order_relaxed)) {
+          const int ty = k < first ? tiles_y - 1 - 2 * k : tiles_y - 2 - 2 * (k - first);
+          if (k >= first) {
+            const auto done = [&](int r) {
+              return r < 0 || r >= tiles_y || row_done_[r].load(std::memory_order_acquire) != 0;
+            };
+            // A short wait, bounded by the neighbour row in progress; with
+            // more workers than CPUs that row's worker may need this CPU.
+            for (int spins = 0; !done(ty - 1) || !done(ty + 1); ++spins) {
+              cpu_relax();
+              if (spins >= 4096) std::this_thread::yield();
+            }
+          }
+          tile_row(ty, scratch_[w]);
+          row_done_[ty].store(1, std::memory_order_release);
+        }
+      });
     } else {
       for (int ty = 0; ty < layout_.tiles_y; ++ty) tile_row(ty, scratch_[0]);
     }

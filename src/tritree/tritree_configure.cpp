@@ -144,6 +144,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // 32-bit targets.
   static_assert(sizeof(Band) % 8 == 0 && alignof(Band) <= 8, "Band keeps the carving 8-byte aligned");
   bands_ = reinterpret_cast<Band*>(take(bands * sizeof(Band)));
+  row_done_ = std::make_unique<std::atomic<std::uint8_t>[]>(bands);
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
   tri_scratch_ = reinterpret_cast<Triangle*>(take(band_leaves * sizeof(Triangle)));
   stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
