@@ -131,6 +131,8 @@ class Tritree {
                                    int ay);
   template <int S>
   void tile_plain(int tx0, int ty0, const TileScratch& sc);
+  template <int S>
+  void side2_sums_only(int tx0, int ty0, const TileScratch& sc) const;
   template <int S, int s>
   void plain_level(int tx0, int ty0, const TileScratch& sc);
   void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc);

@@ -341,6 +341,51 @@ PixelMoments Tritree::full_moments(const IntensityMoments& mi, const ShapeMoment
 // u and v are constants). Its 2 x 2 squares own their top-left 2 x 2 pixels; a half of
 // area 2 px^2 owns a corner and edge or hypotenuse midpoints only, whose
 // residuals are closed forms.
+// The side-2 level when its halves are not tested: each 2 x 2 square's two
+// halves' intensity sums (relative to the tile origin), for the level above.
+// '\\' squares: A = upper right owns (0,0) (1,0) (1,1), B = lower left
+// (0,1); '/' squares: A = upper left owns (0,0) (1,0) (0,1), B = lower right
+// (1,1). Along a row of squares the two alternate.
+template <int S>
+void Tritree::side2_sums_only(int tx0, int ty0, const TileScratch& sc) const {
+  constexpr int n = S / 2;  // even: S >= 4
+  const std::uint8_t* img = gray_.data;
+  const std::ptrdiff_t istride = gray_.stride_bytes;
+  IntensityMoments* out = sc.half_i[0];
+  const auto square = [&](auto backslash, const std::uint8_t* r0, const std::uint8_t* r1, int i, std::int32_t ly,
+                          IntensityMoments* o) {
+    constexpr bool bs = decltype(backslash)::value;
+    const int x = tx0 + 2 * i;
+    const std::int32_t lx = 2 * i;
+    const std::int32_t i00 = r0[x], i10 = r0[x + 1];
+    const std::int32_t pa = bs ? r1[x + 1] : r1[x];  // A's third pixel
+    const std::int32_t pb = bs ? r1[x] : r1[x + 1];  // B's pixel
+    constexpr int ax = bs ? 1 : 0, bx = bs ? 0 : 1;
+    const std::int32_t top_i = i00 + i10;
+    o[0] = IntensityMoments{top_i + pa, lx * top_i + i10 + (lx + ax) * pa, ly * top_i + (ly + 1) * pa,
+                            i00 * i00 + i10 * i10 + pa * pa};
+    o[1] = IntensityMoments{pb, (lx + bx) * pb, (ly + 1) * pb, pb * pb};
+  };
+  for (int j = 0; j < n; ++j) {
+    const int y = ty0 + 2 * j;
+    const std::uint8_t* r0 = img + y * istride;
+    const std::uint8_t* r1 = r0 + istride;
+    const std::int32_t ly = 2 * j;
+    IntensityMoments* o = out + 2 * n * j;
+    if ((((tx0 >> 1) + (y >> 1)) & 1) == 0) {
+      for (int i = 0; i < n; i += 2) {
+        square(std::true_type{}, r0, r1, i, ly, o + 2 * i);
+        square(std::false_type{}, r0, r1, i + 1, ly, o + 2 * i + 2);
+      }
+    } else {
+      for (int i = 0; i < n; i += 2) {
+        square(std::false_type{}, r0, r1, i, ly, o + 2 * i);
+        square(std::true_type{}, r0, r1, i + 1, ly, o + 2 * i + 2);
+      }
+    }
+  }
+}
+
 template <int S>
 void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
   const int two_amax = 2 * params_.max_area_px2;
@@ -351,8 +396,12 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
   const std::uint64_t mse = mse_q8_;
 
   // Side 2. Its halves (virtual area 2 px^2) want to split only with a
-  // minimum area of 1 px^2; otherwise only their sums are needed.
-  {
+  // minimum area of 1 px^2; otherwise only their sums are needed (the
+  // defaults): then the need stays as cleared and the halves' orientation,
+  // alternating along a row, is a template argument instead of selects.
+  if (S >= 4 && 4 <= two_amax && params_.min_area_px2 > 1) {
+    side2_sums_only<S>(tx0, ty0, sc);
+  } else {
     const bool test = 4 <= two_amax && params_.min_area_px2 <= 1;
     const bool keep_moments = S >= 4 && 8 <= two_amax;  // the side triangles of side 4 are tested
     constexpr int n = S / 2;
