@@ -28,6 +28,7 @@
 #include "simd/escape_ops.hpp"
 #include "simd/kernels.hpp"
 #include "src/kernels/kernels_scalar.hpp"
+#include "src/tritree/side4_shapes.hpp"
 
 namespace tristereo {
 namespace simd {
@@ -1138,6 +1139,182 @@ int WinnerU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* riva
     *rival = escape::hmin_u16(r);
   }
   return k;
+}
+
+// ---------------------------------------------------------------- tritree
+
+namespace detail {
+
+// x * K for a compile-time K: shifts for powers of two, nothing for 0 and 1.
+template <int K, class A>
+inline batch<std::int32_t, A> times(const batch<std::int32_t, A>& x) {
+  if constexpr (K == 0) {
+    return batch<std::int32_t, A>(0);
+  } else if constexpr (K == 1) {
+    return x;
+  } else if constexpr (K == -1) {
+    return -x;
+  } else if constexpr (K > 0 && (K & (K - 1)) == 0) {
+    return x << __builtin_ctz(static_cast<unsigned>(K));
+  } else {
+    return x * batch<std::int32_t, A>(K);
+  }
+}
+
+struct LaneIndexU32 {
+  static constexpr std::uint32_t get(std::size_t i, std::size_t) { return static_cast<std::uint32_t>(i); }
+};
+// Lane i's square: diagonal 0 ('\') or 1 ('/'), alternating from kFirstBs.
+template <bool kFirstBs>
+struct Side4Diagonal {
+  static constexpr std::int32_t get(std::size_t i, std::size_t) { return (kFirstBs == ((i & 1) == 0)) ? 0 : 1; }
+};
+// Pixel kP's weight of corner kC in its half, per lane's diagonal.
+template <bool kFirstBs, int kP, int kC>
+struct Side4HalfWeight {
+  static constexpr std::int32_t get(std::size_t i, std::size_t) {
+    return side4::half_weights((kFirstBs == ((i & 1) == 0)) ? 0 : 1, kP).w[kC];
+  }
+};
+
+// The pixels of side triangle k are kPixelsBySide[kSideStart[k] .. kSideStart[k + 1]).
+constexpr int kPixelsBySide[16] = {0, 1, 2, 3, 5, 6, 7, 10, 11, 15, 13, 14, 4, 8, 9, 12};
+constexpr int kSideStart[5] = {0, 6, 10, 12, 16};
+
+// One side triangle's pixels: its SSE, its pixels' SSE against their half's
+// plane, and their sums (I, dx I, dy I, I^2), into `group`.
+template <class A, bool kFirstBs, int kSide, int... Q>
+inline void side4_group(const batch<std::uint32_t, A>* row, const batch<std::int32_t, A>* corner,
+                        batch<std::int32_t, A>& side_sse, batch<std::int32_t, A>* group,
+                        std::integer_sequence<int, Q...>) {
+  using bi = batch<std::int32_t, A>;
+  using bu = batch<std::uint32_t, A>;
+  const auto pixel = [&](auto q) {
+    constexpr int p = kPixelsBySide[kSideStart[kSide] + decltype(q)::value];
+    constexpr int dx = p & 3, dy = p >> 2;
+    static_assert(side4::kSideOf[p] == kSide, "kPixelsBySide lists the side's own pixels");
+    const bi v = xsimd::bitwise_cast<bi>((row[dy] >> (8 * dx)) & bu(0xFFu));
+    constexpr side4::PlaneWeights ws = side4::side_weights(p);
+    bi rs = times<ws.a2>(v);
+    bi rh = times<side4::half_weights(0, p).a2>(v);
+    static_assert(side4::half_weights(0, p).a2 == side4::half_weights(1, p).a2, "halves of one area");
+    const auto corner_terms = [&](auto c) {
+      constexpr int k = decltype(c)::value;
+      if constexpr (ws.w[k] != 0) rs = rs - times<ws.w[k]>(corner[k]);
+      constexpr int w0 = side4::half_weights(0, p).w[k], w1 = side4::half_weights(1, p).w[k];
+      if constexpr (w0 == w1 && w0 != 0) {
+        rh = rh - times<w0>(corner[k]);
+      } else if constexpr (w0 != w1) {
+        rh = rh - corner[k] * bi(xsimd::make_batch_constant<bi, Side4HalfWeight<kFirstBs, p, k>>());
+      }
+    };
+    corner_terms(std::integral_constant<int, 0>{});
+    corner_terms(std::integral_constant<int, 1>{});
+    corner_terms(std::integral_constant<int, 2>{});
+    corner_terms(std::integral_constant<int, 3>{});
+    corner_terms(std::integral_constant<int, 4>{});
+    side_sse += rs * rs;
+    group[0] += rh * rh;
+    group[1] += v;
+    group[2] += times<dx>(v);
+    group[3] += times<dy>(v);
+    group[4] += v * v;
+  };
+  (pixel(std::integral_constant<int, Q>{}), ...);
+}
+
+// Squares m0 .. m0 + lanes - 1 of Side4TestsU8, lane i's diagonal alternating from kFirstBs.
+template <class A, bool kFirstBs>
+inline void side4_block(const std::uint8_t* const* rows, int m0, const std::int32_t* sse_limit,
+                        std::uint32_t* wants, std::int32_t* sums, std::size_t sums_stride) {
+  using bi = batch<std::int32_t, A>;
+  using bu = batch<std::uint32_t, A>;
+  using b8 = batch<std::uint8_t, A>;
+  constexpr int lanes = static_cast<int>(bu::size);
+  const int x = 4 * m0;
+  // A u32 lane holds one square's 4 pixels of a row (little-endian: dx = byte).
+  bu row[5];
+  for (int r = 0; r < 5; ++r) row[r] = xsimd::bitwise_cast<bu>(b8::load_unaligned(rows[r] + x));
+  const bu byte(0xFFu);
+  // A square's right corners are its right neighbour's left ones; the last
+  // lane's come from the row itself.
+  const auto last_lane = bu(xsimd::make_batch_constant<bu, LaneIndexU32>()) == bu(lanes - 1);
+  const auto right_corner = [&](int r) {
+    const bu left = row[r] & byte;
+    return xsimd::bitwise_cast<bi>(
+        xsimd::select(last_lane, bu(rows[r][x + 4 * lanes]), permute<ShiftDownIdx<1>>(left)));
+  };
+  const bi corner[side4::kCorners] = {xsimd::bitwise_cast<bi>(row[0] & byte), right_corner(0),
+                                      xsimd::bitwise_cast<bi>(row[4] & byte), right_corner(4),
+                                      xsimd::bitwise_cast<bi>((row[2] >> 16) & byte)};
+  const auto bs = bi(xsimd::make_batch_constant<bi, Side4Diagonal<kFirstBs>>()) == bi(0);
+  const bi zero(0);
+  bi bits(0), half0[5] = {zero, zero, zero, zero, zero}, half1[5] = {zero, zero, zero, zero, zero};
+  const auto side = [&](auto k) {
+    constexpr int kSide = decltype(k)::value;
+    bi sse(0), group[5] = {zero, zero, zero, zero, zero};
+    side4_group<A, kFirstBs, kSide>(row, corner, sse, group,
+                                     std::make_integer_sequence<int, kSideStart[kSide + 1] - kSideStart[kSide]>{});
+    bits = bits | xsimd::select(sse > bi(sse_limit[side4::kLimitSide + kSide]), bi(1 << kSide), zero);
+    // The top side is in half 0, the bottom one in half 1; the right and left
+    // ones in either, by the lane's diagonal (side4::half_of).
+    for (int j = 0; j < 5; ++j) {
+      if constexpr (kSide == 0) {
+        half0[j] += group[j];
+      } else if constexpr (kSide == 2) {
+        half1[j] += group[j];
+      } else {
+        const bi in_bs = xsimd::select(bs, group[j], zero), in_slash = group[j] - in_bs;
+        (kSide == 1 ? half0 : half1)[j] += in_bs;
+        (kSide == 1 ? half1 : half0)[j] += in_slash;
+      }
+    }
+  };
+  side(std::integral_constant<int, 0>{});
+  side(std::integral_constant<int, 1>{});
+  side(std::integral_constant<int, 2>{});
+  side(std::integral_constant<int, 3>{});
+  const int h = side4::kLimitHalf;
+  const bi limit0 = xsimd::select(bs, bi(sse_limit[h]), bi(sse_limit[h + 2]));
+  const bi limit1 = xsimd::select(bs, bi(sse_limit[h + 1]), bi(sse_limit[h + 3]));
+  bits = bits | xsimd::select(half0[0] > limit0, bi(1 << side4::kWantsHalfBit), zero);
+  bits = bits | xsimd::select(half1[0] > limit1, bi(1 << (side4::kWantsHalfBit + 1)), zero);
+  xsimd::bitwise_cast<bu>(bits).store_unaligned(wants + m0);
+  for (int j = 0; j < 4; ++j) {
+    half0[j + 1].store_unaligned(sums + static_cast<std::size_t>(j) * sums_stride + m0);
+    half1[j + 1].store_unaligned(sums + static_cast<std::size_t>(4 + j) * sums_stride + m0);
+  }
+}
+
+}  // namespace detail
+
+// Lanes = squares. Below a register's worth of squares the narrower
+// instantiation (or the scalar twin) takes them all; otherwise full blocks,
+// the last one ending at n (its first lanes write the same values again).
+template <class Arch>
+void Side4TestsU8<Arch>::call(const std::uint8_t* const* rows, int n, int first_backslash,
+                              const std::int32_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
+                              std::size_t sums_stride) {
+  constexpr int lanes = static_cast<int>(xsimd::batch<std::uint32_t, Arch>::size);
+  if (n < lanes) {
+    using Half = typename detail::Narrower<Arch>::type;
+    if constexpr (!std::is_void<Half>::value) {
+      Side4TestsU8<Half>::call(rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
+    } else {
+      side4_tests_u8_scalar(rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
+    }
+    return;
+  }
+  const auto block = [&](int m0) {
+    if ((first_backslash != 0) == ((m0 & 1) == 0)) {
+      detail::side4_block<Arch, true>(rows, m0, sse_limit, wants, sums, sums_stride);
+    } else {
+      detail::side4_block<Arch, false>(rows, m0, sse_limit, wants, sums, sums_stride);
+    }
+  };
+  int m = 0;
+  for (; m + lanes <= n; m += lanes) block(m);
+  if (m < n) block(n - lanes);
 }
 
 }  // namespace simd

@@ -127,6 +127,12 @@ struct RgbToGrayRowU8 {
   static void call(const std::uint8_t* rgb, int n, std::uint8_t* gray);
 };
 
+template <class Arch>
+struct Side4TestsU8 {
+  static void call(const std::uint8_t* const* rows, int n, int first_backslash, const std::int32_t* sse_limit,
+                   std::uint32_t* wants, std::int32_t* sums, std::size_t sums_stride);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -147,7 +153,8 @@ struct RgbToGrayRowU8 {
   KEYWORD template struct NormalizeCostsU8<ARCH>;             \
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
-  KEYWORD template struct RgbToGrayRowU8<ARCH>;
+  KEYWORD template struct RgbToGrayRowU8<ARCH>;                \
+  KEYWORD template struct Side4TestsU8<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

@@ -619,6 +619,87 @@ TEST_P(SimdKernels, MiddleburyRowsThroughAggregationAndDp) {
   }
 }
 
+// The tritree's side-4 level: n squares side by side, each row of pixels from
+// its own allocation ending right after the last square's right corner (an
+// over-read is a heap overflow under ASan); limits spread over the SSEs'
+// range so that every bit takes both values.
+TEST_P(SimdKernels, Side4TestsU8) {
+  std::mt19937 rng(23);
+  std::uint32_t ones = 0, zeros = 0;  // wants bits seen set and clear (scalar)
+  const auto run = [&](const std::vector<std::vector<std::uint8_t>>& pixel_rows, int n, int first_bs,
+                       const std::vector<std::int32_t>& limit, const std::string& what) {
+    std::vector<Input<std::uint8_t>> in;
+    const std::uint8_t* rows[5];
+    for (int r = 0; r < 5; ++r) in.emplace_back(pixel_rows[static_cast<std::size_t>(r)], 0);
+    for (int r = 0; r < 5; ++r) rows[r] = in[static_cast<std::size_t>(r)].data();
+    Guarded<std::uint32_t> wa(std::vector<std::uint32_t>(static_cast<std::size_t>(n), 0xA5A5A5A5u), 0xA5A5A5A5u);
+    Guarded<std::uint32_t> wb = wa;
+    const std::size_t stride = static_cast<std::size_t>(n) + 3;
+    Guarded<std::int32_t> sa(std::vector<std::int32_t>(8 * stride, -7), -7);
+    Guarded<std::int32_t> sb = sa;
+    simd().side4_tests_u8(rows, n, first_bs, limit.data(), wa.data(), sa.data(), stride);
+    scalar().side4_tests_u8(rows, n, first_bs, limit.data(), wb.data(), sb.data(), stride);
+    ASSERT_EQ(diff(wa, wb), "") << what << " n=" << n << " first_backslash=" << first_bs;
+    ASSERT_EQ(diff(sa, sb), "") << what << " n=" << n << " first_backslash=" << first_bs;
+    for (int m = 0; m < n; ++m) ones |= wb.data()[m], zeros |= ~wb.data()[m];
+  };
+  const auto limits = [&](int which) {
+    std::vector<std::int32_t> l(8);
+    for (std::int32_t& v : l) {
+      switch (which) {
+        case 0: v = static_cast<std::int32_t>(rng() % 200000); break;   // mixed on random pixels
+        case 1: v = static_cast<std::int32_t>(rng() % 2000); break;     // mixed on smooth pixels
+        case 2: v = 0; break;                                           // any residual fails
+        default: v = INT32_MAX; break;                                  // never
+      }
+    }
+    return l;
+  };
+  for (int n = 1; n <= 40; ++n) {
+    for (int c = 0; c < 6; ++c) {
+      std::vector<std::vector<std::uint8_t>> px(5, std::vector<std::uint8_t>(static_cast<std::size_t>(4 * n + 1)));
+      for (int r = 0; r < 5; ++r)
+        for (int x = 0; x <= 4 * n; ++x) {
+          std::uint8_t& v = px[static_cast<std::size_t>(r)][static_cast<std::size_t>(x)];
+          switch (c) {
+            case 0: v = static_cast<std::uint8_t>(rng()); break;
+            case 1: v = 0; break;
+            case 2: v = 255; break;
+            case 3: v = ((x + r) & 1) ? 255 : 0; break;
+            default: v = static_cast<std::uint8_t>(std::clamp(3 * x + 5 * r + static_cast<int>(rng() % 9), 0, 255));
+          }
+        }
+      for (int first_bs = 0; first_bs < 2; ++first_bs)
+        for (int which = 0; which < 4; ++which) {
+          run(px, n, first_bs, limits(c == 0 ? which : (which == 0 ? 1 : which)), "case " + std::to_string(c));
+          if (HasFatalFailure()) return;
+        }
+    }
+  }
+  // Real rows: every 4-row band of Teddy's left view, as gray.
+  if (!test::data_set_available("middlebury")) {
+    TRISTEREO_REQUIRE_DATA("middlebury");
+    return;
+  }
+  const ImageU8 img = read_image_u8(test::data_set_dir("middlebury") + "/teddy/left.png");
+  std::vector<std::uint8_t> gray(static_cast<std::size_t>(img.width) * img.height);
+  for (int y = 0; y < img.height; ++y)
+    scalar().rgb_to_gray_row_u8(img.row(y), img.width, gray.data() + static_cast<std::size_t>(y) * img.width);
+  const int n = (img.width - 1) / 4;
+  const std::vector<std::int32_t> limit = {20000, 20000, 20000, 20000, 60000, 60000, 60000, 60000};
+  for (int y = 0; y + 4 < img.height; y += 4) {
+    std::vector<std::vector<std::uint8_t>> px;
+    for (int r = 0; r < 5; ++r) {
+      const std::uint8_t* row = gray.data() + static_cast<std::size_t>(y + r) * img.width;
+      px.emplace_back(row, row + 4 * n + 1);
+    }
+    run(px, n, (y / 4) & 1, limit, "teddy y=" + std::to_string(y));
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_EQ(ones & 0x3Fu, 0x3Fu) << "some wants bit was never set";
+  EXPECT_EQ(zeros & 0x3Fu, 0x3Fu) << "some wants bit was never clear";
+}
+
 INSTANTIATE_TEST_SUITE_P(Sets, SimdKernels, ::testing::ValuesIn(test::simd_kernel_params()),
                          test::KernelParamName());
 // A build without SIMD (TRISTEREO_WITH_SIMD=OFF, unknown CPU) has nothing to compare.

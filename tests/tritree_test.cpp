@@ -16,7 +16,9 @@
 #include "src/model/psnr_threshold.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "src/tritree/pixel_moments.hpp"
+#include "src/kernels/kernels_scalar.hpp"
 #include "src/tritree/rtin_layout.hpp"
+#include "src/tritree/side4_shapes.hpp"
 #include "src/tritree/tritree.hpp"
 #include "support/alloc_counter.hpp"
 #include "support/scenes.hpp"
@@ -321,6 +323,75 @@ TEST(PixelMoments, ShapeSseEqualsBruteForceAwayFromTheLastRowAndColumn) {
   EXPECT_EQ(checked, 3000);
   EXPECT_GT(splits, 300);
   EXPECT_LT(splits, 2700);
+}
+
+TEST(Side4Tests, ScalarKernelEqualsBruteForce) {
+  // The side-4 level's kernel (side4_shapes.hpp) against the fill rule and the
+  // brute-force SSE: each pixel's owner, each triangle's SSE (pinned by a
+  // limit just below it and one at it) and the halves' sums.
+  Rng rng(53);
+  int fails = 0, passes = 0;
+  for (int it = 0; it < 2000; ++it) {
+    const int w = rng.uniform(6, 40), h = rng.uniform(6, 40);
+    const ImageU8 img = mixed_image(rng, w, h);
+    // A square with corners at multiples of 4 (as in a tile), off the last row and column.
+    const int x0 = 4 * rng.uniform(0, (w - 6) / 4), y0 = 4 * rng.uniform(0, (h - 6) / 4);
+    const int x1 = x0 + 4, y1 = y0 + 4, cx = x0 + 2, cy = y0 + 2;
+    const int diagonal = rng.uniform(0, 1);
+    const Vertex tri[6][3] = {{{x0, y0}, {x1, y0}, {cx, cy}}, {{x1, y0}, {x1, y1}, {cx, cy}},
+                              {{x1, y1}, {x0, y1}, {cx, cy}}, {{x0, y1}, {x0, y0}, {cx, cy}},
+                              // the halves of a '\\' square, then of a '/' one
+                              {{x0, y0}, {x1, y0}, {x1, y1}}, {{x0, y0}, {x1, y1}, {x0, y1}}};
+    const Vertex slash[2][3] = {{{x0, y0}, {x1, y0}, {x0, y1}}, {{x1, y0}, {x1, y1}, {x0, y1}}};
+    const auto corners_of = [&](int t) { return t < 4 || diagonal == 0 ? tri[t] : slash[t - 4]; };
+    std::int32_t sse[6];
+    std::int64_t pixels[6];
+    std::int32_t sums[2][4] = {};
+    for (int t = 0; t < 6; ++t) {
+      const Vertex* v = corners_of(t);
+      std::int64_t n_px = 0;
+      const std::uint64_t e = sse_brute_force(img, v[0], v[1], v[2], &n_px);
+      ASSERT_LT(e, std::uint64_t{1} << 27);
+      sse[t] = static_cast<std::int32_t>(e);
+      pixels[t] = n_px;
+      for (int p = 0; p < 16; ++p) {
+        const int dx = p & 3, dy = p >> 2;
+        const bool owned = owns_pixel(v[0], v[1], v[2], x0 + dx, y0 + dy, w, h);
+        const int side = side4::kSideOf[p];
+        const bool listed = t < 4 ? side == t : side4::half_of(diagonal, side) == t - 4;
+        ASSERT_EQ(owned, listed) << "pixel " << dx << "," << dy << " of triangle " << t << ", diagonal " << diagonal;
+        if (t >= 4 && owned) {
+          const std::int32_t i = img.at(x0 + dx, y0 + dy);
+          std::int32_t* s = sums[t - 4];
+          s[0] += i, s[1] += dx * i, s[2] += dy * i, s[3] += i * i;
+        }
+      }
+    }
+    const std::uint8_t* rows[5];
+    for (int r = 0; r < 5; ++r) rows[r] = img.row(y0 + r) + x0;
+    for (int below = 0; below < 2; ++below) {
+      std::int32_t limit[side4::kLimits];
+      for (int t = 0; t < 4; ++t) limit[side4::kLimitSide + t] = sse[t] - below;
+      for (int p = 0; p < 2; ++p) {
+        limit[side4::kLimitHalf + 2 * diagonal + p] = sse[4 + p] - below;
+        limit[side4::kLimitHalf + 2 * (1 - diagonal) + p] = -1;  // the other diagonal's: would fail
+      }
+      std::uint32_t wants = 0xFFFFFFFFu;
+      std::int32_t out[8 * 3];
+      side4_tests_u8_scalar(rows, 1, diagonal == 0, limit, &wants, out, 3);
+      for (int t = 0; t < 6; ++t) {
+        const int bit = t < 4 ? t : side4::kWantsHalfBit + t - 4;
+        ASSERT_EQ((wants >> bit) & 1u, below ? 1u : 0u) << "triangle " << t << " SSE " << sse[t];
+      }
+      ASSERT_EQ(wants >> 6, 0u);
+      for (int c = 0; c < 8; ++c) ASSERT_EQ(out[3 * c], sums[c / 4][c % 4]) << "sum " << c;
+    }
+    for (int t = 0; t < 6; ++t)
+      (plane_fit_fails(static_cast<std::uint64_t>(sse[t]), pixels[t], t < 4 ? 8 : 16, mse_threshold_q8(400)) ? fails
+                                                                                                          : passes) += 1;
+  }
+  EXPECT_GT(fails, 1000);  // the images give both outcomes
+  EXPECT_GT(passes, 1000);
 }
 
 TEST(PixelMoments, ChildrenAddUpToTheirParent) {

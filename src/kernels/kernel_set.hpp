@@ -149,6 +149,21 @@ struct KernelSet {
   int (*winner_u16)(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
                     std::uint16_t* best_k) = nullptr;
 
+  // The tritree's side-4 level (src/tritree/side4_shapes.hpp, docs/tritree.md)
+  // for n >= 1 squares of 4 x 4 pixels side by side: square m's pixel (dx, dy)
+  // is rows[dy][4 m + dx] (dy <= 4: row 4 and column 4 n hold the lower and
+  // right corners; nothing else is read), diagonals alternating along the
+  // row, '\' first when first_backslash. Per square:
+  //   wants[m] bit k (k < 4): side triangle k's SSE > sse_limit[k]; bit 4 + p:
+  //     half p's SSE > sse_limit[4 + 2 d + p] (d = 0 '\', 1 '/');
+  //   sums[c * sums_stride + m], c = 4 p + j: half p's sum over its pixels of
+  //     I, dx I, dy I, I^2 (j = 0..3), relative to the square's corner.
+  // SSE is the exact squared plane residual, < 2^27 (side4_shapes.hpp), so any
+  // int32 limit works (INT32_MAX: never).
+  void (*side4_tests_u8)(const std::uint8_t* const* rows, int n, int first_backslash,
+                         const std::int32_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
+                         std::size_t sums_stride) = nullptr;
+
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
   // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).
   void (*rgb_to_gray_row_u8)(const std::uint8_t* rgb, int n, std::uint8_t* gray) = nullptr;
