@@ -143,7 +143,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   const int threads = config.threads > 0 ? config.threads
                                          : std::max<int>(1, static_cast<int>(cpus.size()));
 
-  m.tritree.configure(config.max_width, config.max_height, config.params.tritree);
+  m.tritree.configure(config.max_width, config.max_height, config.params.tritree, &kernels);
   m.match.configure(config.max_width, config.max_height, config.params, kernels);
   m.workers.clear();
   m.workers.resize(static_cast<std::size_t>(threads));
@@ -169,7 +169,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.right_mesh = Mesh{};
   m.right_tritree = Tritree{};
   if (lr) {
-    m.right_tritree.configure(config.max_width, config.max_height, config.params.tritree);
+    m.right_tritree.configure(config.max_width, config.max_height, config.params.tritree, &kernels);
     m.right_tritree.reserve(m.right_mesh);
   }
   m.right_vdisp.clear();

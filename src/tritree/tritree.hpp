@@ -38,6 +38,7 @@ namespace tristereo {
 
 class SideWork;
 class ThreadPool;
+struct KernelSet;
 
 // What the last build() left behind, for the interpolation by midpoints
 // (src/interp/interpolate_midpoints.hpp): the hierarchy's layout, the need
@@ -66,7 +67,9 @@ class Tritree {
   // params.max_area_px2 outside 1..kMaxAreaLimitPx2, psnr_deci_db outside
   // kMinPsnrDeciDb..kMaxPsnrDeciDb, min_area_px2 outside
   // 1..largest_min_area_px2(max_area_px2)); the tree is then unconfigured.
-  void configure(int max_width, int max_height, const TritreeParams& params);
+  // `kernels` (null: the set KernelChoice::kAuto resolves to) runs the
+  // side-4 level of plain tiles when it applies (A_min >= 2, A_max >= 8).
+  void configure(int max_width, int max_height, const TritreeParams& params, const KernelSet* kernels = nullptr);
   bool configured() const { return max_width_ > 0; }
 
   // Reserves capacity in `mesh` so build() never allocates into it.
@@ -119,6 +122,10 @@ class Tritree {
     PixelMoments* side = nullptr;
     std::array<IntensityMoments*, 6> half_i{};  // plain tiles (tile_plain)
     IntensityMoments* side_i = nullptr;
+    // The side-4 level of a row of tiles' plain tiles (side4_band), per row
+    // of squares: wants bits, then the halves' sums (KernelSet::side4_tests_u8).
+    std::uint32_t* side4_wants = nullptr;
+    std::int32_t* side4_sums = nullptr;
   };
 
   void validate_image(ImageView<const std::uint8_t> gray) const;
@@ -130,12 +137,15 @@ class Tritree {
   static PixelMoments full_moments(const IntensityMoments& mi, const ShapeMoments& g, int ox, int oy, int ax,
                                    int ay);
   template <int S>
-  void tile_plain(int tx0, int ty0, const TileScratch& sc);
+  void tile_plain(int tx0, int ty0, const TileScratch& sc, bool side4_ready);
+  void side4_band(int ty0, int plain_tiles, const TileScratch& sc) const;
+  template <int S>
+  void side4_apply(int tx0, int ty0, const TileScratch& sc);
   template <int S>
   void side2_sums_only(int tx0, int ty0, const TileScratch& sc) const;
   template <int S, int s>
   void plain_level(int tx0, int ty0, const TileScratch& sc);
-  void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc);
+  void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc, bool side4_ready = false);
   void carry_across_tile_borders();
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves into its own region (so rows of
@@ -181,6 +191,13 @@ class Tritree {
   // 0..3 (top, right, bottom, left), halves 0..3 ('\\' upper right, lower
   // left, '/' upper left, lower right), first corner as corners() lists it.
   std::array<std::array<ShapeMoments, 4>, 6> side_shape_{}, half_shape_{};
+  // The side-4 level by KernelSet::side4_tests_u8 (when the squares of side
+  // 2 are not tested and those of side 4 are): its SSE limits (side4_shapes.hpp)
+  // and the squares per row of its band buffers.
+  const KernelSet* kernels_ = nullptr;
+  bool side4_kernel_ = false;
+  std::array<std::int32_t, 8> side4_limit_{};
+  std::size_t side4_stride_ = 0;
 
   // Per-build state.
   ImageView<const std::uint8_t> gray_;

@@ -12,7 +12,9 @@
 #include "platform/side_work.hpp"
 #include "platform/thread_pool.hpp"
 #include "src/aggregate/predecessor_offers.hpp"
+#include "src/kernels/kernel_set.hpp"
 #include "src/tritree/fill_rule.hpp"
+#include "src/tritree/side4_shapes.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/status.hpp"
 
@@ -387,7 +389,14 @@ void Tritree::side2_sums_only(int tx0, int ty0, const TileScratch& sc) const {
 }
 
 template <int S>
-void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc) {
+void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc, bool side4_ready) {
+  if constexpr (S >= 8) {
+    if (side4_ready) {  // the side-4 level is in the band buffers (side4_band)
+      side4_apply<S>(tx0, ty0, sc);
+      plain_level<S, 8>(tx0, ty0, sc);
+      return;
+    }
+  }
   const int two_amax = 2 * params_.max_area_px2;
   const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
   std::uint8_t* need = need_;
@@ -566,14 +575,79 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
   if constexpr (2 * s <= S) plain_level<S, 2 * s>(tx0, ty0, sc);
 }
 
-void Tritree::tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc) {
+void Tritree::tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc, bool side4_ready) {
   switch (side) {
-    case 2: tile_plain<2>(tx0, ty0, sc); break;
-    case 4: tile_plain<4>(tx0, ty0, sc); break;
-    case 8: tile_plain<8>(tx0, ty0, sc); break;
-    case 16: tile_plain<16>(tx0, ty0, sc); break;
-    case 32: tile_plain<32>(tx0, ty0, sc); break;
-    default: tile_plain<64>(tx0, ty0, sc); break;  // A_max <= 1024: S <= 64
+    case 2: tile_plain<2>(tx0, ty0, sc, false); break;
+    case 4: tile_plain<4>(tx0, ty0, sc, false); break;
+    case 8: tile_plain<8>(tx0, ty0, sc, side4_ready); break;
+    case 16: tile_plain<16>(tx0, ty0, sc, side4_ready); break;
+    case 32: tile_plain<32>(tx0, ty0, sc, side4_ready); break;
+    default: tile_plain<64>(tx0, ty0, sc, side4_ready); break;  // A_max <= 1024: S <= 64
+  }
+}
+
+// The side-4 level of a row of tiles' plain tiles (the first plain_tiles of
+// the row, at ty0), row of squares by row of squares: every 4 x 4 square's
+// tests and its halves' sums, by the kernel (KernelSet::side4_tests_u8)
+// along the whole run of tiles. Its rows reach the squares' lower corners
+// (ty0 + S < vh) and its last column their right ones (plain_tiles S < vw).
+void Tritree::side4_band(int ty0, int plain_tiles, const TileScratch& sc) const {
+  const int n = plain_tiles * (tile_ / 4);
+  for (int j = 0; j < tile_ / 4; ++j) {
+    const int y = ty0 + 4 * j;
+    const std::uint8_t* rows[5];
+    for (int r = 0; r < 5; ++r) rows[r] = gray_.row(y + r);
+    kernels_->side4_tests_u8(rows, n, RtinLayout::backslash(0, y, 4), side4_limit_.data(),
+                             sc.side4_wants + static_cast<std::size_t>(j) * side4_stride_,
+                             sc.side4_sums + static_cast<std::size_t>(j) * 8 * side4_stride_, side4_stride_);
+  }
+}
+
+// plain_level<S, 4> from side4_band's results: the same need bytes and
+// halves' sums (relative to the tile origin), the tests already made. The
+// squares of side 2 are untested, so no need lies at their centres.
+template <int S>
+void Tritree::side4_apply(int tx0, int ty0, const TileScratch& sc) {
+  constexpr int n = S / 4;
+  const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
+  const std::size_t ss = side4_stride_;
+  std::uint8_t* need = need_;
+  const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
+  const int m0 = tx0 / 4;  // the tile's first square in the band's rows
+  for (int j = 0; j < n; ++j) {
+    const std::uint32_t* wants = sc.side4_wants + static_cast<std::size_t>(j) * ss + m0;
+    for (int i = 0; i < n; ++i) {
+      const int x0 = tx0 + 4 * i, y0 = ty0 + 4 * j, x1 = x0 + 4, y1 = y0 + 4, cx = x0 + 2, cy = y0 + 2;
+      const std::uint32_t b = wants[i];
+      const bool w0 = b & 1u, w1 = (b >> 1) & 1u, w2 = (b >> 2) & 1u, w3 = (b >> 3) & 1u;
+      at(cx, y0) |= need_byte(w0, false, w0);
+      at(x1, cy) |= need_byte(w1, w1, false);
+      at(cx, y1) |= need_byte(w2, w2, false);
+      at(x0, cy) |= need_byte(w3, false, w3);
+    }
+  }
+  IntensityMoments* halves = sc.half_i[1];
+  for (int j = 0; j < n; ++j) {
+    const std::uint32_t* wants = sc.side4_wants + static_cast<std::size_t>(j) * ss + m0;
+    const std::int32_t* sums = sc.side4_sums + static_cast<std::size_t>(j) * 8 * ss + m0;
+    for (int i = 0; i < n; ++i) {
+      const int x0 = tx0 + 4 * i, y0 = ty0 + 4 * j, x1 = x0 + 4, y1 = y0 + 4, cx = x0 + 2, cy = y0 + 2;
+      const bool bs = RtinLayout::backslash(x0, y0, 4);
+      const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
+      const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
+      const std::uint32_t b = wants[i] >> side4::kWantsHalfBit;
+      const bool wa = b & 1u, wb = (b >> 1) & 1u;
+      IntensityMoments* out = halves + (j * n + i) * 2;
+      const std::int32_t ox = x0 - tx0, oy = y0 - ty0;
+      for (int p = 0; p < 2; ++p) {
+        const std::int32_t* s = sums + static_cast<std::size_t>(4 * p) * ss + i;
+        const std::int32_t si = s[0];
+        out[p] = IntensityMoments{si, ox * si + s[ss], oy * si + s[2 * ss], s[3 * ss]};
+      }
+      const bool own_a = wa | n_top | (bs ? n_right : n_left);
+      const bool own_b = wb | n_bottom | (bs ? n_left : n_right);
+      at(cx, cy) |= need_byte(own_a | own_b, wa, wb);
+    }
   }
 }
 
@@ -898,10 +972,14 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     serial([&] { std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1)); });
     const int S = tile_;
     const auto tile_row = [&](int ty, const TileScratch& sc) {
+      // Plain tiles: x0 + S < vw and y0 + S < vh, the row's first (vw - 1) / S.
+      const int plain_tiles = ty * S + S < layout_.vh ? (layout_.vw - 1) / S : 0;
+      const bool side4 = side4_kernel_ && plain_tiles > 0;
+      if (side4) side4_band(ty * S, plain_tiles, sc);
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         if (x0 + S < layout_.vw && y0 + S < layout_.vh) {
-          tile_plain_of_side(S, x0, y0, sc);
+          tile_plain_of_side(S, x0, y0, sc, side4);
         } else {
           PixelMoments halves[2];
           general_square(x0, y0, x0, y0, S, sc, halves);

@@ -1,9 +1,12 @@
 // Tritree configuration: parameter validation and the one-time allocation of
 // every buffer a build can need.
 #include <algorithm>
+#include <climits>
 #include <memory>
 #include <string>
 
+#include "src/kernels/dispatch.hpp"
+#include "src/kernels/kernel_set.hpp"
 #include "src/model/psnr_threshold.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "src/tritree/tritree.hpp"
@@ -60,7 +63,7 @@ ShapeMoments shape_moments(const int* x, const int* y) {
 
 }  // namespace
 
-void Tritree::configure(int max_width, int max_height, const TritreeParams& params) {
+void Tritree::configure(int max_width, int max_height, const TritreeParams& params, const KernelSet* kernels) {
   max_width_ = 0;  // unconfigured until everything below succeeded
   check_range("max_width", max_width, 2, kMaxImageSide);
   check_range("max_height", max_height, 2, kMaxImageSide);
@@ -87,8 +90,16 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t band_leaves = static_cast<std::size_t>(tile_) * tile_ *
                                   static_cast<std::size_t>(largest.tiles_x) * static_cast<std::size_t>(largest.tiles_y);
   const std::size_t stretched = max_stretched_leaves(max_width, max_height);
+  // The side-4 level by the kernel when the 2 x 2 squares' halves are not
+  // tested (A_min >= 2) and the 4 x 4 squares' triangles all are (A_max >= 8):
+  // per pass-1 worker, a row of tiles' results, S / 4 rows of squares.
+  kernels_ = kernels != nullptr ? kernels : &kernel_set_for(KernelChoice::kAuto);
+  side4_kernel_ = params.min_area_px2 > 1 && 2 * params.max_area_px2 >= 16;
+  side4_stride_ = side4_kernel_ ? static_cast<std::size_t>(largest.tiles_x) * (tile_ / 4) : 0;
+  const std::size_t side4_words = (static_cast<std::size_t>(tile_ / 4) * side4_stride_ * 9 + 1) / 2 * 2;  // 8-byte multiple
   const std::size_t bytes = kMaxTileWorkers * (moments * sizeof(PixelMoments) +
-                                                 intensity_moments * sizeof(IntensityMoments)) +
+                                                 intensity_moments * sizeof(IntensityMoments) +
+                                                 side4_words * sizeof(std::int32_t)) +
                             (band_leaves + stretched) * sizeof(Triangle) + bands * sizeof(Band) +
                             bands * sizeof(std::size_t) + (pixels + bands + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
@@ -114,6 +125,10 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
       mi += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
     }
     sc.side_i = mi;
+    char* side4 = take(side4_words * sizeof(std::int32_t));
+    sc.side4_wants = side4_kernel_ ? reinterpret_cast<std::uint32_t*>(side4) : nullptr;
+    sc.side4_sums = side4_kernel_ ? reinterpret_cast<std::int32_t*>(side4) + static_cast<std::size_t>(tile_ / 4) * side4_stride_
+                                  : nullptr;
   }
   // Shape moments by the fill rule itself, on a square far from any border,
   // each with its threshold (the model's right-hand side, mse_q8 n area2^2).
@@ -135,6 +150,20 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
       int x[3], y[3];
       corners(Tri{true, s, k < 2 ? o : o + s, o, k & 1}, x, y);
       half_shape_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)] = with_limit(shape_moments(x, y));
+    }
+  }
+  // The kernel's limits: SSE * 256 > fail_above_q8 is SSE > fail_above_q8 / 256
+  // (rounded down) for an integer SSE; a triangle below twice the minimum
+  // area never wants (INT32_MAX, above every SSE of side 4).
+  const auto side4_limit = [](const ShapeMoments& g, bool may_want) {
+    const std::uint64_t l = g.fail_above_q8 / 256;
+    return may_want && l < static_cast<std::uint64_t>(INT32_MAX) ? static_cast<std::int32_t>(l) : INT32_MAX;
+  };
+  if (side4_kernel_) {
+    const bool sides_may_want = 8 >= 4 * params.min_area_px2, halves_may_want = 16 >= 4 * params.min_area_px2;
+    for (std::size_t k = 0; k < 4; ++k) {
+      side4_limit_[k] = side4_limit(side_shape_[1][k], sides_may_want);
+      side4_limit_[4 + k] = side4_limit(half_shape_[1][k], halves_may_want);
     }
   }
   // The 8-byte row-of-tiles starts before the 12-byte triangles: after an odd
