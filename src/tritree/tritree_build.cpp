@@ -135,12 +135,28 @@ int Tritree::find_tris(int mx, int my, Tri* out) const {
 
 // ---------------------------------------------------------------- the test
 
+// Per span only the image's sums need the pixels; the geometric ones are
+// sums of consecutive integers (closed forms), and those with y are the
+// row's sums times its y.
 PixelMoments Tritree::moments_by_spans(const int* rx, const int* ry, int ox, int oy) const {
   PixelMoments m;
   for_each_owned_span(Vertex{rx[0], ry[0]}, Vertex{rx[1], ry[1]}, Vertex{rx[2], ry[2]}, gray_.width,
                       gray_.height, [&](int y, int x0, int x1) {
+                        if (x1 <= x0) return;
                         const std::uint8_t* row = gray_.row(y);
-                        for (int x = x0; x < x1; ++x) m.add_pixel(x - ox, y - oy, row[x]);
+                        std::int32_t si = 0, sxi = 0, sii = 0;
+                        for (int x = x0; x < x1; ++x) {
+                          const std::int32_t i = row[x];
+                          si += i, sxi += (x - ox) * i, sii += i * i;
+                        }
+                        const std::int32_t n = x1 - x0, a = x0 - ox, b = x1 - 1 - ox, ly = y - oy;
+                        // sum of x and of x^2 for x = a .. b
+                        const std::int32_t sx = (a + b) * n / 2;
+                        // 0^2 + .. + k^2, a polynomial exact for every integer k (F(-1) = 0)
+                        const auto sq_to = [](std::int32_t k) { return k * (k + 1) * (2 * k + 1) / 6; };
+                        const std::int32_t sxx = sq_to(b) - sq_to(a - 1);
+                        m.n += n, m.sx += sx, m.sy += n * ly, m.sxx += sxx, m.sxy += ly * sx, m.syy += n * ly * ly;
+                        m.si += si, m.sxi += sxi, m.syi += ly * si, m.sii += sii;
                       });
   return m;
 }
@@ -655,12 +671,30 @@ void Tritree::side4_apply(int tx0, int ty0, const TileScratch& sc) {
 
 // need(m) of a midpoint on a tile border holds both tiles' parts only once
 // both tiles are done; whatever it adds is carried up to the parents.
+// A border midpoint (x, y) of a square of side 2h is a side triangle's, whose
+// parents are the halves of the squares on either side of the border: their
+// midpoints are those squares' centres, h away across it. Mostly both are
+// set already (by their own tiles), and the whole carry_up() is skipped.
 void Tritree::carry_across_tile_borders() {
-  const int S = tile_;
-  for (int y = 0; y <= layout_.vh; ++y) {
-    const bool row_on_border = (y % S) == 0;
-    for (int x = 0; x <= layout_.vw; x += row_on_border ? 1 : S) {
-      if (cell(x, y) & kNeed) carry_up(x, y);
+  const int S = tile_, vw = layout_.vw, vh = layout_.vh;
+  const std::size_t stride = static_cast<std::size_t>(vw) + 1;
+  const auto need_at = [&](int x, int y) { return (need_[static_cast<std::size_t>(y) * stride + x] & kNeed) != 0; };
+  for (int y = 0; y <= vh; ++y) {
+    if (y % S == 0) {  // a horizontal border: parents above and below
+      for (int x = 0; x <= vw; ++x) {
+        if (!need_at(x, y)) continue;
+        const int h = x & -x;  // x = 0 or h >= S: a tile corner, no triangle
+        if (h == 0 || h >= S) continue;
+        if ((y < h || need_at(x, y - h)) && (y + h > vh || need_at(x, y + h))) continue;
+        carry_up(x, y);
+      }
+    } else {  // vertical borders: parents left and right
+      const int h = y & -y;
+      for (int x = 0; x <= vw; x += S) {
+        if (!need_at(x, y)) continue;
+        if ((x < h || need_at(x - h, y)) && (x + h > vw || need_at(x + h, y))) continue;
+        carry_up(x, y);
+      }
     }
   }
 }
