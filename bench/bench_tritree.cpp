@@ -126,7 +126,7 @@ void bench_interpolation(benchmark::State& state, const NamedImage* image) {
   ImageS16 disp(w, h, 1, 0);
   const int n = static_cast<int>(mesh.triangles.size());
   const TritreeGrid grid = tree.grid();
-  std::vector<std::int32_t> values(midpoint_tile_values(tree.tile_side()));
+  std::vector<std::int32_t> values(midpoint_band_values(tree.tile_side(), w));
   const bool by_triangles = state.range(0) != 0;
   for (auto _ : state) {
     if (by_triangles) {

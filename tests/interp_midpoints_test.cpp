@@ -26,7 +26,7 @@ constexpr std::int16_t kUnset = 12345;
 ImageS16 by_midpoints(const Tritree& tree, const Mesh& m, const std::vector<std::int16_t>& vd, int split) {
   ImageS16 out(m.width, m.height, 1, kUnset);
   const TritreeGrid g = tree.grid();
-  std::vector<std::int32_t> values(midpoint_tile_values(tree.tile_side()));
+  std::vector<std::int32_t> values(midpoint_band_values(tree.tile_side(), m.width));
   bool invalid = interpolate_midpoint_tiles(g, m, vd.data(), split, g.layout.tiles_y, values.data(), out.view());
   invalid |= interpolate_midpoint_tiles(g, m, vd.data(), 0, split, values.data(), out.view());
   // The tiles read every vertex, so they tell whether one is invalid (the

@@ -32,11 +32,13 @@ inline void resolve(std::int32_t* v, std::int32_t a, std::int32_t b) {
 
 namespace {
 
-// Square centres, then side midpoints, at level s, then the levels below (s
-// and S known at compile time: the strides fold and the short rows unroll).
+// Square centres, then side midpoints, at level s, then the levels below
+// down to side 4, of the tile whose corner is values[0] (rows `n` apart; s
+// and S known at compile time: the short rows unroll).
 template <int S, int s>
-inline void resolve_levels(std::int32_t* values, int x0, int y0, int nx, int ny) {
-  constexpr int n = S + 1, h = s / 2;
+inline void resolve_levels(std::int32_t* values, std::size_t n, int x0, int y0, int nx, int ny) {
+  static_assert(s >= 4, "side 2 goes along whole rows (resolve_level2)");
+  constexpr int h = s / 2;
   for (int j = 0; j + h <= ny; j += s) {
     const std::int32_t* top = values + j * n;
     const std::int32_t* bottom = top + s * n;
@@ -56,55 +58,86 @@ inline void resolve_levels(std::int32_t* values, int x0, int y0, int nx, int ny)
     std::int32_t* v = values + j * n;
     for (int i = 0; i <= nx; i += s) resolve(v + i, v[i - h * n], v[i + h * n]);
   }
-  if constexpr (s > 2) resolve_levels<S, s / 2>(values, x0, y0, nx, ny);
+  if constexpr (s > 4) resolve_levels<S, s / 2>(values, n, x0, y0, nx, ny);
 }
 
+// Side 2 along the row of tiles' whole rows (three quarters of the grid
+// points): each point it resolves averages two points of even coordinates,
+// all known once side 4 is done, so the order of the three kinds is free
+// and one loop per kind and row replaces the tiles' short ones. ny and vw
+// are even: the centres and sides read up to row ny and column vw.
+inline void resolve_level2(std::int32_t* values, std::size_t n, int y0, int ny, int vw) {
+  for (int j = 1; j < ny; j += 2) {
+    const std::int32_t* top = values + (j - 1) * n;
+    std::int32_t* v = values + j * n;
+    const std::int32_t* bottom = v + n;
+    // Centres (odd x): the 2 x 2 squares' diagonals alternate along the row,
+    // '\' first when (0, y0 + j - 1) is a '\' corner.
+    const int first_bs = RtinLayout::backslash(0, y0 + j - 1, 2) ? 1 : 0;
+    for (int i = 1; i < vw; i += 4) {
+      resolve(v + i, first_bs ? top[i - 1] : top[i + 1], first_bs ? bottom[i + 1] : bottom[i - 1]);
+      if (i + 2 < vw)
+        resolve(v + i + 2, first_bs ? top[i + 3] : top[i + 1], first_bs ? bottom[i + 1] : bottom[i + 3]);
+    }
+    for (int i = 0; i <= vw; i += 2) resolve(v + i, top[i], bottom[i]);  // vertical sides (even x)
+  }
+  for (int j = 0; j <= ny; j += 2) {  // horizontal sides (odd x)
+    std::int32_t* v = values + j * n;
+    for (int i = 1; i < vw; i += 2) resolve(v + i, v[i - 1], v[i + 1]);
+  }
+}
+
+// A row of tiles at a time: its grid values in one buffer (S + 1 rows of the
+// virtual width), so every vertex of its rows is placed by one walk along the
+// row's vertices (a walk per tile row and tile ended at a data-dependent
+// vertex: a mispredicted exit for every tile row of every tile). Tiles side
+// by side share their common column, which both resolve alike.
 template <int S>
 bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                     int tile_row_begin, int tile_row_end, std::int32_t* values, ImageView<std::int16_t> disp_q4) {
   const RtinLayout& L = grid.layout;
-  constexpr int n = S + 1;
+  const std::size_t n = static_cast<std::size_t>(L.vw) + 1;
   const int F = midpoint_fraction_bits(S);
   const std::int32_t one = std::int32_t{1} << F, half = one >> 1;
   const Vertex* vertices = mesh.vertices.data();
-  // Per local row, the first vertex of the row not left of the current tile.
-  std::int32_t* cursor = values + static_cast<std::size_t>(n) * n;
+  const int last_x = L.width - 1;
   unsigned invalid = 0;
   for (int ty = tile_row_begin; ty < tile_row_end; ++ty) {
     const int y0 = ty * S;
     const int ny = std::min(S, L.vh - y0);  // last local row
-    for (int j = 0; j <= ny; ++j) cursor[j] = mesh.row_start[static_cast<std::size_t>(L.real_y(y0 + j))];
-    for (int tx = 0; tx < L.tiles_x; ++tx) {
-      const int x0 = tx * S;
-      const int nx = std::min(S, L.vw - x0);
-      std::fill(values, values + static_cast<std::size_t>(n) * n, kUnknown);
-      // The vertices' samples: each row's vertices are consecutive ids in x
-      // order; a tile's last column is the next tile's first.
-      for (int j = 0; j <= ny; ++j) {
-        const std::int32_t end = mesh.row_start[static_cast<std::size_t>(L.real_y(y0 + j)) + 1];
-        std::int32_t* v = values + j * n;
-        for (std::int32_t id = cursor[j]; id < end; ++id) {
-          const int x = vertices[id].x;
-          const int vx = (L.stretch_x && x == L.width - 1) ? L.vw : x;
-          if (vx > x0 + S) break;
-          v[vx - x0] = vertex_disp_q4[id] * one;
-          invalid |= static_cast<unsigned>(vertex_disp_q4[id] == kInvalidDispQ4);
-          if (vx < x0 + S) cursor[j] = id + 1;
-        }
+    // Every row, and S points past the last: a partial tile's crossing
+    // squares (whose centres are vertices) read past the grid's last row
+    // and column.
+    std::fill(values, values + static_cast<std::size_t>(S + 1) * n + S, kUnknown);
+    // The vertices' samples: each row's vertices are consecutive ids.
+    for (int j = 0; j <= ny; ++j) {
+      const std::size_t y = static_cast<std::size_t>(L.real_y(y0 + j));
+      std::int32_t* v = values + j * n;
+      const std::int32_t end = mesh.row_start[y + 1];
+      for (std::int32_t id = mesh.row_start[y]; id < end; ++id) {
+        const int x = vertices[id].x;
+        const int vx = (L.stretch_x && x == last_x) ? L.vw : x;
+        v[vx] = vertex_disp_q4[id] * one;
+        invalid |= static_cast<unsigned>(vertex_disp_q4[id] == kInvalidDispQ4);
       }
-      // From the tile down to side 2.
-      resolve_levels<S, S>(values, x0, y0, nx, ny);
-      // Rounded to Q4, half up. Each tile writes its half-open square, the
-      // grid's last tiles their closing column and row too (on the moved
-      // line when the side is stretched).
-      const int jn = y0 + ny == L.vh ? ny : ny - 1;
-      const bool last_column = x0 + nx == L.vw;
-      for (int j = 0; j <= jn; ++j) {
-        std::int16_t* out = disp_q4.row(L.real_y(y0 + j));
-        const std::int32_t* v = values + j * n;
-        for (int i = 0; i < nx; ++i) out[x0 + i] = static_cast<std::int16_t>((v[i] + half) >> F);
-        if (last_column) out[L.real_x(L.vw)] = static_cast<std::int16_t>((v[nx] + half) >> F);
+    }
+    // Each tile from its side down to side 4, then side 2 along the rows.
+    if constexpr (S >= 4) {
+      for (int tx = 0; tx < L.tiles_x; ++tx) {
+        const int x0 = tx * S;
+        resolve_levels<S, S>(values + x0, n, x0, y0, std::min(S, L.vw - x0), ny);
       }
+    }
+    resolve_level2(values, n, y0, ny, L.vw);
+    // Rounded to Q4, half up: the row of tiles' half-open rows, the grid's
+    // last row too, and its last column (on the moved line when the side is
+    // stretched).
+    const int jn = y0 + ny == L.vh ? ny : ny - 1;
+    for (int j = 0; j <= jn; ++j) {
+      std::int16_t* out = disp_q4.row(L.real_y(y0 + j));
+      const std::int32_t* v = values + j * n;
+      for (int i = 0; i < L.vw; ++i) out[i] = static_cast<std::int16_t>((v[i] + half) >> F);
+      out[L.real_x(L.vw)] = static_cast<std::int16_t>((v[L.vw] + half) >> F);
     }
   }
   return invalid != 0;

@@ -26,9 +26,11 @@
 
 namespace tristereo {
 
-// Scratch of one tile: its (S + 1)^2 grid values and S + 1 row cursors, int32.
-inline std::size_t midpoint_tile_values(int tile_side) {
-  return static_cast<std::size_t>(tile_side + 1) * static_cast<std::size_t>(tile_side + 2);
+// Scratch of one row of tiles of an image up to max_width wide: its grid
+// values, S + 1 rows of at most max_width points and S more, int32.
+inline std::size_t midpoint_band_values(int tile_side, int max_width) {
+  return static_cast<std::size_t>(tile_side + 1) * static_cast<std::size_t>(max_width) +
+         static_cast<std::size_t>(tile_side);
 }
 
 // Fractional bits of the grid values beyond Q4: log2 of the largest leaf's area2.
@@ -39,7 +41,7 @@ inline int midpoint_fraction_bits(int tile_side) { return 2 * __builtin_ctz(stat
 // square, plus the grid's last column and row), from the vertices (`mesh`, the
 // build's output) and their disparities (vertex_disp_q4[id]; an invalid one
 // reads as a value like any other: invalidate_triangles() overwrites what it
-// reaches). `values` holds midpoint_tile_values(S) int32. Disjoint tile rows
+// reaches). `values` holds midpoint_band_values(S, width) int32. Disjoint tile rows
 // write disjoint pixels. Returns true when some vertex it read was invalid
 // (every vertex lies in some tile, so the tiles of all rows together say
 // whether invalidate_triangles() is needed). Precondition: grid.need !=

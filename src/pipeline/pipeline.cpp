@@ -53,7 +53,7 @@ struct Pipeline::Impl {
     UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
-    std::unique_ptr<std::int32_t[]> tile_values;  // interpolation: one tile's grid values
+    std::unique_ptr<std::int32_t[]> tile_values;  // interpolation: one row of tiles' grid values
   };
   std::vector<Worker> workers;
   WorkChunks rows;       // matching: rows handed out on demand
@@ -113,7 +113,7 @@ std::size_t Pipeline::working_memory_bytes() const {
                       capacity_bytes(m.out.disp_q4.pixels);
   for (const Impl::Worker& w : m.workers)
     bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
-             midpoint_tile_values(m.tritree.tile_side()) * sizeof(std::int32_t);
+             midpoint_band_values(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
   bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
            capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
            capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
@@ -153,7 +153,7 @@ void Pipeline::configure(const PipelineConfig& config) {
     if (rows_dp) w.matcher.configure(config.max_width, config.params);
     w.census.resize(config.max_width);
     w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
-    w.tile_values.reset(new std::int32_t[midpoint_tile_values(m.tritree.tile_side())]);
+    w.tile_values.reset(new std::int32_t[midpoint_band_values(m.tritree.tile_side(), config.max_width)]);
   }
   const int max_px = config.max_width * config.max_height;
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads);
