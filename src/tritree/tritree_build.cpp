@@ -569,19 +569,17 @@ void Tritree::plain_level(int tx0, int ty0, const TileScratch& sc) {
       if (test_halves) {
         const IntensityMoments* m = sides + (j * n + i) * 4;
         IntensityMoments* out = halves + (j * n + i) * 2;
-        if (bs) {
-          out[0] = m[0] + m[1];
-          out[1] = m[2] + m[3];
+        out[0] = m[0] + (bs ? m[1] : m[3]);
+        out[1] = bs ? m[2] + m[3] : m[1] + m[2];
+        if (!halves_may_want) {
+          wa = wb = false;
+        } else if (bs) {
           wa = fixed_shape_fails<s, 0, s, s>(out[0], half_g[0], img, istride, tx0, ty0, x0, y0);
           wb = fixed_shape_fails<s, s, 0, s>(out[1], half_g[1], img, istride, tx0, ty0, x0, y0);
         } else {
-          out[0] = m[0] + m[3];
-          out[1] = m[1] + m[2];
           wa = fixed_shape_fails<s, 0, 0, s>(out[0], half_g[2], img, istride, tx0, ty0, x0, y0);
           wb = fixed_shape_fails<0, s, -s, s>(out[1], half_g[3], img, istride, tx0, ty0, x1, y0);
         }
-        wa &= halves_may_want;
-        wb &= halves_may_want;
       }
       const bool own_a = wa | n_top | (bs ? n_right : n_left);
       const bool own_b = wb | n_bottom | (bs ? n_left : n_right);
