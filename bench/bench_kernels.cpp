@@ -1,5 +1,6 @@
-// Kernel micro-benchmarks: every KernelSet entry x every kernel set this CPU can
-// run x D in {16, 64, 128, 256}, named kernel/set/D (e.g. dp_step/avx2/64).
+// Kernel micro-benchmarks: the cost and DP entries of KernelSet x every kernel
+// set this CPU can run x D in {16, 64, 128, 256}, named kernel/set/D (e.g.
+// dp_step/avx2/64); the tritree's side4_tests_u8 per set and number of squares.
 // items_per_second counts disparity evaluations (one element of the kernel's n).
 //
 //   bench_kernels --benchmark_filter='accumulate.*/64$'
@@ -204,11 +205,43 @@ void register_all() {
   }
 }
 
+// The tritree's side-4 level: n 4 x 4 squares along a row (5 pixel rows of
+// 4 n + 1), limits that make about half the triangles fail. items_per_second
+// counts pixels (16 per square).
+void bench_side4_tests(benchmark::State& state, const KernelSet* ks, int n) {
+  std::mt19937 rng(7);
+  std::vector<std::vector<std::uint8_t>> px(5, std::vector<std::uint8_t>(static_cast<std::size_t>(4 * n + 1)));
+  for (std::size_t r = 0; r < px.size(); ++r)
+    for (std::size_t x = 0; x < px[r].size(); ++x) px[r][x] = static_cast<std::uint8_t>(2 * x + 3 * r + rng() % 24);
+  const std::uint8_t* rows[5] = {px[0].data(), px[1].data(), px[2].data(), px[3].data(), px[4].data()};
+  const std::int32_t limit[8] = {4000, 4000, 4000, 4000, 12000, 12000, 12000, 12000};
+  std::vector<std::uint32_t> wants(static_cast<std::size_t>(n));
+  std::vector<std::int32_t> sums(static_cast<std::size_t>(8 * n));
+  for (auto _ : state) {
+    ks->side4_tests_u8(rows, n, 1, limit, wants.data(), sums.data(), static_cast<std::size_t>(n));
+    benchmark::DoNotOptimize(wants.data());
+    benchmark::DoNotOptimize(sums.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * 16 * n);
+}
+
+void register_tritree_kernels() {
+  for (KernelChoice set : available_kernel_sets()) {
+    const KernelSet* ks = &kernel_set_for(set);
+    for (int n : {4, 108, 310}) {  // a tile of side 16; Teddy's and KITTI's runs of plain tiles
+      const std::string name = std::string("side4_tests_u8/") + to_string(set) + "/" + std::to_string(n);
+      benchmark::RegisterBenchmark(name.c_str(), bench_side4_tests, ks, n);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tristereo
 
 int main(int argc, char** argv) {
   tristereo::register_all();
+  tristereo::register_tritree_kernels();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -1,6 +1,7 @@
 #include "src/interp/interpolate_midpoints.hpp"
 
 #include <algorithm>
+#include <cstddef>
 #include <type_traits>
 
 #include "src/interp/interpolate_planes.hpp"
@@ -36,7 +37,7 @@ namespace {
 // down to side 4, of the tile whose corner is values[0] (rows `n` apart; s
 // and S known at compile time: the short rows unroll).
 template <int S, int s>
-inline void resolve_levels(std::int32_t* values, std::size_t n, int x0, int y0, int nx, int ny) {
+inline void resolve_levels(std::int32_t* values, std::ptrdiff_t n, int x0, int y0, int nx, int ny) {
   static_assert(s >= 4, "side 2 goes along whole rows (resolve_level2)");
   constexpr int h = s / 2;
   for (int j = 0; j + h <= ny; j += s) {
@@ -66,7 +67,7 @@ inline void resolve_levels(std::int32_t* values, std::size_t n, int x0, int y0, 
 // all known once side 4 is done, so the order of the three kinds is free
 // and one loop per kind and row replaces the tiles' short ones. ny and vw
 // are even: the centres and sides read up to row ny and column vw.
-inline void resolve_level2(std::int32_t* values, std::size_t n, int y0, int ny, int vw) {
+inline void resolve_level2(std::int32_t* values, std::ptrdiff_t n, int y0, int ny, int vw) {
   for (int j = 1; j < ny; j += 2) {
     const std::int32_t* top = values + (j - 1) * n;
     std::int32_t* v = values + j * n;
@@ -96,7 +97,7 @@ template <int S>
 bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                     int tile_row_begin, int tile_row_end, std::int32_t* values, ImageView<std::int16_t> disp_q4) {
   const RtinLayout& L = grid.layout;
-  const std::size_t n = static_cast<std::size_t>(L.vw) + 1;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(L.vw) + 1;
   const int F = midpoint_fraction_bits(S);
   const std::int32_t one = std::int32_t{1} << F, half = one >> 1;
   const Vertex* vertices = mesh.vertices.data();
@@ -108,7 +109,7 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
     // Every row, and S points past the last: a partial tile's crossing
     // squares (whose centres are vertices) read past the grid's last row
     // and column.
-    std::fill(values, values + static_cast<std::size_t>(S + 1) * n + S, kUnknown);
+    std::fill(values, values + (S + 1) * n + S, kUnknown);
     // The vertices' samples: each row's vertices are consecutive ids.
     for (int j = 0; j <= ny; ++j) {
       const std::size_t y = static_cast<std::size_t>(L.real_y(y0 + j));
