@@ -78,16 +78,6 @@ constexpr PlaneWeights half_weights(int diagonal, int p) {
   return plane_weights(kHalf[diagonal][half_of(diagonal, kSideOf[p])], p & 3, p >> 2);
 }
 
-// The residual of one pixel of intensity ip against a plane, the corners'
-// intensities in `corner` (any type with * and -, e.g. int32 or a SIMD batch).
-template <class T>
-constexpr T residual(const PlaneWeights& pw, const T& ip, const T* corner) {
-  T r = ip * pw.a2;
-  for (int c = 0; c < kCorners; ++c)
-    if (pw.w[c] != 0) r = r - corner[c] * pw.w[c];
-  return r;
-}
-
 // sse_limit[] layout of the kernel (KernelSet::side4_tests_u8): the four side
 // triangles, then the halves of a '\' square, then those of a '/' square.
 constexpr int kLimitSide = 0, kLimitHalf = 4, kLimits = 8;
