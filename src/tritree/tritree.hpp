@@ -165,8 +165,8 @@ class Tritree {
   void emit_plain_tile(Band& b, int tx0, int ty0);
   void finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const;
   void begin_mesh(Mesh& mesh) const;
-  void finish(Mesh& mesh, ThreadPool* pool);
-  void number_vertices(Mesh& mesh, ThreadPool* pool);
+  void finish(Mesh& mesh);
+  std::size_t number_vertices(Mesh& mesh, ThreadPool* pool);
   std::uint64_t vertex_bits(int vy, int vx0) const;
   void band_rows(int band, int* vy0, int* vy1) const;
 
@@ -221,9 +221,8 @@ class Tritree {
   // Pass 3: vertex ids, the leaves as rotated triangles.
   std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices
   Band* bands_ = nullptr;                 // one per row of tiles
-  std::size_t* band_start_ = nullptr;     // where each row of tiles' leaves go in the mesh
+  std::size_t* band_start_ = nullptr;     // each row of tiles' leaf count, then where they go in the mesh
   std::int32_t* band_first_id_ = nullptr; // vertex numbering: each row of tiles' count, then first id
-  Triangle* tri_scratch_ = nullptr;       // leaves in emission order, S^2 x tiles_x per row of tiles
   Triangle* stretched_ = nullptr;         // stretched leaves (TritreeGrid::stretched)
   std::size_t stretched_count_ = 0;
   // The build's predecessor output (PredecessorTable), keys until finished.

@@ -1062,16 +1062,17 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
-    number_vertices(mesh, workers > 1 ? pool : nullptr);  // also empties the predecessor slots
+    // Also empties the predecessor slots, and counts each row of tiles' leaves.
+    const std::size_t leaves = number_vertices(mesh, workers > 1 ? pool : nullptr);
     vertices_ = mesh.vertices.data();
-    // Each row of tiles into its own region, tiles left to right: the plain
-    // ones by the fixed-shape descent, then the general ones (the last
-    // column's, or all of the last row's) by emit(). Rows go to the workers
-    // as they come free, the last row first: all general tiles, the slowest.
-    // Then the stretched leaves are picked out of the general ones.
-    const std::size_t band_capacity = static_cast<std::size_t>(S) * S * static_cast<std::size_t>(layout_.tiles_x);
+    // Each row of tiles straight into its place in the mesh, tiles left to
+    // right: the plain ones by the fixed-shape descent, then the general ones
+    // (the last column's, or all of the last row's) by emit(). Rows go to the
+    // workers as they come free, the last row first: all general tiles, the
+    // slowest. Then the stretched leaves are picked out of the general ones.
+    mesh.triangles.resize(leaves);  // within capacity
     for (int ty = 0; ty < layout_.tiles_y; ++ty)
-      bands_[ty] = Band{tri_scratch_ + static_cast<std::size_t>(ty) * band_capacity, 0, 0, 0, 0};
+      bands_[ty] = Band{mesh.triangles.data() + band_start_[ty], 0, 0, 0, 0};
     const auto emit_band = [&](int ty) {
       Band b = bands_[ty];  // a local copy: neighbouring rows' Bands share cache lines
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
@@ -1097,7 +1098,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       if (pred_slots_ > 0) finish_predecessors(mesh, preds);
     });
   }
-  finish(mesh, layout_.strip() ? nullptr : pool);
+  finish(mesh);
   times_.output_ns = monotonic_ns() - t0 - times_.criterion_ns;
 }
 

@@ -75,7 +75,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   tile_ = tile_side_for(params.max_area_px2);
   // One block, carved in order of alignment: the moments of one tile per
   // pass-1 worker (level l holds the halves of the squares of side 2^(l+1),
-  // then one level's side triangles), the row-of-tiles starts, the leaves,
+  // then one level's side triangles), the row-of-tiles starts, the stretched leaves,
   // the vertex ids and the rows of tiles' first ids, the need grid (the
   // virtual grid has at most W x H points).
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
@@ -83,12 +83,9 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // The plain tiles' intensity moments, in the same layout (16 bytes each).
   const std::size_t intensity_moments = moments;
   const std::size_t bands = static_cast<std::size_t>(max_height) / 2 + 2;
-  // Pass 3's leaves: each row of tiles has a region of S^2 per tile (every
-  // leaf has a virtual area of at least 1 px^2); a smaller frame has no more
-  // tiles per row nor rows of tiles.
+  // Pass 3 writes the leaves straight into the mesh (each row of tiles'
+  // count is known beforehand, tritree_output.cpp).
   const RtinLayout largest(max_width, max_height, params.max_area_px2);
-  const std::size_t band_leaves = static_cast<std::size_t>(tile_) * tile_ *
-                                  static_cast<std::size_t>(largest.tiles_x) * static_cast<std::size_t>(largest.tiles_y);
   const std::size_t stretched = max_stretched_leaves(max_width, max_height);
   // The side-4 level by the kernel when the 2 x 2 squares' halves are not
   // tested (A_min >= 2) and the 4 x 4 squares' triangles all are (A_max >= 8):
@@ -100,7 +97,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t bytes = kMaxTileWorkers * (moments * sizeof(PixelMoments) +
                                                  intensity_moments * sizeof(IntensityMoments) +
                                                  side4_words * sizeof(std::int32_t)) +
-                            (band_leaves + stretched) * sizeof(Triangle) + bands * sizeof(Band) +
+                            stretched * sizeof(Triangle) + bands * sizeof(Band) +
                             bands * sizeof(std::size_t) + (pixels + bands + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
   arena_bytes_ = (bytes + 7) / 8 * 8;
@@ -175,7 +172,6 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   bands_ = reinterpret_cast<Band*>(take(bands * sizeof(Band)));
   row_done_ = std::make_unique<std::atomic<std::uint8_t>[]>(bands);
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
-  tri_scratch_ = reinterpret_cast<Triangle*>(take(band_leaves * sizeof(Triangle)));
   stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
   vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
   band_first_id_ = reinterpret_cast<std::int32_t*>(take((bands + 1) * sizeof(std::int32_t)));

@@ -1,8 +1,11 @@
 // Tritree output: the mesh in its canonical form (include/tristereo/mesh.hpp)
 // from the leaves: vertex ids by one scan of the vertex marks; the triangles,
 // rotated to their smallest id as pass 3 emits them, are already in the
-// hierarchy's order, so each row of tiles' region is copied into place.
+// hierarchy's order, and each row of tiles writes them straight into its
+// place: the scan also counts them (Euler's formula, number_vertices()).
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "platform/thread_pool.hpp"
@@ -51,7 +54,14 @@ void Tritree::band_rows(int band, int* vy0, int* vy1) const {
   *vy1 = band + 1 == layout_.tiles_y ? layout_.vh + 1 : (band + 1) * tile_;
 }
 
-void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
+// Leaves: every triangle lies in one row of tiles, whose leaves triangulate
+// its closed rectangle with every vertex on that rectangle's sides a corner
+// of the leaves along them (the mesh is conforming). Euler's formula then
+// counts them from the vertices alone: T = 2 V - B - 2, with V the vertices
+// of the closed rectangle and B those on its sides (its first and last
+// rows, and x = 0 or vw on the rows between). So each row of tiles knows
+// where its leaves go before pass 3 writes them.
+std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
   const int w = gray_.width, h = gray_.height;  // mesh: begin_mesh() done
   const RtinLayout& L = layout_;
   const int row_len = L.vw + 1;
@@ -62,17 +72,28 @@ void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
   // vectorises) plus, on a tile row, the tile corners (never a midpoint, so
   // their need bit is clear).
   const int S = tile_;
+  const auto row_vertices = [&](int vy) {
+    const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
+    std::uint32_t bits = 0;
+    for (int x = 0; x < row_len; ++x) bits += need[x] & 1u;
+    return static_cast<std::int64_t>(bits) + (vy % S == 0 ? (row_len - 1) / S + 1 : 0);
+  };
   const auto count_band = [&](int band) {
     int vy0, vy1;
     band_rows(band, &vy0, &vy1);
-    std::int32_t n = 0;
+    const int vy_last = band + 1 == bands ? L.vh : vy1;  // the closed rectangle's last row
+    std::int64_t n = 0, sides = 0;  // rows [vy0, vy1); the rows between's ends
     for (int vy = vy0; vy < vy1; ++vy) {
-      const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
-      std::uint32_t bits = 0;
-      for (int x = 0; x < row_len; ++x) bits += need[x] & 1u;
-      n += static_cast<std::int32_t>(bits) + (vy % S == 0 ? (row_len - 1) / S + 1 : 0);
+      n += row_vertices(vy);
+      if (vy != vy0 && vy != vy_last) {  // never a tile row: no tile corner
+        const std::uint8_t* need = need_ + static_cast<std::size_t>(vy) * row_len;
+        sides += (need[0] & 1) + (need[L.vw] & 1);
+      }
     }
-    first_id[band] = n;
+    const std::int64_t first = row_vertices(vy0), last = row_vertices(vy_last);
+    const std::int64_t v = n + (vy_last == vy1 ? last : 0);
+    first_id[band] = static_cast<std::int32_t>(n);
+    band_start_[band] = static_cast<std::size_t>(2 * v - (first + last + sides) - 2);
   };
   const auto number_band = [&](int band) {
     int vy0, vy1;
@@ -107,10 +128,14 @@ void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
     for (int band = 0; band < bands; ++band) count_band(band);
   }
   std::int32_t total = 0;
+  std::size_t leaves = 0;
   for (int band = 0; band < bands; ++band) {
     const std::int32_t n = first_id[band];
     first_id[band] = total;
     total += n;
+    const std::size_t t = band_start_[band];
+    band_start_[band] = leaves;
+    leaves += t;
   }
   mesh.vertices.resize(static_cast<std::size_t>(total));  // within capacity
   if (parallel) {
@@ -121,6 +146,7 @@ void Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
     for (int band = 0; band < bands; ++band) number_band(band);
   }
   for (int y = L.real_y(L.vh) + 1; y <= h; ++y) mesh.row_start[static_cast<std::size_t>(y)] = total;
+  return leaves;
 }
 
 void Tritree::begin_mesh(Mesh& mesh) const {
@@ -129,7 +155,7 @@ void Tritree::begin_mesh(Mesh& mesh) const {
   mesh.row_start.resize(static_cast<std::size_t>(gray_.height) + 1);  // within capacity
 }
 
-void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
+void Tritree::finish(Mesh& mesh) {
   const int w = gray_.width, h = gray_.height;
   if (layout_.strip()) {
     // The two triangles of the diagonal: corners (0,0), (W-1,0), (0,H-1), (W-1,H-1).
@@ -146,32 +172,22 @@ void Tritree::finish(Mesh& mesh, ThreadPool* pool) {
     mesh.criterion_splits = mesh.forced_splits = 0;
     return;
   }
-  // Where each row of tiles' leaves go, and the split counts.
-  std::size_t n = 0;
+  // The split counts; each row of tiles' leaves are in place, as many as
+  // number_vertices() counted (anything else is a broken mesh: stop).
   std::int64_t criterion = 0, forced = 0;
   for (int band = 0; band < layout_.tiles_y; ++band) {
-    band_start_[static_cast<std::size_t>(band)] = n;
-    n += bands_[band].count;
-    criterion += bands_[band].criterion;
-    forced += bands_[band].forced;
+    const Band& b = bands_[band];
+    const std::size_t end = band + 1 < layout_.tiles_y ? band_start_[band + 1] : mesh.triangles.size();
+    if (b.leaves + b.count != mesh.triangles.data() + end) {
+      std::fprintf(stderr, "tristereo: tritree row of tiles %d emitted %zu leaves, Euler's count says %zu\n", band,
+                   b.count, end - band_start_[band]);
+      std::abort();
+    }
+    criterion += b.criterion;
+    forced += b.forced;
   }
   mesh.criterion_splits = criterion;
   mesh.forced_splits = forced;
-  mesh.triangles.resize(n);  // within capacity
-  Triangle* out = mesh.triangles.data();
-  // Rows of tiles in order, each its tiles left to right (the plain ones come
-  // first in a row and the general ones last): the hierarchy's order.
-  const auto copy_band = [&](int band) {
-    const Band& b = bands_[band];
-    std::copy_n(b.leaves, b.count, out + band_start_[static_cast<std::size_t>(band)]);
-  };
-  if (pool != nullptr && pool->size() > 1) {
-    pool->run([&](int worker) {
-      for (int band = worker; band < layout_.tiles_y; band += pool->size()) copy_band(band);
-    });
-  } else {
-    for (int band = 0; band < layout_.tiles_y; ++band) copy_band(band);
-  }
 }
 
 }  // namespace tristereo
