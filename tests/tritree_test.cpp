@@ -734,6 +734,35 @@ TEST(Tritree, IdenticalForAnyThreadCount) {
   }
 }
 
+TEST(Tritree, ReusedTreeEqualsFreshOnEveryFrame) {
+  // A tree reused across frames replays the general tiles' span records it
+  // made on earlier ones (Tritree::SpanCache): new contents at the same size,
+  // then sizes whose last column and row are or are not moved, and back.
+  Rng rng(41);
+  const std::pair<int, int> sizes[] = {{451, 376}, {451, 376}, {450, 375}, {449, 377}, {130, 67}, {451, 376}};
+  for (const auto& [area, min_area] : {std::pair<int, int>{100, 2}, {100, 1}, {30, 4}, {1024, 2}}) {
+    TritreeParams params;
+    params.max_area_px2 = area;
+    params.min_area_px2 = min_area;
+    ThreadPool pool;
+    pool.start(2, {}, /*pin=*/false);
+    Tritree reused, reused_pool;
+    reused.configure(451, 377, params);
+    reused_pool.configure(451, 377, params);
+    Mesh m, mp;
+    reused.reserve(m);
+    reused_pool.reserve(mp);
+    for (const auto& [w, h] : sizes) {
+      const ImageU8 img = mixed_image(rng, w, h);
+      const Mesh fresh = build_mesh(img, params);
+      reused.build(cview(img), m);
+      reused_pool.build(cview(img), mp, &pool);
+      EXPECT_EQ(m, fresh) << w << "x" << h << " A_max " << area << " A_min " << min_area;
+      EXPECT_EQ(mp, fresh) << w << "x" << h << " A_max " << area << " A_min " << min_area << ", 2 workers";
+    }
+  }
+}
+
 TEST(Tritree, StrideMatchesPackedBuild) {
   Rng rng(8);
   const ImageU8 img = mixed_image(rng, 33, 21);

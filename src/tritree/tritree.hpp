@@ -116,6 +116,38 @@ class Tritree {
     int s, x0, y0, part;
   };
   enum class Where { kInside, kCrossing, kOutside };
+  // The owned-pixel spans of the general tiles' stretched and border
+  // triangles (moments_by_spans), kept per kind of tile: the last column's
+  // (but the last row's) and the last row's (but the last column's), each by
+  // its tile's diagonal. Tiles of a kind are translates of one another and
+  // the fill rule's ties on the image's last row and column fall alike in
+  // each, so a worker's first tile of a kind records its triangles' spans
+  // and geometric sums in call order, and its next ones, in this frame and
+  // the following ones of that size, replay them: every call checks its
+  // corners against the record, and anything else computes afresh
+  // (tritree_spans.cpp).
+  struct SpanRecord {
+    std::uint64_t key_xy;                   // the corners relative to the tile origin, 16 bits each:
+    std::uint32_t key_y;                    // x0 x1 x2 y0 | y1 y2 (two words: no byte compare)
+    std::uint16_t first, count;             // its rows in SpanKind::rows
+    std::int32_t n, sx, sy, sxx, sxy, syy;  // geometric sums, relative to the tile origin
+  };
+  struct SpanRow {
+    std::int16_t dy, x0, x1;  // row ty0 + dy, pixels tx0 + [x0, x1)
+  };
+  struct SpanKind {
+    SpanRecord* records = nullptr;
+    SpanRow* rows = nullptr;
+    std::uint32_t n_records = 0, n_rows = 0;
+    bool recorded = false, unusable = false;
+  };
+  struct SpanCache {
+    std::array<SpanKind, 4> kinds{};
+    int width = 0, height = 0;    // the image size the records hold for
+    SpanKind* current = nullptr;  // the tile being built's kind, or null
+    std::uint32_t cursor = 0;     // its next call
+    bool recording = false;
+  };
   // Pass 1's per-tile moments (see the members below).
   struct TileScratch {
     std::array<PixelMoments*, 6> half{};  // S <= 64: sides 2 .. 64
@@ -126,14 +158,18 @@ class Tritree {
     // of squares: wants bits, then the halves' sums (KernelSet::side4_tests_u8).
     std::uint32_t* side4_wants = nullptr;
     std::int32_t* side4_sums = nullptr;
+    SpanCache* spans = nullptr;  // the general tiles' (this worker slot's)
   };
 
   void validate_image(ImageView<const std::uint8_t> gray) const;
   void general_square(int tx0, int ty0, int x0, int y0, int s, const TileScratch& sc, PixelMoments* out);
   void carry_inside_tile(int tx0, int ty0);
   template <class ChildrenSums>
-  bool general_wants(const int* vx, const int* vy, bool moments_needed, int tx0, int ty0, PixelMoments& m,
-                     ChildrenSums children) const;
+  bool general_wants(const int* vx, const int* vy, bool moments_needed, int tx0, int ty0, const TileScratch& sc,
+                     PixelMoments& m, ChildrenSums children) const;
+  void begin_span_tile(const TileScratch& sc, int tx, int ty) const;
+  static void end_span_tile(const TileScratch& sc);
+  PixelMoments tile_moments_by_spans(const int* rx, const int* ry, int ox, int oy, const TileScratch& sc) const;
   static PixelMoments full_moments(const IntensityMoments& mi, const ShapeMoments& g, int ox, int oy, int ax,
                                    int ay);
   template <int S>
@@ -215,6 +251,7 @@ class Tritree {
   // (level l: side 2^(l+1)), and of one level's side triangles.
   // (one per pass-1 worker, at most kMaxTileWorkers).
   std::array<TileScratch, kMaxTileWorkers> scratch_{};
+  std::size_t span_records_ = 0, span_rows_ = 0;  // capacity of each SpanKind
   // Pass 1 on a pool: each row of tiles marks itself done, so a row of the
   // second parity starts as soon as its two neighbours are (configure()).
   std::unique_ptr<std::atomic<std::uint8_t>[]> row_done_;

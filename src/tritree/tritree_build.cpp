@@ -176,13 +176,13 @@ bool Tritree::wants_split(const int* rx, const int* ry, const PixelMoments* m, i
 // partition it), one larger than A_max without sums, the others from their
 // children's sums; m gets the sums it was tested with.
 template <class ChildrenSums>
-bool Tritree::general_wants(const int* vx, const int* vy, bool moments_needed, int tx0, int ty0, PixelMoments& m,
-                            ChildrenSums children) const {
+bool Tritree::general_wants(const int* vx, const int* vy, bool moments_needed, int tx0, int ty0,
+                            const TileScratch& sc, PixelMoments& m, ChildrenSums children) const {
   int rx[3], ry[3];
   for (int c = 0; c < 3; ++c) rx[c] = layout_.real_x(vx[c]), ry[c] = layout_.real_y(vy[c]);
   if (layout_.stretched(vx[0], vy[0], vx[1], vy[1], vx[2], vy[2])) {
     if (twice_area(rx, ry) > 2 * params_.max_area_px2) return true;
-    m = moments_by_spans(rx, ry, tx0, ty0);
+    m = tile_moments_by_spans(rx, ry, tx0, ty0, sc);
     return wants_split(rx, ry, &m, tx0, ty0);
   }
   if (!moments_needed) return true;
@@ -240,8 +240,8 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
         b.add_pixel(lx + 1, ly + 1, r1[1]);
       }
     } else {
-      a = moments_by_spans(rx[0], ry[0], tx0, ty0);
-      b = moments_by_spans(rx[1], ry[1], tx0, ty0);
+      a = tile_moments_by_spans(rx[0], ry[0], tx0, ty0, sc);
+      b = tile_moments_by_spans(rx[1], ry[1], tx0, ty0, sc);
     }
     out[0] = a;
     out[1] = b;
@@ -280,7 +280,7 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
     }
     const auto& q0 = kQuad[k][0];
     const auto& q1 = kQuad[k][1];
-    const bool wants = general_wants(vx, vy, moments_needed, tx0, ty0, sides[k], [&] {
+    const bool wants = general_wants(vx, vy, moments_needed, tx0, ty0, sc, sides[k], [&] {
       return quad[(q0[1] * 2 + q0[0]) * 2 + q0[2]] + quad[(q1[1] * 2 + q1[0]) * 2 + q1[2]];
     }) && sides_may_want;
     // Children: the halves of two quadrants, whose midpoints are the quadrant centres.
@@ -307,7 +307,7 @@ void Tritree::general_square(int tx0, int ty0, int x0, int y0, int s, const Tile
     const int k0 = part == 0 ? 0 : (bs ? 2 : 1);
     const int k1 = part == 0 ? (bs ? 1 : 3) : (bs ? 3 : 2);
     const bool wants =
-        general_wants(vx, vy, half_moments_needed, tx0, ty0, out[part], [&] { return sides[k0] + sides[k1]; }) &&
+        general_wants(vx, vy, half_moments_needed, tx0, ty0, sc, out[part], [&] { return sides[k0] + sides[k1]; }) &&
         halves_may_want;
     int ax, ay, bx, by;
     midpoint(Tri{false, s, x0, y0, k0}, &ax, &ay);
@@ -1002,6 +1002,13 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     times_.criterion_ns = 0;
   } else {
     serial([&] { std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1)); });
+    for (TileScratch& sc : scratch_) {  // the span records hold for one image size
+      SpanCache& c = *sc.spans;
+      if (c.width == gray.width && c.height == gray.height) continue;
+      c.width = gray.width;
+      c.height = gray.height;
+      for (SpanKind& k : c.kinds) k.recorded = k.unusable = false;
+    }
     const int S = tile_;
     const auto tile_row = [&](int ty, const TileScratch& sc) {
       // Plain tiles: x0 + S < vw and y0 + S < vh, the row's first (vw - 1) / S.
@@ -1014,7 +1021,9 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
           tile_plain_of_side(S, x0, y0, sc, side4);
         } else {
           PixelMoments halves[2];
+          begin_span_tile(sc, tx, ty);
           general_square(x0, y0, x0, y0, S, sc, halves);
+          end_span_tile(sc);
           carry_inside_tile(x0, y0);
         }
       }

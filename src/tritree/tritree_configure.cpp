@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <memory>
+#include <new>
 #include <string>
 
 #include "src/kernels/dispatch.hpp"
@@ -94,7 +95,19 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   side4_kernel_ = params.min_area_px2 > 1 && 2 * params.max_area_px2 >= 16;
   side4_stride_ = side4_kernel_ ? static_cast<std::size_t>(largest.tiles_x) * (tile_ / 4) : 0;
   const std::size_t side4_words = (static_cast<std::size_t>(tile_ / 4) * side4_stride_ * 9 + 1) / 2 * 2;  // 8-byte multiple
-  const std::size_t bytes = kMaxTileWorkers * (moments * sizeof(PixelMoments) +
+  // The general tiles' span records (SpanCache): per kind, at most six
+  // triangles of each square on the tile's last column (row) of squares of
+  // every side s, of at most s + 2 rows each.
+  span_records_ = 0;
+  span_rows_ = 0;
+  for (int s = 2; s <= tile_; s *= 2) {
+    span_records_ += static_cast<std::size_t>(6 * (tile_ / s));
+    span_rows_ += static_cast<std::size_t>(6 * (tile_ / s) * (s + 2));
+  }
+  span_rows_ = (span_rows_ + 3) / 4 * 4;  // 6-byte rows: an 8-byte multiple
+  static_assert(sizeof(SpanRecord) % 8 == 0 && sizeof(SpanCache) % 8 == 0, "the carving stays 8-byte aligned");
+  const std::size_t span_bytes = sizeof(SpanCache) + 4 * (span_records_ * sizeof(SpanRecord) + span_rows_ * sizeof(SpanRow));
+  const std::size_t bytes = kMaxTileWorkers * (span_bytes + moments * sizeof(PixelMoments) +
                                                  intensity_moments * sizeof(IntensityMoments) +
                                                  side4_words * sizeof(std::int32_t)) +
                             stretched * sizeof(Triangle) + bands * sizeof(Band) +
@@ -108,6 +121,11 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     return p;
   };
   for (TileScratch& sc : scratch_) {
+    sc.spans = new (take(sizeof(SpanCache))) SpanCache{};
+    for (SpanKind& k : sc.spans->kinds) {
+      k.records = reinterpret_cast<SpanRecord*>(take(span_records_ * sizeof(SpanRecord)));
+      k.rows = reinterpret_cast<SpanRow*>(take(span_rows_ * sizeof(SpanRow)));
+    }
     PixelMoments* m = reinterpret_cast<PixelMoments*>(take(moments * sizeof(PixelMoments)));
     std::size_t level = 0;
     for (int s = 2; s <= tile_; s *= 2) {
