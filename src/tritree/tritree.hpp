@@ -141,7 +141,7 @@ class Tritree {
     std::uint32_t n_records = 0, n_rows = 0;
     bool recorded = false, unusable = false;
   };
-  struct SpanCache {
+  struct alignas(8) SpanCache {
     std::array<SpanKind, 4> kinds{};
     int width = 0, height = 0;    // the image size the records hold for
     SpanKind* current = nullptr;  // the tile being built's kind, or null
