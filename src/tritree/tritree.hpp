@@ -184,9 +184,10 @@ class Tritree {
   void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc, bool side4_ready = false);
   void carry_across_tile_borders();
   void carry_up(int x, int y);
-  // Pass 3 writes each row of tiles' leaves into its own region (so rows of
-  // tiles can run on different workers), with its own split counts; the
-  // general tiles' leaves (the row's last tiles) start at general_begin.
+  // Pass 3 writes each row of tiles' leaves straight into its place in the
+  // mesh (counted beforehand by number_vertices(), so rows of tiles can run
+  // on different workers), with its own split counts; the general tiles'
+  // leaves (the row's last tiles) start at general_begin.
   struct Band {
     Triangle* leaves = nullptr;
     std::size_t count = 0;
