@@ -32,6 +32,7 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.winner_u16 = &WinnerU16<xsimd::avx2>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::avx2>::call;
   set.side4_tests_u8 = &Side4TestsU8<xsimd::avx2>::call;
+  set.side8_tests_s32 = &Side8TestsS32<xsimd::avx2>::call;
 }
 
 }  // namespace simd

@@ -32,6 +32,7 @@ void fill_kernel_set_neon64(KernelSet& set) {
   set.winner_u16 = &WinnerU16<xsimd::neon64>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::neon64>::call;
   set.side4_tests_u8 = &Side4TestsU8<xsimd::neon64>::call;
+  set.side8_tests_s32 = &Side8TestsS32<xsimd::neon64>::call;
 }
 
 }  // namespace simd

@@ -431,6 +431,46 @@ std::uint16_t hmin_u16(const batch<std::uint16_t, A>& x, const xsimd::neon&) {
 }
 #endif
 
+// ---- the even and odd lanes of 2 N consecutive int32 (N doubles per
+// register), as doubles: the scalar loop is the definition.
+template <class A>
+void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<double, A>& odd,
+                         const xsimd::generic&) {
+  constexpr std::size_t n = batch<double, A>::size;
+  alignas(64) double e[n], o[n];
+  for (std::size_t i = 0; i < n; ++i) e[i] = p[2 * i], o[i] = p[2 * i + 1];
+  even = batch<double, A>::load_aligned(e);
+  odd = batch<double, A>::load_aligned(o);
+}
+#if XSIMD_WITH_SSE2
+template <class A>
+void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<double, A>& odd,
+                         const xsimd::sse2&) {
+  const __m128i v = _mm_shuffle_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), 0xD8);  // e0 e1 o0 o1
+  even = _mm_cvtepi32_pd(v);
+  odd = _mm_cvtepi32_pd(_mm_unpackhi_epi64(v, v));
+}
+#endif
+#if XSIMD_WITH_AVX2
+template <class A>
+void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<double, A>& odd,
+                         const xsimd::avx2&) {
+  const __m256i v = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)),
+                                                _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7));
+  even = _mm256_cvtepi32_pd(_mm256_castsi256_si128(v));
+  odd = _mm256_cvtepi32_pd(_mm256_extracti128_si256(v, 1));
+}
+#endif
+#if XSIMD_WITH_NEON64
+template <class A>
+void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<double, A>& odd,
+                         const xsimd::neon64&) {
+  const int32x4_t v = vld1q_s32(p);
+  even = vcvtq_f64_s64(vmovl_s32(vget_low_s32(vuzp1q_s32(v, v))));
+  odd = vcvtq_f64_s64(vmovl_s32(vget_low_s32(vuzp2q_s32(v, v))));
+}
+#endif
+
 }  // namespace detail
 
 // ---------------------------------------------------------------- public escapes
@@ -543,6 +583,12 @@ void widen_unordered(const batch<T, A>& a, batch<W, A>& lo, batch<W, A>& hi) {
 template <class W, class A>
 void restore_widened_order(batch<W, A>& lo, batch<W, A>& hi) {
   detail::restore_widened_order(lo, hi, A{});
+}
+
+// even = p[0], p[2], ..., odd = p[1], p[3], ... (2 N int32 read), as doubles.
+template <class A>
+void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<double, A>& odd) {
+  detail::even_odd_s32_to_f64(p, even, odd, A{});
 }
 
 }  // namespace escape

@@ -29,6 +29,7 @@
 #include "simd/kernels.hpp"
 #include "src/kernels/kernels_scalar.hpp"
 #include "src/tritree/side4_shapes.hpp"
+#include "src/tritree/side8_shapes.hpp"
 
 namespace tristereo {
 namespace simd {
@@ -1315,6 +1316,120 @@ void Side4TestsU8<Arch>::call(const std::uint8_t* const* rows, int n, int first_
   int m = 0;
   for (; m + lanes <= n; m += lanes) block(m);
   if (m < n) block(n - lanes);
+}
+
+// ---------------------------------------------------------------- side-8 tests
+
+namespace detail {
+
+// side8::sse() on lanes of doubles: every value is an integer below 2^53, so
+// each product and sum is exact (side8_shapes.hpp).
+template <class A>
+inline batch<double, A> side8_sse(const side8::Shape& g, const batch<double, A>* m, const batch<double, A>* corner) {
+  using bd = batch<double, A>;
+  const bd ia = corner[g.a], ui = corner[g.b] - ia, vi = corner[g.c] - ia;
+  const bd nx = bd(g.uy) * vi - ui * bd(g.vy), ny = ui * bd(g.vx) - bd(g.ux) * vi;
+  const bd sxj = m[1] - bd(g.ax) * m[0] - ia * bd(g.sx);
+  const bd syj = m[2] - bd(g.ay) * m[0] - ia * bd(g.sy);
+  const bd sjj = m[3] - bd(2.0) * ia * m[0] + bd(g.n) * ia * ia;
+  return nx * nx * bd(g.sxx) + bd(2.0) * nx * ny * bd(g.sxy) + ny * ny * bd(g.syy) +
+         bd(2.0 * g.a2) * (nx * sxj + ny * syj) + bd(double(g.a2) * g.a2) * sjj;
+}
+
+// Squares i0 .. i0 + lanes - 1 of Side8TestsS32, one per double lane.
+template <class A>
+inline void side8_block(const std::int32_t* const* quad_sums, std::size_t quad_stride,
+                        const std::uint8_t* const* rows, int i0, int first_backslash, const std::int64_t* sse_limit,
+                        std::uint32_t* wants, std::int32_t* sums, std::size_t sums_stride) {
+  using bd = batch<double, A>;
+  constexpr int lanes = static_cast<int>(bd::size);
+  // The quadrants' halves' sums (4 x 4 squares 2 i and 2 i + 1 are the even
+  // and odd lanes of the planes), moved to the square's corner.
+  bd quad[2][2][2][4];  // [dy][dx][part][I, xI, yI, II]
+  for (int dy = 0; dy < 2; ++dy)
+    for (int part = 0; part < 2; ++part)
+      for (int j = 0; j < 4; ++j)
+        escape::even_odd_s32_to_f64<A>(
+            quad_sums[dy] + static_cast<std::size_t>(4 * part + j) * quad_stride + static_cast<std::size_t>(2 * i0),
+            quad[dy][0][part][j], quad[dy][1][part][j]);
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx)
+      for (int part = 0; part < 2; ++part) {
+        bd* q = quad[dy][dx][part];
+        if (dx != 0) q[1] = q[1] + bd(4.0) * q[0];
+        if (dy != 0) q[2] = q[2] + bd(4.0) * q[0];
+      }
+  alignas(64) double c[side8::kCorners][lanes], diagonal_bs[lanes];
+  for (int l = 0; l < lanes; ++l) {
+    const int x = 8 * (i0 + l);
+    c[side8::kTopLeft][l] = rows[0][x];
+    c[side8::kTopRight][l] = rows[0][x + 8];
+    c[side8::kBottomLeft][l] = rows[2][x];
+    c[side8::kBottomRight][l] = rows[2][x + 8];
+    c[side8::kCentre][l] = rows[1][x + 4];
+    diagonal_bs[l] = ((first_backslash != 0) == (((i0 + l) & 1) == 0)) ? 1.0 : 0.0;
+  }
+  bd corner[side8::kCorners];
+  for (int k = 0; k < side8::kCorners; ++k) corner[k] = bd::load_aligned(c[k]);
+  const auto bs = bd::load_aligned(diagonal_bs) != bd(0.0);
+  const bd zero(0.0);
+  bd side[4][4], bits(0.0);
+  for (int k = 0; k < 4; ++k) {
+    const int* q0 = side8::kQuad[k][0];
+    const int* q1 = side8::kQuad[k][1];
+    for (int j = 0; j < 4; ++j) side[k][j] = quad[q0[1]][q0[0]][q0[2]][j] + quad[q1[1]][q1[0]][q1[2]][j];
+    const bd sse = side8_sse<A>(side8::kSide[k], side[k], corner);
+    bits = bits + xsimd::select(sse > bd(static_cast<double>(sse_limit[side8::kLimitSide + k])), bd(double(1 << k)), zero);
+  }
+  // A half of each diagonal in every lane, the lane's own kept.
+  alignas(64) double out[lanes];
+  for (int p = 0; p < 2; ++p) {
+    bd half[2][4];
+    for (int d = 0; d < 2; ++d) {
+      const int* s = side8::kHalfSides[d][p];
+      for (int j = 0; j < 4; ++j) half[d][j] = side[s[0]][j] + side[s[1]][j];
+    }
+    const bd sse = xsimd::select(bs, side8_sse<A>(side8::kHalf[0][p], half[0], corner),
+                                 side8_sse<A>(side8::kHalf[1][p], half[1], corner));
+    const bd limit = xsimd::select(bs, bd(static_cast<double>(sse_limit[side8::kLimitHalf + p])),
+                                   bd(static_cast<double>(sse_limit[side8::kLimitHalf + 2 + p])));
+    bits = bits + xsimd::select(sse > limit, bd(double(1 << (side8::kWantsHalfBit + p))), zero);
+    for (int j = 0; j < 4; ++j) {
+      xsimd::select(bs, half[0][j], half[1][j]).store_aligned(out);
+      std::int32_t* plane = sums + static_cast<std::size_t>(4 * p + j) * sums_stride + static_cast<std::size_t>(i0);
+      for (int l = 0; l < lanes; ++l) plane[l] = static_cast<std::int32_t>(out[l]);
+    }
+  }
+  bits.store_aligned(out);
+  for (int l = 0; l < lanes; ++l) wants[i0 + l] = static_cast<std::uint32_t>(out[l]);
+}
+
+}  // namespace detail
+
+// Lanes = squares, in doubles. Below a register's worth of squares (and on
+// an arch without double lanes: ARMv7 NEON) the scalar twin takes them all;
+// otherwise full blocks, the last one ending at n (its first lanes write the
+// same values again).
+template <class Arch>
+void Side8TestsS32<Arch>::call(const std::int32_t* const* quad_sums, std::size_t quad_stride,
+                               const std::uint8_t* const* rows, int n, int first_backslash,
+                               const std::int64_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
+                               std::size_t sums_stride) {
+  if constexpr (!xsimd::types::has_simd_register<double, Arch>::value) {
+    side8_tests_s32_scalar(quad_sums, quad_stride, rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
+  } else {
+    constexpr int lanes = static_cast<int>(xsimd::batch<double, Arch>::size);
+    if (n < lanes) {
+      side8_tests_s32_scalar(quad_sums, quad_stride, rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
+      return;
+    }
+    for (int i = 0;; i += lanes) {
+      const int i0 = i + lanes <= n ? i : n - lanes;
+      detail::side8_block<Arch>(quad_sums, quad_stride, rows, i0, first_backslash, sse_limit, wants, sums,
+                                sums_stride);
+      if (i0 + lanes >= n) break;
+    }
+  }
 }
 
 }  // namespace simd

@@ -133,6 +133,13 @@ struct Side4TestsU8 {
                    std::uint32_t* wants, std::int32_t* sums, std::size_t sums_stride);
 };
 
+template <class Arch>
+struct Side8TestsS32 {
+  static void call(const std::int32_t* const* quad_sums, std::size_t quad_stride, const std::uint8_t* const* rows,
+                   int n, int first_backslash, const std::int64_t* sse_limit, std::uint32_t* wants,
+                   std::int32_t* sums, std::size_t sums_stride);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -154,7 +161,8 @@ struct Side4TestsU8 {
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \
-  KEYWORD template struct Side4TestsU8<ARCH>;
+  KEYWORD template struct Side4TestsU8<ARCH>;                  \
+  KEYWORD template struct Side8TestsS32<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

@@ -700,6 +700,103 @@ TEST_P(SimdKernels, Side4TestsU8) {
   EXPECT_EQ(zeros & 0x3Fu, 0x3Fu) << "some wants bit was never clear";
 }
 
+// The tritree's side-8 level: n squares side by side, fed with the side-4
+// level's sums of the same pixels (as the tritree feeds it: the double-lane
+// twins are exact for those magnitudes), each pixel row and sum plane in its
+// own allocation ending where the kernel's reads must end (ASan).
+TEST_P(SimdKernels, Side8TestsS32) {
+  std::mt19937 rng(29);
+  std::uint32_t ones = 0, zeros = 0;  // wants bits seen set and clear (scalar)
+  const auto run = [&](const std::vector<std::vector<std::uint8_t>>& pixel_rows, int n, int first_bs,
+                       const std::vector<std::int64_t>& limit, const std::string& what) {
+    // Rows 0 .. 8 of the row of squares: the side-4 sums of its two rows of 4 x 4 squares.
+    const std::size_t stride4 = static_cast<std::size_t>(2 * n) + 1;
+    std::vector<std::vector<std::int32_t>> quad(2, std::vector<std::int32_t>(8 * stride4 - 1));
+    for (int dy = 0; dy < 2; ++dy) {
+      const std::uint8_t* rows4[5];
+      for (int r = 0; r < 5; ++r) rows4[r] = pixel_rows[static_cast<std::size_t>(4 * dy + r)].data();
+      std::vector<std::uint32_t> wants4(static_cast<std::size_t>(2 * n));
+      const std::int32_t never[8] = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX,
+                                     INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+      // a quadrant on the 8 x 8 square's diagonal is '\\', whatever the square's own
+      scalar().side4_tests_u8(rows4, 2 * n, dy == 0 ? 1 : 0, never, wants4.data(),
+                              quad[static_cast<std::size_t>(dy)].data(), stride4);
+    }
+    std::vector<Input<std::int32_t>> quad_in;
+    for (int dy = 0; dy < 2; ++dy) quad_in.emplace_back(quad[static_cast<std::size_t>(dy)], 0);
+    const std::int32_t* quad_sums[2] = {quad_in[0].data(), quad_in[1].data()};
+    std::vector<Input<std::uint8_t>> in;
+    for (int r = 0; r < 9; r += 4) in.emplace_back(pixel_rows[static_cast<std::size_t>(r)], 0);
+    const std::uint8_t* rows[3] = {in[0].data(), in[1].data(), in[2].data()};
+    Guarded<std::uint32_t> wa(std::vector<std::uint32_t>(static_cast<std::size_t>(n), 0xA5A5A5A5u), 0xA5A5A5A5u);
+    Guarded<std::uint32_t> wb = wa;
+    const std::size_t stride = static_cast<std::size_t>(n) + 3;
+    Guarded<std::int32_t> sa(std::vector<std::int32_t>(8 * stride, -7), -7);
+    Guarded<std::int32_t> sb = sa;
+    simd().side8_tests_s32(quad_sums, stride4, rows, n, first_bs, limit.data(), wa.data(), sa.data(), stride);
+    scalar().side8_tests_s32(quad_sums, stride4, rows, n, first_bs, limit.data(), wb.data(), sb.data(), stride);
+    ASSERT_EQ(diff(wa, wb), "") << what << " n=" << n << " first_backslash=" << first_bs;
+    ASSERT_EQ(diff(sa, sb), "") << what << " n=" << n << " first_backslash=" << first_bs;
+    for (int m = 0; m < n; ++m) ones |= wb.data()[m], zeros |= ~wb.data()[m];
+  };
+  const auto limits = [&](int which) {
+    std::vector<std::int64_t> l(8);
+    for (std::int64_t& v : l) {
+      switch (which) {
+        case 0: v = static_cast<std::int64_t>(rng() % 200000000u); break;  // mixed on random pixels
+        case 1: v = static_cast<std::int64_t>(rng() % 2000000u); break;    // mixed on smooth pixels
+        case 2: v = 0; break;                                              // any residual fails
+        default: v = INT64_MAX; break;                                     // never
+      }
+    }
+    return l;
+  };
+  for (int n = 1; n <= 20; ++n) {
+    for (int c = 0; c < 6; ++c) {
+      std::vector<std::vector<std::uint8_t>> px(9, std::vector<std::uint8_t>(static_cast<std::size_t>(8 * n + 1)));
+      for (int r = 0; r < 9; ++r)
+        for (int x = 0; x <= 8 * n; ++x) {
+          std::uint8_t& v = px[static_cast<std::size_t>(r)][static_cast<std::size_t>(x)];
+          switch (c) {
+            case 0: v = static_cast<std::uint8_t>(rng()); break;
+            case 1: v = 0; break;
+            case 2: v = 255; break;
+            case 3: v = ((x + r) & 1) ? 255 : 0; break;
+            case 4: v = (x % 8 == 0 || r % 4 == 0) ? 255 : 0; break;  // extreme corners against the inside
+            default: v = static_cast<std::uint8_t>(std::clamp(3 * x + 5 * r + static_cast<int>(rng() % 9), 0, 255));
+          }
+        }
+      for (int first_bs = 0; first_bs < 2; ++first_bs)
+        for (int which = 0; which < 4; ++which) {
+          run(px, n, first_bs, limits(c == 0 ? which : (which == 0 ? 1 : which)), "case " + std::to_string(c));
+          if (HasFatalFailure()) return;
+        }
+    }
+  }
+  // Real rows: every 8-row band of Teddy's left view, as gray.
+  if (!test::data_set_available("middlebury")) {
+    TRISTEREO_REQUIRE_DATA("middlebury");
+    return;
+  }
+  const ImageU8 img = read_image_u8(test::data_set_dir("middlebury") + "/teddy/left.png");
+  std::vector<std::uint8_t> gray(static_cast<std::size_t>(img.width) * img.height);
+  for (int y = 0; y < img.height; ++y)
+    scalar().rgb_to_gray_row_u8(img.row(y), img.width, gray.data() + static_cast<std::size_t>(y) * img.width);
+  const int n = (img.width - 1) / 8;
+  const std::vector<std::int64_t> limit = {200000, 200000, 200000, 200000, 600000, 600000, 600000, 600000};
+  for (int y = 0; y + 8 < img.height; y += 8) {
+    std::vector<std::vector<std::uint8_t>> px;
+    for (int r = 0; r < 9; ++r) {
+      const std::uint8_t* row = gray.data() + static_cast<std::size_t>(y + r) * img.width;
+      px.emplace_back(row, row + 8 * n + 1);
+    }
+    run(px, n, (y / 8) & 1, limit, "teddy y=" + std::to_string(y));
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_EQ(ones & 0x3Fu, 0x3Fu) << "some wants bit was never set";
+  EXPECT_EQ(zeros & 0x3Fu, 0x3Fu) << "some wants bit was never clear";
+}
+
 INSTANTIATE_TEST_SUITE_P(Sets, SimdKernels, ::testing::ValuesIn(test::simd_kernel_params()),
                          test::KernelParamName());
 // A build without SIMD (TRISTEREO_WITH_SIMD=OFF, unknown CPU) has nothing to compare.

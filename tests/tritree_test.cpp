@@ -19,6 +19,7 @@
 #include "src/kernels/kernels_scalar.hpp"
 #include "src/tritree/rtin_layout.hpp"
 #include "src/tritree/side4_shapes.hpp"
+#include "src/tritree/side8_shapes.hpp"
 #include "src/tritree/tritree.hpp"
 #include "support/alloc_counter.hpp"
 #include "support/scenes.hpp"
@@ -388,6 +389,88 @@ TEST(Side4Tests, ScalarKernelEqualsBruteForce) {
     }
     for (int t = 0; t < 6; ++t)
       (plane_fit_fails(static_cast<std::uint64_t>(sse[t]), pixels[t], t < 4 ? 8 : 16, mse_threshold_q8(400)) ? fails
+                                                                                                          : passes) += 1;
+  }
+  EXPECT_GT(fails, 1000);  // the images give both outcomes
+  EXPECT_GT(passes, 1000);
+}
+
+TEST(Side8Tests, ScalarKernelEqualsBruteForce) {
+  // The side-8 level's kernel (side8_shapes.hpp), fed by the side-4 kernel's
+  // sums as the tritree feeds it, against the fill rule and the brute-force
+  // SSE: each pixel's owner, each triangle's SSE (pinned by a limit just
+  // below it and one at it) and the halves' sums.
+  Rng rng(59);
+  int fails = 0, passes = 0;
+  for (int it = 0; it < 2000; ++it) {
+    const int w = rng.uniform(10, 48), h = rng.uniform(10, 48);
+    const ImageU8 img = mixed_image(rng, w, h);
+    // A square with corners at multiples of 8 (as in a tile), off the last row and column.
+    const int x0 = 8 * rng.uniform(0, (w - 10) / 8), y0 = 8 * rng.uniform(0, (h - 10) / 8);
+    const int x1 = x0 + 8, y1 = y0 + 8, cx = x0 + 4, cy = y0 + 4;
+    const int diagonal = rng.uniform(0, 1);
+    const Vertex tri[6][3] = {{{x0, y0}, {x1, y0}, {cx, cy}}, {{x1, y0}, {x1, y1}, {cx, cy}},
+                              {{x1, y1}, {x0, y1}, {cx, cy}}, {{x0, y1}, {x0, y0}, {cx, cy}},
+                              // the halves of a '\\' square, then of a '/' one
+                              {{x0, y0}, {x1, y0}, {x1, y1}}, {{x0, y0}, {x1, y1}, {x0, y1}}};
+    const Vertex slash[2][3] = {{{x0, y0}, {x1, y0}, {x0, y1}}, {{x1, y0}, {x1, y1}, {x0, y1}}};
+    const auto corners_of = [&](int t) { return t < 4 || diagonal == 0 ? tri[t] : slash[t - 4]; };
+    std::int64_t sse[6], pixels[6];
+    std::int64_t sums[2][4] = {};
+    for (int t = 0; t < 6; ++t) {
+      const Vertex* v = corners_of(t);
+      std::int64_t n_px = 0;
+      sse[t] = static_cast<std::int64_t>(sse_brute_force(img, v[0], v[1], v[2], &n_px));
+      pixels[t] = n_px;
+      const side8::Shape& g = t < 4 ? side8::kSide[t] : side8::kHalf[diagonal][t - 4];
+      ASSERT_EQ(g.n, n_px) << "triangle " << t;
+      for (int dy = 0; dy < 8; ++dy)
+        for (int dx = 0; dx < 8; ++dx) {
+          const bool owned = owns_pixel(v[0], v[1], v[2], x0 + dx, y0 + dy, w, h);
+          const int side = side8::side_of(dx, dy);
+          const bool listed = t < 4 ? side == t
+                                    : (side == side8::kHalfSides[diagonal][t - 4][0] ||
+                                       side == side8::kHalfSides[diagonal][t - 4][1]);
+          ASSERT_EQ(owned, listed) << "pixel " << dx << "," << dy << " of triangle " << t << ", diagonal " << diagonal;
+          if (t >= 4 && owned) {
+            const std::int64_t i = img.at(x0 + dx, y0 + dy);
+            std::int64_t* s = sums[t - 4];
+            s[0] += i, s[1] += dx * i, s[2] += dy * i, s[3] += i * i;
+          }
+        }
+    }
+    // The side-4 level of the two rows of 4 x 4 squares (two squares each),
+    // their diagonals alternating from the 8 x 8 square's quadrant (0, 0): '\\'.
+    std::int32_t quad[2][8 * 2];
+    for (int dy = 0; dy < 2; ++dy) {
+      const std::uint8_t* rows4[5];
+      for (int r = 0; r < 5; ++r) rows4[r] = img.row(y0 + 4 * dy + r) + x0;
+      std::uint32_t wants4[2];
+      const std::int32_t never[side4::kLimits] = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX,
+                                                  INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+      side4_tests_u8_scalar(rows4, 2, dy == 0, never, wants4, quad[dy], 2);
+    }
+    const std::int32_t* quad_sums[2] = {quad[0], quad[1]};
+    const std::uint8_t* rows[3] = {img.row(y0) + x0, img.row(y0 + 4) + x0, img.row(y0 + 8) + x0};
+    for (int below = 0; below < 2; ++below) {
+      std::int64_t limit[side8::kLimits];
+      for (int t = 0; t < 4; ++t) limit[side8::kLimitSide + t] = sse[t] - below;
+      for (int p = 0; p < 2; ++p) {
+        limit[side8::kLimitHalf + 2 * diagonal + p] = sse[4 + p] - below;
+        limit[side8::kLimitHalf + 2 * (1 - diagonal) + p] = -1;  // the other diagonal's: would fail
+      }
+      std::uint32_t wants = 0xFFFFFFFFu;
+      std::int32_t out[8 * 3];
+      side8_tests_s32_scalar(quad_sums, 2, rows, 1, diagonal == 0, limit, &wants, out, 3);
+      for (int t = 0; t < 6; ++t) {
+        const int bit = t < 4 ? t : side8::kWantsHalfBit + t - 4;
+        ASSERT_EQ((wants >> bit) & 1u, below ? 1u : 0u) << "triangle " << t << " SSE " << sse[t];
+      }
+      ASSERT_EQ(wants >> 6, 0u);
+      for (int c = 0; c < 8; ++c) ASSERT_EQ(out[3 * c], sums[c / 4][c % 4]) << "sum " << c;
+    }
+    for (int t = 0; t < 6; ++t)
+      (plane_fit_fails(static_cast<std::uint64_t>(sse[t]), pixels[t], t < 4 ? 32 : 64, mse_threshold_q8(400)) ? fails
                                                                                                           : passes) += 1;
   }
   EXPECT_GT(fails, 1000);  // the images give both outcomes

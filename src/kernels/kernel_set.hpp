@@ -164,6 +164,22 @@ struct KernelSet {
                          const std::int32_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
                          std::size_t sums_stride) = nullptr;
 
+  // The tritree's side-8 level (src/tritree/side8_shapes.hpp) for n >= 1
+  // squares of 8 x 8 pixels side by side, from side4_tests_u8's output for
+  // the two rows of 4 x 4 squares they cover: quad_sums[dy] (dy = 0, 1) its
+  // sums planes (plane c at quad_sums[dy] + c * quad_stride, 4 x 4 square
+  // 2 i + dx under square i); the corners are rows[0][8 i], rows[0][8 i + 8],
+  // rows[2][8 i], rows[2][8 i + 8] and the centre rows[1][8 i + 4] (rows 0, 4
+  // and 8 of the row of squares). Diagonals alternate along the row, '\'
+  // first when first_backslash. Per square, as side4_tests_u8: wants[i] bit
+  // k: side triangle k's SSE > sse_limit[k], bit 4 + p: half p's SSE >
+  // sse_limit[4 + 2 d + p]; sums[c * sums_stride + i], c = 4 p + j: half p's
+  // I, xI, yI, II relative to the square's corner. SSE < 2^37, exact.
+  void (*side8_tests_s32)(const std::int32_t* const* quad_sums, std::size_t quad_stride,
+                          const std::uint8_t* const* rows, int n, int first_backslash,
+                          const std::int64_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
+                          std::size_t sums_stride) = nullptr;
+
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
   // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).
   void (*rgb_to_gray_row_u8)(const std::uint8_t* rgb, int n, std::uint8_t* gray) = nullptr;

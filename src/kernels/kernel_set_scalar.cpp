@@ -28,6 +28,7 @@ const KernelSet& scalar_kernel_set() {
     s.winner_u16 = winner_u16_scalar;
     s.rgb_to_gray_row_u8 = rgb_to_gray_row_scalar;
     s.side4_tests_u8 = side4_tests_u8_scalar;
+    s.side8_tests_s32 = side8_tests_s32_scalar;
     return s;
   }();
   return set;

@@ -57,5 +57,10 @@ int winner_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* rival, s
 void side4_tests_u8_scalar(const std::uint8_t* const* rows, int n, int first_backslash,
                            const std::int32_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
                            std::size_t sums_stride);
+// In src/tritree/side8_tests_scalar.cpp.
+void side8_tests_s32_scalar(const std::int32_t* const* quad_sums, std::size_t quad_stride,
+                            const std::uint8_t* const* rows, int n, int first_backslash,
+                            const std::int64_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
+                            std::size_t sums_stride);
 
 }  // namespace tristereo

@@ -158,6 +158,9 @@ class Tritree {
     // of squares: wants bits, then the halves' sums (KernelSet::side4_tests_u8).
     std::uint32_t* side4_wants = nullptr;
     std::int32_t* side4_sums = nullptr;
+    // The side-8 level's, likewise (side8_band, KernelSet::side8_tests_s32).
+    std::uint32_t* side8_wants = nullptr;
+    std::int32_t* side8_sums = nullptr;
     SpanCache* spans = nullptr;  // the general tiles' (this worker slot's)
   };
 
@@ -176,7 +179,10 @@ class Tritree {
   void tile_plain(int tx0, int ty0, const TileScratch& sc, bool side4_ready);
   void side4_band(int ty0, int plain_tiles, const TileScratch& sc) const;
   template <int S>
-  void side4_apply(int tx0, int ty0, const TileScratch& sc);
+  void side4_apply(int tx0, int ty0, const TileScratch& sc, bool halves_sums);
+  void side8_band(int ty0, int plain_tiles, const TileScratch& sc) const;
+  template <int S>
+  void side8_apply(int tx0, int ty0, const TileScratch& sc);
   template <int S>
   void side2_sums_only(int tx0, int ty0, const TileScratch& sc) const;
   template <int S, int s>
@@ -235,6 +241,11 @@ class Tritree {
   bool side4_kernel_ = false;
   std::array<std::int32_t, 8> side4_limit_{};
   std::size_t side4_stride_ = 0;
+  // The side-8 level by KernelSet::side8_tests_s32 (from the side-4 kernel's
+  // sums; when both levels' triangles are all tested: A_max >= 32).
+  bool side8_kernel_ = false;
+  std::array<std::int64_t, 8> side8_limit_{};
+  std::size_t side8_stride_ = 0;
 
   // Per-build state.
   ImageView<const std::uint8_t> gray_;

@@ -15,6 +15,7 @@
 #include "src/kernels/kernel_set.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "src/tritree/side4_shapes.hpp"
+#include "src/tritree/side8_shapes.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/status.hpp"
 
@@ -408,7 +409,15 @@ template <int S>
 void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc, bool side4_ready) {
   if constexpr (S >= 8) {
     if (side4_ready) {  // the side-4 level is in the band buffers (side4_band)
-      side4_apply<S>(tx0, ty0, sc);
+      if constexpr (S >= 16) {
+        if (side8_kernel_) {  // and the side-8 level (side8_band)
+          side4_apply<S>(tx0, ty0, sc, false);
+          side8_apply<S>(tx0, ty0, sc);
+          plain_level<S, 16>(tx0, ty0, sc);
+          return;
+        }
+      }
+      side4_apply<S>(tx0, ty0, sc, true);
       plain_level<S, 8>(tx0, ty0, sc);
       return;
     }
@@ -618,10 +627,11 @@ void Tritree::side4_band(int ty0, int plain_tiles, const TileScratch& sc) const 
 }
 
 // plain_level<S, 4> from side4_band's results: the same need bytes and
-// halves' sums (relative to the tile origin), the tests already made. The
-// squares of side 2 are untested, so no need lies at their centres.
+// halves' sums (relative to the tile origin; not when the side-8 level reads
+// them from the band buffers), the tests already made. The squares of side 2
+// are untested, so no need lies at their centres.
 template <int S>
-void Tritree::side4_apply(int tx0, int ty0, const TileScratch& sc) {
+void Tritree::side4_apply(int tx0, int ty0, const TileScratch& sc, bool halves_sums) {
   constexpr int n = S / 4;
   const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
   const std::size_t ss = side4_stride_;
@@ -650,6 +660,74 @@ void Tritree::side4_apply(int tx0, int ty0, const TileScratch& sc) {
       const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
       const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
       const std::uint32_t b = wants[i] >> side4::kWantsHalfBit;
+      const bool wa = b & 1u, wb = (b >> 1) & 1u;
+      if (halves_sums) {
+        IntensityMoments* out = halves + (j * n + i) * 2;
+        const std::int32_t ox = x0 - tx0, oy = y0 - ty0;
+        for (int p = 0; p < 2; ++p) {
+          const std::int32_t* s = sums + static_cast<std::size_t>(4 * p) * ss + i;
+          const std::int32_t si = s[0];
+          out[p] = IntensityMoments{si, ox * si + s[ss], oy * si + s[2 * ss], s[3 * ss]};
+        }
+      }
+      const bool own_a = wa | n_top | (bs ? n_right : n_left);
+      const bool own_b = wb | n_bottom | (bs ? n_left : n_right);
+      at(cx, cy) |= need_byte(own_a | own_b, wa, wb);
+    }
+  }
+}
+
+// The side-8 level of a row of tiles' plain tiles, row of squares by row of
+// squares, from side4_band's sums: every 8 x 8 square's tests and its
+// halves' sums, by the kernel (KernelSet::side8_tests_s32) along the whole
+// run of tiles.
+void Tritree::side8_band(int ty0, int plain_tiles, const TileScratch& sc) const {
+  const int n = plain_tiles * (tile_ / 8);
+  for (int j = 0; j < tile_ / 8; ++j) {
+    const int y = ty0 + 8 * j;
+    const std::uint8_t* rows[3] = {gray_.row(y), gray_.row(y + 4), gray_.row(y + 8)};
+    const std::int32_t* quad_sums[2] = {sc.side4_sums + static_cast<std::size_t>(2 * j) * 8 * side4_stride_,
+                                        sc.side4_sums + static_cast<std::size_t>(2 * j + 1) * 8 * side4_stride_};
+    kernels_->side8_tests_s32(quad_sums, side4_stride_, rows, n, RtinLayout::backslash(0, y, 8), side8_limit_.data(),
+                              sc.side8_wants + static_cast<std::size_t>(j) * side8_stride_,
+                              sc.side8_sums + static_cast<std::size_t>(j) * 8 * side8_stride_, side8_stride_);
+  }
+}
+
+// plain_level<S, 8> from side8_band's results: the same need bytes and
+// halves' sums (relative to the tile origin), the tests already made.
+template <int S>
+void Tritree::side8_apply(int tx0, int ty0, const TileScratch& sc) {
+  constexpr int n = S / 8;
+  const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
+  const std::size_t ss = side8_stride_;
+  std::uint8_t* need = need_;
+  const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
+  const int m0 = tx0 / 8;  // the tile's first square in the band's rows
+  for (int j = 0; j < n; ++j) {
+    const std::uint32_t* wants = sc.side8_wants + static_cast<std::size_t>(j) * ss + m0;
+    for (int i = 0; i < n; ++i) {
+      const int x0 = tx0 + 8 * i, y0 = ty0 + 8 * j, x1 = x0 + 8, y1 = y0 + 8, cx = x0 + 4, cy = y0 + 4;
+      const bool nq00 = at(x0 + 2, y0 + 2) & kNeed, nq10 = at(cx + 2, y0 + 2) & kNeed;  // quadrant centres
+      const bool nq01 = at(x0 + 2, cy + 2) & kNeed, nq11 = at(cx + 2, cy + 2) & kNeed;
+      const std::uint32_t b = wants[i];
+      const bool w0 = b & 1u, w1 = (b >> 1) & 1u, w2 = (b >> 2) & 1u, w3 = (b >> 3) & 1u;
+      at(cx, y0) |= need_byte(w0 | nq00 | nq10, false, w0);
+      at(x1, cy) |= need_byte(w1 | nq10 | nq11, w1, false);
+      at(cx, y1) |= need_byte(w2 | nq11 | nq01, w2, false);
+      at(x0, cy) |= need_byte(w3 | nq01 | nq00, false, w3);
+    }
+  }
+  IntensityMoments* halves = sc.half_i[2];
+  for (int j = 0; j < n; ++j) {
+    const std::uint32_t* wants = sc.side8_wants + static_cast<std::size_t>(j) * ss + m0;
+    const std::int32_t* sums = sc.side8_sums + static_cast<std::size_t>(j) * 8 * ss + m0;
+    for (int i = 0; i < n; ++i) {
+      const int x0 = tx0 + 8 * i, y0 = ty0 + 8 * j, x1 = x0 + 8, y1 = y0 + 8, cx = x0 + 4, cy = y0 + 4;
+      const bool bs = RtinLayout::backslash(x0, y0, 8);
+      const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
+      const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
+      const std::uint32_t b = wants[i] >> side8::kWantsHalfBit;
       const bool wa = b & 1u, wb = (b >> 1) & 1u;
       IntensityMoments* out = halves + (j * n + i) * 2;
       const std::int32_t ox = x0 - tx0, oy = y0 - ty0;
@@ -1015,6 +1093,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       const int plain_tiles = ty * S + S < layout_.vh ? (layout_.vw - 1) / S : 0;
       const bool side4 = side4_kernel_ && plain_tiles > 0;
       if (side4) side4_band(ty * S, plain_tiles, sc);
+      if (side4 && side8_kernel_) side8_band(ty * S, plain_tiles, sc);
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         if (x0 + S < layout_.vw && y0 + S < layout_.vh) {

@@ -2,6 +2,7 @@
 // every buffer a build can need.
 #include <algorithm>
 #include <climits>
+#include <cstdint>
 #include <memory>
 #include <new>
 #include <string>
@@ -95,6 +96,11 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   side4_kernel_ = params.min_area_px2 > 1 && 2 * params.max_area_px2 >= 16;
   side4_stride_ = side4_kernel_ ? static_cast<std::size_t>(largest.tiles_x) * (tile_ / 4) : 0;
   const std::size_t side4_words = (static_cast<std::size_t>(tile_ / 4) * side4_stride_ * 9 + 1) / 2 * 2;  // 8-byte multiple
+  // The side-8 level by its kernel, from the side-4 kernel's sums, when the
+  // halves of the 8 x 8 squares are tested too (A_max >= 32, so S >= 16).
+  side8_kernel_ = side4_kernel_ && 2 * params.max_area_px2 >= 64;
+  side8_stride_ = side8_kernel_ ? static_cast<std::size_t>(largest.tiles_x) * (tile_ / 8) : 0;
+  const std::size_t side8_words = (static_cast<std::size_t>(tile_ / 8) * side8_stride_ * 9 + 1) / 2 * 2;
   // The general tiles' span records (SpanCache): per kind, at most six
   // triangles of each square on the tile's last column (row) of squares of
   // every side s, of at most s + 2 rows each.
@@ -109,7 +115,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   const std::size_t span_bytes = sizeof(SpanCache) + 4 * (span_records_ * sizeof(SpanRecord) + span_rows_ * sizeof(SpanRow));
   const std::size_t bytes = kMaxTileWorkers * (span_bytes + moments * sizeof(PixelMoments) +
                                                  intensity_moments * sizeof(IntensityMoments) +
-                                                 side4_words * sizeof(std::int32_t)) +
+                                                 (side4_words + side8_words) * sizeof(std::int32_t)) +
                             stretched * sizeof(Triangle) + bands * sizeof(Band) +
                             bands * sizeof(std::size_t) + (pixels + bands + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
@@ -144,6 +150,10 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     sc.side4_wants = side4_kernel_ ? reinterpret_cast<std::uint32_t*>(side4) : nullptr;
     sc.side4_sums = side4_kernel_ ? reinterpret_cast<std::int32_t*>(side4) + static_cast<std::size_t>(tile_ / 4) * side4_stride_
                                   : nullptr;
+    char* side8 = take(side8_words * sizeof(std::int32_t));
+    sc.side8_wants = side8_kernel_ ? reinterpret_cast<std::uint32_t*>(side8) : nullptr;
+    sc.side8_sums = side8_kernel_ ? reinterpret_cast<std::int32_t*>(side8) + static_cast<std::size_t>(tile_ / 8) * side8_stride_
+                                  : nullptr;
   }
   // Shape moments by the fill rule itself, on a square far from any border,
   // each with its threshold (the model's right-hand side, mse_q8 n area2^2).
@@ -174,6 +184,16 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     const std::uint64_t l = g.fail_above_q8 / 256;
     return may_want && l < static_cast<std::uint64_t>(INT32_MAX) ? static_cast<std::int32_t>(l) : INT32_MAX;
   };
+  if (side8_kernel_) {  // as side 4's, in int64 (SSE < 2^37); INT64_MAX: never
+    const bool sides_may_want = 32 >= 4 * params.min_area_px2, halves_may_want = 64 >= 4 * params.min_area_px2;
+    const auto limit = [](const ShapeMoments& g, bool may_want) {
+      return may_want ? static_cast<std::int64_t>(g.fail_above_q8 / 256) : INT64_MAX;
+    };
+    for (std::size_t k = 0; k < 4; ++k) {
+      side8_limit_[k] = limit(side_shape_[2][k], sides_may_want);
+      side8_limit_[4 + k] = limit(half_shape_[2][k], halves_may_want);
+    }
+  }
   if (side4_kernel_) {
     const bool sides_may_want = 8 >= 4 * params.min_area_px2, halves_may_want = 16 >= 4 * params.min_area_px2;
     for (std::size_t k = 0; k < 4; ++k) {
