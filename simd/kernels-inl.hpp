@@ -1322,6 +1322,12 @@ void Side4TestsU8<Arch>::call(const std::uint8_t* const* rows, int n, int first_
 
 namespace detail {
 
+// ARMv7 NEON has no double lanes (xsimd declares an invalid register for them).
+template <class A>
+struct HasDoubleLanes : std::true_type {};
+template <>
+struct HasDoubleLanes<xsimd::neon> : std::false_type {};
+
 // side8::sse() on lanes of doubles: every value is an integer below 2^53, so
 // each product and sum is exact (side8_shapes.hpp).
 template <class A>
@@ -1415,7 +1421,7 @@ void Side8TestsS32<Arch>::call(const std::int32_t* const* quad_sums, std::size_t
                                const std::uint8_t* const* rows, int n, int first_backslash,
                                const std::int64_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
                                std::size_t sums_stride) {
-  if constexpr (!xsimd::types::has_simd_register<double, Arch>::value) {
+  if constexpr (!detail::HasDoubleLanes<Arch>::value) {
     side8_tests_s32_scalar(quad_sums, quad_stride, rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
   } else {
     constexpr int lanes = static_cast<int>(xsimd::batch<double, Arch>::size);
