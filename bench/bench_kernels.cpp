@@ -1,6 +1,6 @@
 // Kernel micro-benchmarks: the cost and DP entries of KernelSet x every kernel
 // set this CPU can run x D in {16, 64, 128, 256}, named kernel/set/D (e.g.
-// dp_step/avx2/64); the tritree's side4_tests_u8 per set and number of squares.
+// dp_step/avx2/64); the tritree's side4_tests_u8 and side8_tests_s32 per set and number of squares.
 // items_per_second counts disparity evaluations (one element of the kernel's n).
 //
 //   bench_kernels --benchmark_filter='accumulate.*/64$'
@@ -226,12 +226,47 @@ void bench_side4_tests(benchmark::State& state, const KernelSet* ks, int n) {
   state.SetItemsProcessed(state.iterations() * 16 * n);
 }
 
+// The side-8 level: n 8 x 8 squares along a row (9 pixel rows of 8 n + 1),
+// fed with the scalar side-4 kernel's sums of those rows (made once);
+// items_per_second counts pixels (64 per square).
+void bench_side8_tests(benchmark::State& state, const KernelSet* ks, int n) {
+  std::mt19937 rng(7);
+  std::vector<std::vector<std::uint8_t>> px(9, std::vector<std::uint8_t>(static_cast<std::size_t>(8 * n + 1)));
+  for (std::size_t r = 0; r < px.size(); ++r)
+    for (std::size_t x = 0; x < px[r].size(); ++x) px[r][x] = static_cast<std::uint8_t>(2 * x + 3 * r + rng() % 24);
+  const std::size_t stride4 = static_cast<std::size_t>(2 * n);
+  std::vector<std::int32_t> quad[2] = {std::vector<std::int32_t>(8 * stride4), std::vector<std::int32_t>(8 * stride4)};
+  std::vector<std::uint32_t> wants4(stride4);
+  const std::int32_t never4[8] = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+  for (int dy = 0; dy < 2; ++dy) {
+    const std::uint8_t* rows4[5];
+    for (int r = 0; r < 5; ++r) rows4[r] = px[static_cast<std::size_t>(4 * dy + r)].data();
+    scalar_kernel_set().side4_tests_u8(rows4, 2 * n, dy == 0, never4, wants4.data(), quad[dy].data(), stride4);
+  }
+  const std::int32_t* quad_sums[2] = {quad[0].data(), quad[1].data()};
+  const std::uint8_t* rows[3] = {px[0].data(), px[4].data(), px[8].data()};
+  const std::int64_t limit[8] = {60000, 60000, 60000, 60000, 200000, 200000, 200000, 200000};
+  std::vector<std::uint32_t> wants(static_cast<std::size_t>(n));
+  std::vector<std::int32_t> sums(static_cast<std::size_t>(8 * n));
+  for (auto _ : state) {
+    ks->side8_tests_s32(quad_sums, stride4, rows, n, 1, limit, wants.data(), sums.data(), static_cast<std::size_t>(n));
+    benchmark::DoNotOptimize(wants.data());
+    benchmark::DoNotOptimize(sums.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * 64 * n);
+}
+
 void register_tritree_kernels() {
   for (KernelChoice set : available_kernel_sets()) {
     const KernelSet* ks = &kernel_set_for(set);
     for (int n : {4, 108, 310}) {  // a tile of side 16; Teddy's and KITTI's runs of plain tiles
       const std::string name = std::string("side4_tests_u8/") + to_string(set) + "/" + std::to_string(n);
       benchmark::RegisterBenchmark(name.c_str(), bench_side4_tests, ks, n);
+    }
+    for (int n : {2, 54, 155}) {  // the same runs in 8 x 8 squares
+      const std::string name = std::string("side8_tests_s32/") + to_string(set) + "/" + std::to_string(n);
+      benchmark::RegisterBenchmark(name.c_str(), bench_side8_tests, ks, n);
     }
   }
 }

@@ -471,6 +471,85 @@ void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<do
 }
 #endif
 
+// ---- p[8 l + K] of lanes l (N doubles per register) as doubles, reading
+// only p[0 .. 8 N - 1]: the bytes sit at the bottom of 64-bit lanes after a
+// shift, and a byte b becomes a double as the bits of 2^52 + b, less 2^52.
+template <int K, class A>
+batch<double, A> bytes_every_8_to_f64(const std::uint8_t* p, const xsimd::generic&) {
+  constexpr std::size_t n = batch<double, A>::size;
+  alignas(64) double v[n];
+  for (std::size_t i = 0; i < n; ++i) v[i] = p[8 * i + K];
+  return batch<double, A>::load_aligned(v);
+}
+// ---- lanes 1 .. N - 1 of v, then `last`
+template <class A>
+batch<double, A> shift_in_last_f64(const batch<double, A>& v, double last, const xsimd::generic&) {
+  constexpr std::size_t n = batch<double, A>::size;
+  alignas(64) double t[n + 1];
+  v.store_aligned(t);
+  t[n] = last;
+  return batch<double, A>::load_unaligned(t + 1);
+}
+// ---- integer-valued doubles stored as int32 (N of them)
+template <class A>
+void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v, const xsimd::generic&) {
+  constexpr std::size_t n = batch<double, A>::size;
+  alignas(64) double t[n];
+  v.store_aligned(t);
+  for (std::size_t i = 0; i < n; ++i) p[i] = static_cast<std::int32_t>(t[i]);
+}
+constexpr std::uint64_t kTwo52Bits = 0x4330000000000000ull;  // the double 2^52
+#if XSIMD_WITH_SSE2
+template <int K, class A>
+batch<double, A> bytes_every_8_to_f64(const std::uint8_t* p, const xsimd::sse2&) {
+  const __m128i v = _mm_srli_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), 8 * K);
+  const __m128i bits = _mm_or_si128(_mm_and_si128(v, _mm_set1_epi64x(0xFF)),
+                                    _mm_set1_epi64x(static_cast<long long>(kTwo52Bits)));
+  return _mm_sub_pd(_mm_castsi128_pd(bits), _mm_set1_pd(4503599627370496.0));
+}
+template <class A>
+batch<double, A> shift_in_last_f64(const batch<double, A>& v, double last, const xsimd::sse2&) {
+  return _mm_shuffle_pd(v, _mm_set1_pd(last), 1);
+}
+template <class A>
+void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v, const xsimd::sse2&) {
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_cvttpd_epi32(v));
+}
+#endif
+#if XSIMD_WITH_AVX2
+template <int K, class A>
+batch<double, A> bytes_every_8_to_f64(const std::uint8_t* p, const xsimd::avx2&) {
+  const __m256i v = _mm256_srli_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)), 8 * K);
+  const __m256i bits = _mm256_or_si256(_mm256_and_si256(v, _mm256_set1_epi64x(0xFF)),
+                                       _mm256_set1_epi64x(static_cast<long long>(kTwo52Bits)));
+  return _mm256_sub_pd(_mm256_castsi256_pd(bits), _mm256_set1_pd(4503599627370496.0));
+}
+template <class A>
+batch<double, A> shift_in_last_f64(const batch<double, A>& v, double last, const xsimd::avx2&) {
+  return _mm256_blend_pd(_mm256_permute4x64_pd(v, 0xF9), _mm256_set1_pd(last), 0x8);  // (v1, v2, v3, last)
+}
+template <class A>
+void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v, const xsimd::avx2&) {
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm256_cvttpd_epi32(v));
+}
+#endif
+#if XSIMD_WITH_NEON64
+template <int K, class A>
+batch<double, A> bytes_every_8_to_f64(const std::uint8_t* p, const xsimd::neon64&) {
+  uint64x2_t v = vreinterpretq_u64_u8(vld1q_u8(p));
+  if constexpr (K > 0) v = vshrq_n_u64(v, 8 * K);  // a shift of 1 .. 64
+  return vcvtq_f64_u64(vandq_u64(v, vdupq_n_u64(0xFF)));
+}
+template <class A>
+batch<double, A> shift_in_last_f64(const batch<double, A>& v, double last, const xsimd::neon64&) {
+  return vextq_f64(v, vdupq_n_f64(last), 1);
+}
+template <class A>
+void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v, const xsimd::neon64&) {
+  vst1_s32(p, vmovn_s64(vcvtq_s64_f64(v)));
+}
+#endif
+
 }  // namespace detail
 
 // ---------------------------------------------------------------- public escapes
@@ -585,6 +664,22 @@ void restore_widened_order(batch<W, A>& lo, batch<W, A>& hi) {
   detail::restore_widened_order(lo, hi, A{});
 }
 
+// p[8 l + K] for lanes l, as doubles (reads p[0 .. 8 N - 1]).
+template <int K, class A>
+batch<double, A> bytes_every_8_to_f64(const std::uint8_t* p) {
+  static_assert(K >= 0 && K < 8, "a byte of each 8");
+  return detail::bytes_every_8_to_f64<K, A>(p, A{});
+}
+// (v[1], ..., v[N - 1], last).
+template <class A>
+batch<double, A> shift_in_last_f64(const batch<double, A>& v, double last) {
+  return detail::shift_in_last_f64(v, last, A{});
+}
+// The N lanes of v, integers within int32, to p[0 .. N - 1].
+template <class A>
+void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v) {
+  detail::store_f64_as_s32(p, v, A{});
+}
 // even = p[0], p[2], ..., odd = p[1], p[3], ... (2 N int32 read), as doubles.
 template <class A>
 void even_odd_s32_to_f64(const std::int32_t* p, batch<double, A>& even, batch<double, A>& odd) {

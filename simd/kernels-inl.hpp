@@ -1365,18 +1365,17 @@ inline void side8_block(const std::int32_t* const* quad_sums, std::size_t quad_s
         if (dx != 0) q[1] = q[1] + bd(4.0) * q[0];
         if (dy != 0) q[2] = q[2] + bd(4.0) * q[0];
       }
-  alignas(64) double c[side8::kCorners][lanes], diagonal_bs[lanes];
-  for (int l = 0; l < lanes; ++l) {
-    const int x = 8 * (i0 + l);
-    c[side8::kTopLeft][l] = rows[0][x];
-    c[side8::kTopRight][l] = rows[0][x + 8];
-    c[side8::kBottomLeft][l] = rows[2][x];
-    c[side8::kBottomRight][l] = rows[2][x + 8];
-    c[side8::kCentre][l] = rows[1][x + 4];
-    diagonal_bs[l] = ((first_backslash != 0) == (((i0 + l) & 1) == 0)) ? 1.0 : 0.0;
-  }
+  // Corners: lane l's top left is row[8 l], its top right lane l + 1's top
+  // left (the last lane's from the row itself), its centre row[8 l + 4].
+  const int x = 8 * i0;
   bd corner[side8::kCorners];
-  for (int k = 0; k < side8::kCorners; ++k) corner[k] = bd::load_aligned(c[k]);
+  corner[side8::kTopLeft] = escape::bytes_every_8_to_f64<0, A>(rows[0] + x);
+  corner[side8::kTopRight] = escape::shift_in_last_f64<A>(corner[side8::kTopLeft], rows[0][x + 8 * lanes]);
+  corner[side8::kBottomLeft] = escape::bytes_every_8_to_f64<0, A>(rows[2] + x);
+  corner[side8::kBottomRight] = escape::shift_in_last_f64<A>(corner[side8::kBottomLeft], rows[2][x + 8 * lanes]);
+  corner[side8::kCentre] = escape::bytes_every_8_to_f64<4, A>(rows[1] + x);
+  alignas(64) double diagonal_bs[lanes];
+  for (int l = 0; l < lanes; ++l) diagonal_bs[l] = ((first_backslash != 0) == (((i0 + l) & 1) == 0)) ? 1.0 : 0.0;
   const auto bs = bd::load_aligned(diagonal_bs) != bd(0.0);
   const bd zero(0.0);
   bd side[4][4], bits(0.0);
@@ -1388,7 +1387,6 @@ inline void side8_block(const std::int32_t* const* quad_sums, std::size_t quad_s
     bits = bits + xsimd::select(sse > bd(static_cast<double>(sse_limit[side8::kLimitSide + k])), bd(double(1 << k)), zero);
   }
   // A half of each diagonal in every lane, the lane's own kept.
-  alignas(64) double out[lanes];
   for (int p = 0; p < 2; ++p) {
     bd half[2][4];
     for (int d = 0; d < 2; ++d) {
@@ -1400,14 +1398,13 @@ inline void side8_block(const std::int32_t* const* quad_sums, std::size_t quad_s
     const bd limit = xsimd::select(bs, bd(static_cast<double>(sse_limit[side8::kLimitHalf + p])),
                                    bd(static_cast<double>(sse_limit[side8::kLimitHalf + 2 + p])));
     bits = bits + xsimd::select(sse > limit, bd(double(1 << (side8::kWantsHalfBit + p))), zero);
-    for (int j = 0; j < 4; ++j) {
-      xsimd::select(bs, half[0][j], half[1][j]).store_aligned(out);
-      std::int32_t* plane = sums + static_cast<std::size_t>(4 * p + j) * sums_stride + static_cast<std::size_t>(i0);
-      for (int l = 0; l < lanes; ++l) plane[l] = static_cast<std::int32_t>(out[l]);
-    }
+    for (int j = 0; j < 4; ++j)
+      escape::store_f64_as_s32<A>(sums + static_cast<std::size_t>(4 * p + j) * sums_stride + static_cast<std::size_t>(i0),
+                                  xsimd::select(bs, half[0][j], half[1][j]));
   }
-  bits.store_aligned(out);
-  for (int l = 0; l < lanes; ++l) wants[i0 + l] = static_cast<std::uint32_t>(out[l]);
+  alignas(64) std::int32_t bit_words[lanes];
+  escape::store_f64_as_s32<A>(bit_words, bits);
+  for (int l = 0; l < lanes; ++l) wants[i0 + l] = static_cast<std::uint32_t>(bit_words[l]);
 }
 
 }  // namespace detail
