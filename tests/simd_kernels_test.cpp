@@ -619,6 +619,75 @@ TEST_P(SimdKernels, MiddleburyRowsThroughAggregationAndDp) {
   }
 }
 
+// Pixel rows for the tritree kernels' cases: c = 0 random, 1 flat dark, 2
+// flat bright, 3 a checkerboard, 4 bright lines every 8 columns and 4 rows
+// (the squares' corners against their insides), 5 a ramp with noise.
+std::vector<std::vector<std::uint8_t>> case_rows(int c, int rows, int width, std::mt19937& rng) {
+  std::vector<std::vector<std::uint8_t>> px(static_cast<std::size_t>(rows),
+                                            std::vector<std::uint8_t>(static_cast<std::size_t>(width)));
+  for (int r = 0; r < rows; ++r)
+    for (int x = 0; x < width; ++x) {
+      std::uint8_t& v = px[static_cast<std::size_t>(r)][static_cast<std::size_t>(x)];
+      switch (c) {
+        case 0: v = static_cast<std::uint8_t>(rng()); break;
+        case 1: v = 0; break;
+        case 2: v = 255; break;
+        case 3: v = ((x + r) & 1) ? 255 : 0; break;
+        case 4: v = (x % 8 == 0 || r % 4 == 0) ? 255 : 0; break;
+        default: v = static_cast<std::uint8_t>(std::clamp(3 * x + 5 * r + static_cast<int>(rng() % 9), 0, 255));
+      }
+    }
+  return px;
+}
+
+// Teddy's left view as gray (the scalar conversion); *img gets the colour image.
+std::vector<std::uint8_t> teddy_gray(ImageU8* img) {
+  *img = read_image_u8(test::data_set_dir("middlebury") + "/teddy/left.png");
+  std::vector<std::uint8_t> gray(static_cast<std::size_t>(img->width) * img->height);
+  for (int y = 0; y < img->height; ++y)
+    scalar_kernel_set().rgb_to_gray_row_u8(img->row(y), img->width,
+                                           gray.data() + static_cast<std::size_t>(y) * img->width);
+  return gray;
+}
+
+// A square kernel's inputs (side 4 or 8): n = 1 .. max_n squares of every
+// case_rows() case, both first diagonals and the four limit regimes (random
+// cases take all four, the others the smooth one instead of the random one),
+// then every `side`-row band of Teddy with `teddy_limit`. run(rows, n,
+// first_backslash, limits, what) checks one input. False when the test is
+// over (a fatal failure, or no Middlebury data: skipped or failed).
+template <class Limit, class Run, class Limits>
+bool drive_square_kernel(int side, int max_n, std::mt19937& rng, Run run, Limits limits,
+                         const std::vector<Limit>& teddy_limit) {
+  for (int n = 1; n <= max_n; ++n) {
+    for (int c = 0; c < 6; ++c) {
+      const auto px = case_rows(c, side + 1, side * n + 1, rng);
+      for (int first_bs = 0; first_bs < 2; ++first_bs)
+        for (int which = 0; which < 4; ++which) {
+          run(px, n, first_bs, limits(c == 0 ? which : (which == 0 ? 1 : which)), "case " + std::to_string(c));
+          if (::testing::Test::HasFatalFailure()) return false;
+        }
+    }
+  }
+  if (!test::data_set_available("middlebury")) {
+    [] { TRISTEREO_REQUIRE_DATA("middlebury"); }();
+    return false;
+  }
+  ImageU8 img;
+  const std::vector<std::uint8_t> gray = teddy_gray(&img);
+  const int n = (img.width - 1) / side;
+  for (int y = 0; y + side < img.height; y += side) {
+    std::vector<std::vector<std::uint8_t>> px;
+    for (int r = 0; r <= side; ++r) {
+      const std::uint8_t* row = gray.data() + static_cast<std::size_t>(y + r) * img.width;
+      px.emplace_back(row, row + side * n + 1);
+    }
+    run(px, n, (y / side) & 1, teddy_limit, "teddy y=" + std::to_string(y));
+    if (::testing::Test::HasFatalFailure()) return false;
+  }
+  return true;
+}
+
 // The tritree's side-4 level: n squares side by side, each row of pixels from
 // its own allocation ending right after the last square's right corner (an
 // over-read is a heap overflow under ASan); limits spread over the SSEs'
@@ -655,47 +724,9 @@ TEST_P(SimdKernels, Side4TestsU8) {
     }
     return l;
   };
-  for (int n = 1; n <= 40; ++n) {
-    for (int c = 0; c < 6; ++c) {
-      std::vector<std::vector<std::uint8_t>> px(5, std::vector<std::uint8_t>(static_cast<std::size_t>(4 * n + 1)));
-      for (int r = 0; r < 5; ++r)
-        for (int x = 0; x <= 4 * n; ++x) {
-          std::uint8_t& v = px[static_cast<std::size_t>(r)][static_cast<std::size_t>(x)];
-          switch (c) {
-            case 0: v = static_cast<std::uint8_t>(rng()); break;
-            case 1: v = 0; break;
-            case 2: v = 255; break;
-            case 3: v = ((x + r) & 1) ? 255 : 0; break;
-            default: v = static_cast<std::uint8_t>(std::clamp(3 * x + 5 * r + static_cast<int>(rng() % 9), 0, 255));
-          }
-        }
-      for (int first_bs = 0; first_bs < 2; ++first_bs)
-        for (int which = 0; which < 4; ++which) {
-          run(px, n, first_bs, limits(c == 0 ? which : (which == 0 ? 1 : which)), "case " + std::to_string(c));
-          if (HasFatalFailure()) return;
-        }
-    }
-  }
-  // Real rows: every 4-row band of Teddy's left view, as gray.
-  if (!test::data_set_available("middlebury")) {
-    TRISTEREO_REQUIRE_DATA("middlebury");
+  if (!drive_square_kernel(4, 40, rng, run, limits,
+                           std::vector<std::int32_t>{20000, 20000, 20000, 20000, 60000, 60000, 60000, 60000}))
     return;
-  }
-  const ImageU8 img = read_image_u8(test::data_set_dir("middlebury") + "/teddy/left.png");
-  std::vector<std::uint8_t> gray(static_cast<std::size_t>(img.width) * img.height);
-  for (int y = 0; y < img.height; ++y)
-    scalar().rgb_to_gray_row_u8(img.row(y), img.width, gray.data() + static_cast<std::size_t>(y) * img.width);
-  const int n = (img.width - 1) / 4;
-  const std::vector<std::int32_t> limit = {20000, 20000, 20000, 20000, 60000, 60000, 60000, 60000};
-  for (int y = 0; y + 4 < img.height; y += 4) {
-    std::vector<std::vector<std::uint8_t>> px;
-    for (int r = 0; r < 5; ++r) {
-      const std::uint8_t* row = gray.data() + static_cast<std::size_t>(y + r) * img.width;
-      px.emplace_back(row, row + 4 * n + 1);
-    }
-    run(px, n, (y / 4) & 1, limit, "teddy y=" + std::to_string(y));
-    if (HasFatalFailure()) return;
-  }
   EXPECT_EQ(ones & 0x3Fu, 0x3Fu) << "some wants bit was never set";
   EXPECT_EQ(zeros & 0x3Fu, 0x3Fu) << "some wants bit was never clear";
 }
@@ -751,48 +782,9 @@ TEST_P(SimdKernels, Side8TestsS32) {
     }
     return l;
   };
-  for (int n = 1; n <= 20; ++n) {
-    for (int c = 0; c < 6; ++c) {
-      std::vector<std::vector<std::uint8_t>> px(9, std::vector<std::uint8_t>(static_cast<std::size_t>(8 * n + 1)));
-      for (int r = 0; r < 9; ++r)
-        for (int x = 0; x <= 8 * n; ++x) {
-          std::uint8_t& v = px[static_cast<std::size_t>(r)][static_cast<std::size_t>(x)];
-          switch (c) {
-            case 0: v = static_cast<std::uint8_t>(rng()); break;
-            case 1: v = 0; break;
-            case 2: v = 255; break;
-            case 3: v = ((x + r) & 1) ? 255 : 0; break;
-            case 4: v = (x % 8 == 0 || r % 4 == 0) ? 255 : 0; break;  // extreme corners against the inside
-            default: v = static_cast<std::uint8_t>(std::clamp(3 * x + 5 * r + static_cast<int>(rng() % 9), 0, 255));
-          }
-        }
-      for (int first_bs = 0; first_bs < 2; ++first_bs)
-        for (int which = 0; which < 4; ++which) {
-          run(px, n, first_bs, limits(c == 0 ? which : (which == 0 ? 1 : which)), "case " + std::to_string(c));
-          if (HasFatalFailure()) return;
-        }
-    }
-  }
-  // Real rows: every 8-row band of Teddy's left view, as gray.
-  if (!test::data_set_available("middlebury")) {
-    TRISTEREO_REQUIRE_DATA("middlebury");
+  if (!drive_square_kernel(8, 20, rng, run, limits,
+                           std::vector<std::int64_t>{200000, 200000, 200000, 200000, 600000, 600000, 600000, 600000}))
     return;
-  }
-  const ImageU8 img = read_image_u8(test::data_set_dir("middlebury") + "/teddy/left.png");
-  std::vector<std::uint8_t> gray(static_cast<std::size_t>(img.width) * img.height);
-  for (int y = 0; y < img.height; ++y)
-    scalar().rgb_to_gray_row_u8(img.row(y), img.width, gray.data() + static_cast<std::size_t>(y) * img.width);
-  const int n = (img.width - 1) / 8;
-  const std::vector<std::int64_t> limit = {200000, 200000, 200000, 200000, 600000, 600000, 600000, 600000};
-  for (int y = 0; y + 8 < img.height; y += 8) {
-    std::vector<std::vector<std::uint8_t>> px;
-    for (int r = 0; r < 9; ++r) {
-      const std::uint8_t* row = gray.data() + static_cast<std::size_t>(y + r) * img.width;
-      px.emplace_back(row, row + 8 * n + 1);
-    }
-    run(px, n, (y / 8) & 1, limit, "teddy y=" + std::to_string(y));
-    if (HasFatalFailure()) return;
-  }
   EXPECT_EQ(ones & 0x3Fu, 0x3Fu) << "some wants bit was never set";
   EXPECT_EQ(zeros & 0x3Fu, 0x3Fu) << "some wants bit was never clear";
 }

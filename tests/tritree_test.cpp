@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -326,6 +327,27 @@ TEST(PixelMoments, ShapeSseEqualsBruteForceAwayFromTheLastRowAndColumn) {
   EXPECT_LT(splits, 2700);
 }
 
+// The six triangles of the square of side s at (x0, y0), corners in
+// Tritree::corners() order: its side triangles (top, right, bottom, left),
+// then its halves for `diagonal` (0: '\\' upper right, lower left; 1: '/'
+// upper left, lower right).
+std::array<std::array<Vertex, 3>, 6> square_triangles(int x0, int y0, int s, int diagonal) {
+  const int x1 = x0 + s, y1 = y0 + s, cx = x0 + s / 2, cy = y0 + s / 2;
+  std::array<std::array<Vertex, 3>, 6> t{};
+  t[0] = {Vertex{x0, y0}, Vertex{x1, y0}, Vertex{cx, cy}};
+  t[1] = {Vertex{x1, y0}, Vertex{x1, y1}, Vertex{cx, cy}};
+  t[2] = {Vertex{x1, y1}, Vertex{x0, y1}, Vertex{cx, cy}};
+  t[3] = {Vertex{x0, y1}, Vertex{x0, y0}, Vertex{cx, cy}};
+  if (diagonal == 0) {
+    t[4] = {Vertex{x0, y0}, Vertex{x1, y0}, Vertex{x1, y1}};
+    t[5] = {Vertex{x0, y0}, Vertex{x1, y1}, Vertex{x0, y1}};
+  } else {
+    t[4] = {Vertex{x0, y0}, Vertex{x1, y0}, Vertex{x0, y1}};
+    t[5] = {Vertex{x1, y0}, Vertex{x1, y1}, Vertex{x0, y1}};
+  }
+  return t;
+}
+
 TEST(Side4Tests, ScalarKernelEqualsBruteForce) {
   // The side-4 level's kernel (side4_shapes.hpp) against the fill rule and the
   // brute-force SSE: each pixel's owner, each triangle's SSE (pinned by a
@@ -337,14 +359,9 @@ TEST(Side4Tests, ScalarKernelEqualsBruteForce) {
     const ImageU8 img = mixed_image(rng, w, h);
     // A square with corners at multiples of 4 (as in a tile), off the last row and column.
     const int x0 = 4 * rng.uniform(0, (w - 6) / 4), y0 = 4 * rng.uniform(0, (h - 6) / 4);
-    const int x1 = x0 + 4, y1 = y0 + 4, cx = x0 + 2, cy = y0 + 2;
     const int diagonal = rng.uniform(0, 1);
-    const Vertex tri[6][3] = {{{x0, y0}, {x1, y0}, {cx, cy}}, {{x1, y0}, {x1, y1}, {cx, cy}},
-                              {{x1, y1}, {x0, y1}, {cx, cy}}, {{x0, y1}, {x0, y0}, {cx, cy}},
-                              // the halves of a '\\' square, then of a '/' one
-                              {{x0, y0}, {x1, y0}, {x1, y1}}, {{x0, y0}, {x1, y1}, {x0, y1}}};
-    const Vertex slash[2][3] = {{{x0, y0}, {x1, y0}, {x0, y1}}, {{x1, y0}, {x1, y1}, {x0, y1}}};
-    const auto corners_of = [&](int t) { return t < 4 || diagonal == 0 ? tri[t] : slash[t - 4]; };
+    const auto tri = square_triangles(x0, y0, 4, diagonal);
+    const auto corners_of = [&](int t) { return tri[static_cast<std::size_t>(t)].data(); };
     std::int32_t sse[6];
     std::int64_t pixels[6];
     std::int32_t sums[2][4] = {};
@@ -407,14 +424,9 @@ TEST(Side8Tests, ScalarKernelEqualsBruteForce) {
     const ImageU8 img = mixed_image(rng, w, h);
     // A square with corners at multiples of 8 (as in a tile), off the last row and column.
     const int x0 = 8 * rng.uniform(0, (w - 10) / 8), y0 = 8 * rng.uniform(0, (h - 10) / 8);
-    const int x1 = x0 + 8, y1 = y0 + 8, cx = x0 + 4, cy = y0 + 4;
     const int diagonal = rng.uniform(0, 1);
-    const Vertex tri[6][3] = {{{x0, y0}, {x1, y0}, {cx, cy}}, {{x1, y0}, {x1, y1}, {cx, cy}},
-                              {{x1, y1}, {x0, y1}, {cx, cy}}, {{x0, y1}, {x0, y0}, {cx, cy}},
-                              // the halves of a '\\' square, then of a '/' one
-                              {{x0, y0}, {x1, y0}, {x1, y1}}, {{x0, y0}, {x1, y1}, {x0, y1}}};
-    const Vertex slash[2][3] = {{{x0, y0}, {x1, y0}, {x0, y1}}, {{x1, y0}, {x1, y1}, {x0, y1}}};
-    const auto corners_of = [&](int t) { return t < 4 || diagonal == 0 ? tri[t] : slash[t - 4]; };
+    const auto tri = square_triangles(x0, y0, 8, diagonal);
+    const auto corners_of = [&](int t) { return tri[static_cast<std::size_t>(t)].data(); };
     std::int64_t sse[6], pixels[6];
     std::int64_t sums[2][4] = {};
     for (int t = 0; t < 6; ++t) {

@@ -178,11 +178,10 @@ class Tritree {
   template <int S>
   void tile_plain(int tx0, int ty0, const TileScratch& sc, bool side4_ready);
   void side4_band(int ty0, int plain_tiles, const TileScratch& sc) const;
-  template <int S>
-  void side4_apply(int tx0, int ty0, const TileScratch& sc, bool halves_sums);
   void side8_band(int ty0, int plain_tiles, const TileScratch& sc) const;
-  template <int S>
-  void side8_apply(int tx0, int ty0, const TileScratch& sc);
+  template <int S, int s>
+  void apply_kernel_level(int tx0, int ty0, const std::uint32_t* wants_rows, const std::int32_t* sums_rows,
+                          std::size_t ss, IntensityMoments* halves);
   template <int S>
   void side2_sums_only(int tx0, int ty0, const TileScratch& sc) const;
   template <int S, int s>

@@ -411,13 +411,13 @@ void Tritree::tile_plain(int tx0, int ty0, const TileScratch& sc, bool side4_rea
     if (side4_ready) {  // the side-4 level is in the band buffers (side4_band)
       if constexpr (S >= 16) {
         if (side8_kernel_) {  // and the side-8 level (side8_band)
-          side4_apply<S>(tx0, ty0, sc, false);
-          side8_apply<S>(tx0, ty0, sc);
+          apply_kernel_level<S, 4>(tx0, ty0, sc.side4_wants, sc.side4_sums, side4_stride_, nullptr);
+          apply_kernel_level<S, 8>(tx0, ty0, sc.side8_wants, sc.side8_sums, side8_stride_, sc.half_i[2]);
           plain_level<S, 16>(tx0, ty0, sc);
           return;
         }
       }
-      side4_apply<S>(tx0, ty0, sc, true);
+      apply_kernel_level<S, 4>(tx0, ty0, sc.side4_wants, sc.side4_sums, side4_stride_, sc.half_i[1]);
       plain_level<S, 8>(tx0, ty0, sc);
       return;
     }
@@ -626,57 +626,6 @@ void Tritree::side4_band(int ty0, int plain_tiles, const TileScratch& sc) const 
   }
 }
 
-// plain_level<S, 4> from side4_band's results: the same need bytes and
-// halves' sums (relative to the tile origin; not when the side-8 level reads
-// them from the band buffers), the tests already made. The squares of side 2
-// are untested, so no need lies at their centres.
-template <int S>
-void Tritree::side4_apply(int tx0, int ty0, const TileScratch& sc, bool halves_sums) {
-  constexpr int n = S / 4;
-  const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
-  const std::size_t ss = side4_stride_;
-  std::uint8_t* need = need_;
-  const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
-  const int m0 = tx0 / 4;  // the tile's first square in the band's rows
-  for (int j = 0; j < n; ++j) {
-    const std::uint32_t* wants = sc.side4_wants + static_cast<std::size_t>(j) * ss + m0;
-    for (int i = 0; i < n; ++i) {
-      const int x0 = tx0 + 4 * i, y0 = ty0 + 4 * j, x1 = x0 + 4, y1 = y0 + 4, cx = x0 + 2, cy = y0 + 2;
-      const std::uint32_t b = wants[i];
-      const bool w0 = b & 1u, w1 = (b >> 1) & 1u, w2 = (b >> 2) & 1u, w3 = (b >> 3) & 1u;
-      at(cx, y0) |= need_byte(w0, false, w0);
-      at(x1, cy) |= need_byte(w1, w1, false);
-      at(cx, y1) |= need_byte(w2, w2, false);
-      at(x0, cy) |= need_byte(w3, false, w3);
-    }
-  }
-  IntensityMoments* halves = sc.half_i[1];
-  for (int j = 0; j < n; ++j) {
-    const std::uint32_t* wants = sc.side4_wants + static_cast<std::size_t>(j) * ss + m0;
-    const std::int32_t* sums = sc.side4_sums + static_cast<std::size_t>(j) * 8 * ss + m0;
-    for (int i = 0; i < n; ++i) {
-      const int x0 = tx0 + 4 * i, y0 = ty0 + 4 * j, x1 = x0 + 4, y1 = y0 + 4, cx = x0 + 2, cy = y0 + 2;
-      const bool bs = RtinLayout::backslash(x0, y0, 4);
-      const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
-      const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
-      const std::uint32_t b = wants[i] >> side4::kWantsHalfBit;
-      const bool wa = b & 1u, wb = (b >> 1) & 1u;
-      if (halves_sums) {
-        IntensityMoments* out = halves + (j * n + i) * 2;
-        const std::int32_t ox = x0 - tx0, oy = y0 - ty0;
-        for (int p = 0; p < 2; ++p) {
-          const std::int32_t* s = sums + static_cast<std::size_t>(4 * p) * ss + i;
-          const std::int32_t si = s[0];
-          out[p] = IntensityMoments{si, ox * si + s[ss], oy * si + s[2 * ss], s[3 * ss]};
-        }
-      }
-      const bool own_a = wa | n_top | (bs ? n_right : n_left);
-      const bool own_b = wb | n_bottom | (bs ? n_left : n_right);
-      at(cx, cy) |= need_byte(own_a | own_b, wa, wb);
-    }
-  }
-}
-
 // The side-8 level of a row of tiles' plain tiles, row of squares by row of
 // squares, from side4_band's sums: every 8 x 8 square's tests and its
 // halves' sums, by the kernel (KernelSet::side8_tests_s32) along the whole
@@ -694,22 +643,30 @@ void Tritree::side8_band(int ty0, int plain_tiles, const TileScratch& sc) const 
   }
 }
 
-// plain_level<S, 8> from side8_band's results: the same need bytes and
-// halves' sums (relative to the tile origin), the tests already made.
-template <int S>
-void Tritree::side8_apply(int tx0, int ty0, const TileScratch& sc) {
-  constexpr int n = S / 8;
+// plain_level<S, s> (s = 4, 8) from a kernel's results along the row of
+// tiles (side4_band, side8_band: per row of squares, wants bits and 8 sums
+// planes with stride ss): the same need bytes, and the halves' sums
+// relative to the tile origin (when `halves` is not null: the side-8 kernel
+// reads side 4's from the band buffers), the tests already made. At s = 4
+// no need lies at the quadrants' centres (the 2 x 2 squares are untested).
+template <int S, int s>
+void Tritree::apply_kernel_level(int tx0, int ty0, const std::uint32_t* wants_rows, const std::int32_t* sums_rows,
+                                 std::size_t ss, IntensityMoments* halves) {
+  static_assert(side4::kWantsHalfBit == side8::kWantsHalfBit, "one layout of the wants bits");
+  constexpr int n = S / s, h = s / 2;
   const std::size_t stride = static_cast<std::size_t>(layout_.vw) + 1;
-  const std::size_t ss = side8_stride_;
   std::uint8_t* need = need_;
   const auto at = [&](int x, int y) -> std::uint8_t& { return need[static_cast<std::size_t>(y) * stride + x]; };
-  const int m0 = tx0 / 8;  // the tile's first square in the band's rows
+  const int m0 = tx0 / s;  // the tile's first square in the band's rows
   for (int j = 0; j < n; ++j) {
-    const std::uint32_t* wants = sc.side8_wants + static_cast<std::size_t>(j) * ss + m0;
+    const std::uint32_t* wants = wants_rows + static_cast<std::size_t>(j) * ss + m0;
     for (int i = 0; i < n; ++i) {
-      const int x0 = tx0 + 8 * i, y0 = ty0 + 8 * j, x1 = x0 + 8, y1 = y0 + 8, cx = x0 + 4, cy = y0 + 4;
-      const bool nq00 = at(x0 + 2, y0 + 2) & kNeed, nq10 = at(cx + 2, y0 + 2) & kNeed;  // quadrant centres
-      const bool nq01 = at(x0 + 2, cy + 2) & kNeed, nq11 = at(cx + 2, cy + 2) & kNeed;
+      const int x0 = tx0 + s * i, y0 = ty0 + s * j, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
+      bool nq00 = false, nq10 = false, nq01 = false, nq11 = false;  // quadrant centres
+      if constexpr (s > 4) {
+        nq00 = at(x0 + h / 2, y0 + h / 2) & kNeed, nq10 = at(cx + h / 2, y0 + h / 2) & kNeed;
+        nq01 = at(x0 + h / 2, cy + h / 2) & kNeed, nq11 = at(cx + h / 2, cy + h / 2) & kNeed;
+      }
       const std::uint32_t b = wants[i];
       const bool w0 = b & 1u, w1 = (b >> 1) & 1u, w2 = (b >> 2) & 1u, w3 = (b >> 3) & 1u;
       at(cx, y0) |= need_byte(w0 | nq00 | nq10, false, w0);
@@ -718,23 +675,24 @@ void Tritree::side8_apply(int tx0, int ty0, const TileScratch& sc) {
       at(x0, cy) |= need_byte(w3 | nq01 | nq00, false, w3);
     }
   }
-  IntensityMoments* halves = sc.half_i[2];
   for (int j = 0; j < n; ++j) {
-    const std::uint32_t* wants = sc.side8_wants + static_cast<std::size_t>(j) * ss + m0;
-    const std::int32_t* sums = sc.side8_sums + static_cast<std::size_t>(j) * 8 * ss + m0;
+    const std::uint32_t* wants = wants_rows + static_cast<std::size_t>(j) * ss + m0;
+    const std::int32_t* sums = sums_rows + static_cast<std::size_t>(j) * 8 * ss + m0;
     for (int i = 0; i < n; ++i) {
-      const int x0 = tx0 + 8 * i, y0 = ty0 + 8 * j, x1 = x0 + 8, y1 = y0 + 8, cx = x0 + 4, cy = y0 + 4;
-      const bool bs = RtinLayout::backslash(x0, y0, 8);
+      const int x0 = tx0 + s * i, y0 = ty0 + s * j, x1 = x0 + s, y1 = y0 + s, cx = x0 + h, cy = y0 + h;
+      const bool bs = RtinLayout::backslash(x0, y0, s);
       const bool n_top = at(cx, y0) & kNeed, n_right = at(x1, cy) & kNeed;
       const bool n_bottom = at(cx, y1) & kNeed, n_left = at(x0, cy) & kNeed;
-      const std::uint32_t b = wants[i] >> side8::kWantsHalfBit;
+      const std::uint32_t b = wants[i] >> side4::kWantsHalfBit;
       const bool wa = b & 1u, wb = (b >> 1) & 1u;
-      IntensityMoments* out = halves + (j * n + i) * 2;
-      const std::int32_t ox = x0 - tx0, oy = y0 - ty0;
-      for (int p = 0; p < 2; ++p) {
-        const std::int32_t* s = sums + static_cast<std::size_t>(4 * p) * ss + i;
-        const std::int32_t si = s[0];
-        out[p] = IntensityMoments{si, ox * si + s[ss], oy * si + s[2 * ss], s[3 * ss]};
+      if (halves != nullptr) {
+        IntensityMoments* out = halves + (j * n + i) * 2;
+        const std::int32_t ox = x0 - tx0, oy = y0 - ty0;
+        for (int p = 0; p < 2; ++p) {
+          const std::int32_t* sp = sums + static_cast<std::size_t>(4 * p) * ss + i;
+          const std::int32_t si = sp[0];
+          out[p] = IntensityMoments{si, ox * si + sp[ss], oy * si + sp[2 * ss], sp[3 * ss]};
+        }
       }
       const bool own_a = wa | n_top | (bs ? n_right : n_left);
       const bool own_b = wb | n_bottom | (bs ? n_left : n_right);
