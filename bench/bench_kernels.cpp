@@ -1,6 +1,7 @@
 // Kernel micro-benchmarks: the cost and DP entries of KernelSet x every kernel
 // set this CPU can run x D in {16, 64, 128, 256}, named kernel/set/D (e.g.
-// dp_step/avx2/64); the tritree's side4_tests_u8 and side8_tests_s32 per set and number of squares.
+// dp_step/avx2/64); the tritree's side4_tests_u8 and side8_tests_s32 per set and number of squares,
+// and the interpolation's midpoints_row_q4 per set, row kind and width.
 // items_per_second counts disparity evaluations (one element of the kernel's n).
 //
 //   bench_kernels --benchmark_filter='accumulate.*/64$'
@@ -257,6 +258,27 @@ void bench_side8_tests(benchmark::State& state, const KernelSet* ks, int n) {
   state.SetItemsProcessed(state.iterations() * 64 * n);
 }
 
+// The interpolation's side-2 level on one grid row of n points (odd rows:
+// three rows read), half of the points unknown; items_per_second counts points.
+void bench_midpoints_row(benchmark::State& state, const KernelSet* ks, int n, bool odd) {
+  std::mt19937 rng(9);
+  std::vector<std::vector<std::int32_t>> rows(3, std::vector<std::int32_t>(static_cast<std::size_t>(n) + 2));
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t i = 0; i < rows[r].size(); ++i) {
+      const bool even_row = r != 1 || !odd, even_x = (i & 1) != 0;  // i = x + 1
+      rows[r][i] = !(even_row && even_x) && rng() % 2 ? kMidpointUnknown : static_cast<std::int32_t>(rng() % (1u << 20));
+    }
+  std::vector<std::int16_t> out(static_cast<std::size_t>(n));
+  const std::int32_t* above = odd ? rows[0].data() + 1 : nullptr;
+  const std::int32_t* below = odd ? rows[2].data() + 1 : nullptr;
+  for (auto _ : state) {
+    ks->midpoints_row_q4(above, rows[1].data() + 1, below, n, 1, 7, out.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
 void register_tritree_kernels() {
   for (KernelChoice set : available_kernel_sets()) {
     const KernelSet* ks = &kernel_set_for(set);
@@ -267,6 +289,13 @@ void register_tritree_kernels() {
     for (int n : {2, 54, 155}) {  // the same runs in 8 x 8 squares
       const std::string name = std::string("side8_tests_s32/") + to_string(set) + "/" + std::to_string(n);
       benchmark::RegisterBenchmark(name.c_str(), bench_side8_tests, ks, n);
+    }
+    for (int n : {448, 1240}) {  // Teddy's and KITTI's grid rows
+      for (bool odd : {false, true}) {
+        const std::string name = std::string("midpoints_row_q4/") + to_string(set) + (odd ? "/odd/" : "/even/") +
+                                 std::to_string(n);
+        benchmark::RegisterBenchmark(name.c_str(), bench_midpoints_row, ks, n, odd);
+      }
     }
   }
 }

@@ -21,6 +21,7 @@
 
 #include "platform/thread_pool.hpp"
 #include "src/interp/interpolate_midpoints.hpp"
+#include "src/kernels/dispatch.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/gray.hpp"
@@ -127,12 +128,14 @@ void bench_interpolation(benchmark::State& state, const NamedImage* image) {
   const int n = static_cast<int>(mesh.triangles.size());
   const TritreeGrid grid = tree.grid();
   std::vector<std::int32_t> values(midpoint_band_values(tree.tile_side(), w));
+  const KernelSet& kernels = kernel_set_for(KernelChoice::kAuto);
   const bool by_triangles = state.range(0) != 0;
   for (auto _ : state) {
     if (by_triangles) {
       interpolate_triangles(mesh, vdisp.data(), 0, n, disp.view());
     } else {
-      interpolate_midpoint_tiles(grid, mesh, vdisp.data(), 0, grid.layout.tiles_y, values.data(), disp.view());
+      interpolate_midpoint_tiles(grid, mesh, vdisp.data(), 0, grid.layout.tiles_y, kernels, values.data(),
+                                 disp.view());
       interpolate_stretched_leaves(grid, mesh, vdisp.data(), disp.view());
     }
     benchmark::DoNotOptimize(disp.pixels.data());

@@ -27,6 +27,7 @@
 
 #include "simd/escape_ops.hpp"
 #include "simd/kernels.hpp"
+#include "src/kernels/kernel_set.hpp"
 #include "src/kernels/kernels_scalar.hpp"
 #include "src/tritree/side4_shapes.hpp"
 #include "src/tritree/side8_shapes.hpp"
@@ -1433,6 +1434,67 @@ void Side8TestsS32<Arch>::call(const std::int32_t* const* quad_sums, std::size_t
       if (i0 + lanes >= n) break;
     }
   }
+}
+
+// Lanes = grid points, in int32 (values < 2^28, their sums wrap harmlessly
+// where unused): two registers per block, narrowed to one of int16 outputs.
+// Each lane computes every candidate its row kind offers and selects by its
+// x's parity and quarter, from masks made for the block's start mod 4 (0 for
+// every full block; the last block, ending at n, may start at 2 mod 4).
+// Below a block the narrower twin or, below its block, the scalar one.
+template <class Arch>
+void MidpointsRowQ4<Arch>::call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                                int n, int first_backslash, int frac_bits, std::int16_t* disp_q4) {
+  using s32 = xsimd::batch<std::int32_t, Arch>;
+  using u32 = xsimd::batch<std::uint32_t, Arch>;
+  using u16 = xsimd::batch<std::uint16_t, Arch>;
+  using mask = xsimd::batch_bool<std::int32_t, Arch>;
+  constexpr int lanes = static_cast<int>(s32::size);
+  constexpr int block = 2 * lanes;
+  if (n < block) {
+    using Half = typename detail::Narrower<Arch>::type;
+    if constexpr (!std::is_void<Half>::value) {
+      MidpointsRowQ4<Half>::call(above, row, below, n, first_backslash, frac_bits, disp_q4);
+    } else {
+      midpoints_row_q4_scalar(above, row, below, n, first_backslash, frac_bits, disp_q4);
+    }
+    return;
+  }
+  alignas(64) std::int32_t x_in_block[lanes];
+  for (int k = 0; k < lanes; ++k) x_in_block[k] = k;
+  const s32 iota = s32::load_aligned(x_in_block);
+  const s32 one(1), unknown(kMidpointUnknown), half(std::int32_t{1} << (frac_bits - 1));
+  const s32 backslash_pair(first_backslash ? 0 : 1);
+  struct Masks {
+    mask odd, backslash;
+  };
+  const auto masks_at = [&](int x0) {
+    const s32 x = s32(x0) + iota;
+    return Masks{(x & one) == one, ((x >> 1) & one) == backslash_pair};
+  };
+  // One register of points from x: the known value or its average, rounded.
+  const auto points = [&](int x, const Masks& m) {
+    const s32 v = s32::load_unaligned(row + x);
+    s32 average;
+    if (above == nullptr) {
+      average = (s32::load_unaligned(row + x - 1) + s32::load_unaligned(row + x + 1)) >> 1;
+    } else {
+      const s32 vertical = (s32::load_unaligned(above + x) + s32::load_unaligned(below + x)) >> 1;
+      const s32 backslash = (s32::load_unaligned(above + x - 1) + s32::load_unaligned(below + x + 1)) >> 1;
+      const s32 slash = (s32::load_unaligned(above + x + 1) + s32::load_unaligned(below + x - 1)) >> 1;
+      average = xsimd::select(m.odd, xsimd::select(m.backslash, backslash, slash), vertical);
+    }
+    return (xsimd::select(v == unknown, average, v) + half) >> frac_bits;
+  };
+  const auto run = [&](int x, const Masks& m) {
+    const u16 q4 = escape::narrow_u32(xsimd::bitwise_cast<u32>(points(x, m)),
+                                      xsimd::bitwise_cast<u32>(points(x + lanes, m)));
+    q4.store_unaligned(reinterpret_cast<std::uint16_t*>(disp_q4 + x));
+  };
+  const Masks from_0 = masks_at(0);
+  int x = 0;
+  for (; x + block <= n; x += block) run(x, from_0);
+  if (x < n) run(n - block, masks_at(n - block));
 }
 
 }  // namespace simd

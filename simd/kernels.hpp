@@ -140,6 +140,12 @@ struct Side8TestsS32 {
                    std::int32_t* sums, std::size_t sums_stride);
 };
 
+template <class Arch>
+struct MidpointsRowQ4 {
+  static void call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below, int n,
+                   int first_backslash, int frac_bits, std::int16_t* disp_q4);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -162,7 +168,8 @@ struct Side8TestsS32 {
   KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \
   KEYWORD template struct Side4TestsU8<ARCH>;                  \
-  KEYWORD template struct Side8TestsS32<ARCH>;
+  KEYWORD template struct Side8TestsS32<ARCH>;                 \
+  KEYWORD template struct MidpointsRowQ4<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

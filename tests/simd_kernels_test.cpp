@@ -789,6 +789,49 @@ TEST_P(SimdKernels, Side8TestsS32) {
   EXPECT_EQ(zeros & 0x3Fu, 0x3Fu) << "some wants bit was never clear";
 }
 
+// Grid rows of the midpoint interpolation: even x of the even rows known
+// (the levels above side 2 resolved them), the rest unknown at a rate that
+// depends on the case, values as large as Q4 disparities at frac_bits give.
+// Every kind of average (horizontal, vertical, both diagonals) must occur.
+TEST_P(SimdKernels, MidpointsRowQ4) {
+  int kinds[4] = {};  // unknowns resolved: horizontal, vertical, '\\', '/'
+  for_each_case(31, [&](int n, int offset, int c, std::mt19937& rng) {
+    const int frac_bits = 1 + (offset + 3 * c) % 11;
+    const std::int32_t big = std::int32_t{1} << (15 + frac_bits);
+    std::uniform_int_distribution<std::int32_t> value(-big, big);
+    const int unknown_per_4 = c;  // 0 .. 3 of 4 points that may be unknown are
+    const auto grid_row = [&](bool even) {
+      std::vector<std::int32_t> r(static_cast<std::size_t>(n) + 2);  // x = -1 .. n
+      for (int x = -1; x <= n; ++x) {
+        const bool may_be_unknown = !even || (x & 1) != 0;
+        const bool unknown = may_be_unknown && static_cast<int>(rng() % 4) < unknown_per_4;
+        r[static_cast<std::size_t>(x + 1)] = unknown ? kMidpointUnknown : value(rng);
+      }
+      return r;
+    };
+    for (int odd = 0; odd < 2; ++odd) {
+      const Input<std::int32_t> above(grid_row(true), offset), row(grid_row(odd == 0), offset),
+          below(grid_row(true), offset);
+      const int first_bs = (offset >> 1) & 1;
+      const std::int32_t* a = odd ? above.data() + 1 : nullptr;
+      const std::int32_t* b = odd ? below.data() + 1 : nullptr;
+      Guarded<std::int16_t> out_simd(std::vector<std::int16_t>(static_cast<std::size_t>(n), 0x5A5A), 0x5A5A);
+      Guarded<std::int16_t> out_scalar = out_simd;
+      simd().midpoints_row_q4(a, row.data() + 1, b, n, first_bs, frac_bits, out_simd.data());
+      scalar().midpoints_row_q4(a, row.data() + 1, b, n, first_bs, frac_bits, out_scalar.data());
+      ASSERT_EQ(diff(out_simd, out_scalar), "")
+          << "n=" << n << " offset=" << offset << " odd row=" << odd << " first_backslash=" << first_bs
+          << " frac_bits=" << frac_bits;
+      for (int x = 0; x < n; ++x) {
+        if (row.data()[x + 1] != kMidpointUnknown) continue;
+        const bool backslash = ((x >> 1) & 1) == (first_bs ? 0 : 1);
+        ++kinds[!odd ? 0 : (x & 1) == 0 ? 1 : backslash ? 2 : 3];
+      }
+    }
+  });
+  for (int k = 0; k < 4; ++k) EXPECT_GT(kinds[k], 1000) << "average kind " << k;
+}
+
 INSTANTIATE_TEST_SUITE_P(Sets, SimdKernels, ::testing::ValuesIn(test::simd_kernel_params()),
                          test::KernelParamName());
 // A build without SIMD (TRISTEREO_WITH_SIMD=OFF, unknown CPU) has nothing to compare.

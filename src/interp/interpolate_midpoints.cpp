@@ -5,15 +5,15 @@
 #include <type_traits>
 
 #include "src/interp/interpolate_planes.hpp"
+#include "src/kernels/kernel_set.hpp"
 #include "tristereo/fixed_point.hpp"
 
 namespace tristereo {
 
 namespace {
 
-// Not yet known (a grid point that is not a vertex): below every value,
-// vertex values are |16 d * 2^F| < 2^27.
-constexpr std::int32_t kUnknown = INT32_MIN;
+// Not yet known: a grid point that is not a vertex.
+constexpr std::int32_t kUnknown = kMidpointUnknown;
 
 // (a + b) / 2 of two known values (exact: their sum is even); garbage, without
 // overflow, when one is kUnknown (the caller then keeps its own value).
@@ -62,32 +62,6 @@ inline void resolve_levels(std::int32_t* values, std::ptrdiff_t n, int x0, int y
   if constexpr (s > 4) resolve_levels<S, s / 2>(values, n, x0, y0, nx, ny);
 }
 
-// Side 2 along the row of tiles' whole rows (three quarters of the grid
-// points): each point it resolves averages two points of even coordinates,
-// all known once side 4 is done, so the order of the three kinds is free
-// and one loop per kind and row replaces the tiles' short ones. ny and vw
-// are even: the centres and sides read up to row ny and column vw.
-inline void resolve_level2(std::int32_t* values, std::ptrdiff_t n, int y0, int ny, int vw) {
-  for (int j = 1; j < ny; j += 2) {
-    const std::int32_t* top = values + (j - 1) * n;
-    std::int32_t* v = values + j * n;
-    const std::int32_t* bottom = v + n;
-    // Centres (odd x): the 2 x 2 squares' diagonals alternate along the row,
-    // '\' first when (0, y0 + j - 1) is a '\' corner.
-    const int first_bs = RtinLayout::backslash(0, y0 + j - 1, 2) ? 1 : 0;
-    for (int i = 1; i < vw; i += 4) {
-      resolve(v + i, first_bs ? top[i - 1] : top[i + 1], first_bs ? bottom[i + 1] : bottom[i - 1]);
-      if (i + 2 < vw)
-        resolve(v + i + 2, first_bs ? top[i + 3] : top[i + 1], first_bs ? bottom[i + 1] : bottom[i + 3]);
-    }
-    for (int i = 0; i <= vw; i += 2) resolve(v + i, top[i], bottom[i]);  // vertical sides (even x)
-  }
-  for (int j = 0; j <= ny; j += 2) {  // horizontal sides (odd x)
-    std::int32_t* v = values + j * n;
-    for (int i = 1; i < vw; i += 2) resolve(v + i, v[i - 1], v[i + 1]);
-  }
-}
-
 // A row of tiles at a time: its grid values in one buffer (S + 1 rows of the
 // virtual width), so every vertex of its rows is placed by one walk along the
 // row's vertices (a walk per tile row and tile ended at a data-dependent
@@ -95,11 +69,14 @@ inline void resolve_level2(std::int32_t* values, std::ptrdiff_t n, int y0, int n
 // by side share their common column, which both resolve alike.
 template <int S>
 bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
-                    int tile_row_begin, int tile_row_end, std::int32_t* values, ImageView<std::int16_t> disp_q4) {
+                    int tile_row_begin, int tile_row_end, const KernelSet& kernels, std::int32_t* scratch,
+                    ImageView<std::int16_t> disp_q4) {
   const RtinLayout& L = grid.layout;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(L.vw) + 1;
+  // One point before the grid's first: the side-2 kernel reads x = -1.
+  std::int32_t* const values = scratch + 1;
   const int F = midpoint_fraction_bits(S);
-  const std::int32_t one = std::int32_t{1} << F, half = one >> 1;
+  const std::int32_t one = std::int32_t{1} << F;
   const Vertex* vertices = mesh.vertices.data();
   const int last_x = L.width - 1;
   unsigned invalid = 0;
@@ -109,7 +86,7 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
     // Every row, and S points past the last: a partial tile's crossing
     // squares (whose centres are vertices) read past the grid's last row
     // and column.
-    std::fill(values, values + (S + 1) * n + S, kUnknown);
+    std::fill(scratch, values + (S + 1) * n + S, kUnknown);
     // The vertices' samples: each row's vertices are consecutive ids.
     for (int j = 0; j <= ny; ++j) {
       const std::size_t y = static_cast<std::size_t>(L.real_y(y0 + j));
@@ -129,16 +106,24 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
         resolve_levels<S, S>(values + x0, n, x0, y0, std::min(S, L.vw - x0), ny);
       }
     }
-    resolve_level2(values, n, y0, ny, L.vw);
-    // Rounded to Q4, half up: the row of tiles' half-open rows, the grid's
-    // last row too, and its last column (on the moved line when the side is
-    // stretched).
+    // Side 2 (three quarters of the grid points, each the average of two
+    // points of even coordinates, all known now) and the rounding to Q4, a
+    // row at a time: the row of tiles' half-open rows, the grid's last row
+    // too, and its last column (on the moved line when the side is
+    // stretched; x = vw is even, so the kernel's x = 0 rule is its own).
     const int jn = y0 + ny == L.vh ? ny : ny - 1;
     for (int j = 0; j <= jn; ++j) {
       std::int16_t* out = disp_q4.row(L.real_y(y0 + j));
       const std::int32_t* v = values + j * n;
-      for (int i = 0; i < L.vw; ++i) out[i] = static_cast<std::int16_t>((v[i] + half) >> F);
-      out[L.real_x(L.vw)] = static_cast<std::int16_t>((v[L.vw] + half) >> F);
+      const bool odd = (j & 1) != 0;
+      const std::int32_t* above = odd ? v - n : nullptr;
+      const std::int32_t* below = odd ? v + n : nullptr;
+      // The 2 x 2 squares' diagonals alternate along the row, '\' first when
+      // (0, y0 + j - 1) is a '\' corner.
+      const int first_bs = odd && RtinLayout::backslash(0, y0 + j - 1, 2) ? 1 : 0;
+      kernels.midpoints_row_q4(above, v, below, L.vw, first_bs, F, out);
+      kernels.midpoints_row_q4(odd ? above + L.vw : nullptr, v + L.vw, odd ? below + L.vw : nullptr, 1, 0, F,
+                               out + L.real_x(L.vw));
     }
   }
   return invalid != 0;
@@ -147,11 +132,11 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
 }  // namespace
 
 bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
-                                int tile_row_begin, int tile_row_end, std::int32_t* values,
-                                ImageView<std::int16_t> disp_q4) {
+                                int tile_row_begin, int tile_row_end, const KernelSet& kernels,
+                                std::int32_t* scratch, ImageView<std::int16_t> disp_q4) {
   const auto run = [&](auto tile) {
-    return midpoint_tiles<decltype(tile)::value>(grid, mesh, vertex_disp_q4, tile_row_begin, tile_row_end, values,
-                                                 disp_q4);
+    return midpoint_tiles<decltype(tile)::value>(grid, mesh, vertex_disp_q4, tile_row_begin, tile_row_end, kernels,
+                                                 scratch, disp_q4);
   };
   switch (grid.layout.tile) {  // powers of two 2 .. 64 (A_max <= 1024)
     case 2: return run(std::integral_constant<int, 2>{});

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 
+#include "src/kernels/kernel_set.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/mesh.hpp"
@@ -27,10 +28,11 @@
 namespace tristereo {
 
 // Scratch of one row of tiles of an image up to max_width wide: its grid
-// values, S + 1 rows of at most max_width points and S more, int32.
+// values, S + 1 rows of at most max_width points, S more and one before,
+// int32.
 inline std::size_t midpoint_band_values(int tile_side, int max_width) {
   return static_cast<std::size_t>(tile_side + 1) * static_cast<std::size_t>(max_width) +
-         static_cast<std::size_t>(tile_side);
+         static_cast<std::size_t>(tile_side) + 1;
 }
 
 // Fractional bits of the grid values beyond Q4: log2 of the largest leaf's area2.
@@ -41,14 +43,15 @@ inline int midpoint_fraction_bits(int tile_side) { return 2 * __builtin_ctz(stat
 // square, plus the grid's last column and row), from the vertices (`mesh`, the
 // build's output) and their disparities (vertex_disp_q4[id]; an invalid one
 // reads as a value like any other: invalidate_triangles() overwrites what it
-// reaches). `values` holds midpoint_band_values(S, width) int32. Disjoint tile rows
+// reaches). `scratch` holds midpoint_band_values(S, width) int32; the side-2
+// level and the rounding are `kernels`' midpoints_row_q4. Disjoint tile rows
 // write disjoint pixels. Returns true when some vertex it read was invalid
 // (every vertex lies in some tile, so the tiles of all rows together say
 // whether invalidate_triangles() is needed). Precondition: grid.need !=
 // nullptr (not a 2-pixel strip).
 bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
-                                int tile_row_begin, int tile_row_end, std::int32_t* values,
-                                ImageView<std::int16_t> disp_q4);
+                                int tile_row_begin, int tile_row_end, const KernelSet& kernels,
+                                std::int32_t* scratch, ImageView<std::int16_t> disp_q4);
 
 // After every tile: the stretched leaves, by their planes.
 void interpolate_stretched_leaves(const TritreeGrid& grid, const Mesh& mesh,

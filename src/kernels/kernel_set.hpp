@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <climits>
 #include <cstdint>
 
 namespace tristereo {
@@ -16,6 +17,11 @@ namespace tristereo {
 // 4080 + 255 * 241 = 65535. Rows whose penalties are all <= this (lambda_q4 <=
 // 241, since P(g) <= lambda) run dp_step_u16 / dp_pointer_u16 instead of dp_step.
 constexpr std::uint32_t kMaxDpPenaltyU16 = 241;
+
+// A grid point of the midpoint interpolation whose value is not known yet
+// (src/interp/interpolate_midpoints.cpp): below every value it can hold,
+// |16 d 2^F| < 2^27.
+constexpr std::int32_t kMidpointUnknown = INT32_MIN;
 
 struct KernelSet {
   const char* name = "scalar";
@@ -179,6 +185,22 @@ struct KernelSet {
                           const std::uint8_t* const* rows, int n, int first_backslash,
                           const std::int64_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
                           std::size_t sums_stride) = nullptr;
+
+  // The midpoint interpolation's side-2 level on one grid row, rounded to Q4
+  // (src/interp/interpolate_midpoints.hpp): for x in [0, n), v = row[x] when
+  // it is known, else the average (a + b) >> 1 of the two points whose
+  // midpoint it is:
+  //   even row (above == below == nullptr): a, b = row[x - 1], row[x + 1];
+  //   odd row, even x: above[x], below[x];
+  //   odd row, odd x: the 2 x 2 square's diagonal, '\' (above[x - 1],
+  //     below[x + 1]) when (x >> 1) is even and first_backslash, or odd and
+  //     not, else '/' (above[x + 1], below[x - 1]);
+  // then disp_q4[x] = (v + 2^(frac_bits - 1)) >> frac_bits. row, above and
+  // below are read from index -1 to n. Precondition (the caller's levels
+  // above side 2): every point an unknown one averages is known; the others'
+  // averages are computed and discarded, mod 2^32. 1 <= frac_bits <= 11.
+  void (*midpoints_row_q4)(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                           int n, int first_backslash, int frac_bits, std::int16_t* disp_q4) = nullptr;
 
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
   // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).

@@ -318,7 +318,7 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     bool invalid = false;
     std::int32_t* values = this->workers[static_cast<std::size_t>(w)].tile_values.get();
     while (triangles.next(&r0, &r1))
-      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, values, out);
+      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, *kernels, values, out);
     if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
   interpolate_stretched_leaves(grid, mesh, vertex_disp, out);

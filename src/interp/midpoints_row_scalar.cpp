@@ -1,0 +1,37 @@
+// The scalar twin of KernelSet::midpoints_row_q4: the side-2 level of the
+// midpoint interpolation and the rounding to Q4, one grid row at a time.
+#include <cstdint>
+
+#include "src/kernels/kernel_set.hpp"
+#include "src/kernels/kernels_scalar.hpp"
+
+namespace tristereo {
+
+namespace {
+
+// (a + b) / 2, exact when both are known (their sum is even and below 2^28);
+// wraps without overflow when one is kMidpointUnknown (then unused).
+inline std::int32_t midpoint(std::int32_t a, std::int32_t b) {
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) + static_cast<std::uint32_t>(b)) >> 1;
+}
+
+}  // namespace
+
+void midpoints_row_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below, int n,
+                             int first_backslash, int frac_bits, std::int16_t* disp_q4) {
+  const std::int32_t half = std::int32_t{1} << (frac_bits - 1);
+  // Odd x whose square has the '\' diagonal: (x >> 1) & 1 equals this.
+  const int backslash_pair = first_backslash ? 0 : 1;
+  for (int x = 0; x < n; ++x) {
+    std::int32_t v = row[x];
+    if (v == kMidpointUnknown) {
+      if (above == nullptr) v = midpoint(row[x - 1], row[x + 1]);
+      else if ((x & 1) == 0) v = midpoint(above[x], below[x]);
+      else if (((x >> 1) & 1) == backslash_pair) v = midpoint(above[x - 1], below[x + 1]);
+      else v = midpoint(above[x + 1], below[x - 1]);
+    }
+    disp_q4[x] = static_cast<std::int16_t>((v + half) >> frac_bits);
+  }
+}
+
+}  // namespace tristereo
