@@ -87,18 +87,23 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
     // squares (whose centres are vertices) read past the grid's last row
     // and column.
     std::fill(scratch, values + (S + 1) * n + S, kUnknown);
-    // The vertices' samples: each row's vertices are consecutive ids.
+    // The vertices' samples: each row's vertices are consecutive ids. The
+    // last real column is on the grid's last, vw (the same column unless
+    // the side is stretched, when real x = vw is no grid point).
     for (int j = 0; j <= ny; ++j) {
       const std::size_t y = static_cast<std::size_t>(L.real_y(y0 + j));
       std::int32_t* v = values + j * n;
       const std::int32_t end = mesh.row_start[y + 1];
       for (std::int32_t id = mesh.row_start[y]; id < end; ++id) {
         const int x = vertices[id].x;
-        const int vx = (L.stretch_x && x == last_x) ? L.vw : x;
-        v[vx] = vertex_disp_q4[id] * one;
-        invalid |= static_cast<unsigned>(vertex_disp_q4[id] == kInvalidDispQ4);
+        v[x == last_x ? L.vw : x] = vertex_disp_q4[id] * one;
       }
     }
+    // Apart, so that it vectorises: whether any of them is invalid.
+    const std::int32_t first_id = mesh.row_start[static_cast<std::size_t>(L.real_y(y0))];
+    const std::int32_t end_id = mesh.row_start[static_cast<std::size_t>(L.real_y(y0 + ny)) + 1];
+    for (std::int32_t id = first_id; id < end_id; ++id)
+      invalid |= static_cast<unsigned>(vertex_disp_q4[id] == kInvalidDispQ4);
     // Each tile from its side down to side 4, then side 2 along the rows.
     if constexpr (S >= 4) {
       for (int tx = 0; tx < L.tiles_x; ++tx) {
