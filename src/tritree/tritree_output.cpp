@@ -105,12 +105,21 @@ std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
       const int y = L.real_y(vy);
       for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
       std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
+      // Every column is its own but the last, vw (real_x), which the loop
+      // leaves for after it: no per-vertex test.
       for (int vx0 = 0; vx0 < row_len; vx0 += 64) {
-        for (std::uint64_t bits = vertex_bits(vy, vx0); bits != 0; bits &= bits - 1) {
-          const int x = L.real_x(vx0 + __builtin_ctzll(bits));
+        std::uint64_t bits = vertex_bits(vy, vx0);
+        if (vx0 + 64 >= row_len) bits &= ~(std::uint64_t{1} << (L.vw - vx0));
+        for (; bits != 0; bits &= bits - 1) {
+          const int x = vx0 + __builtin_ctzll(bits);
           ids[x] = id;
           out[id++] = Vertex{x, y};
         }
+      }
+      if ((vy % S == 0 && L.vw % S == 0) || (need_[static_cast<std::size_t>(vy) * row_len + L.vw] & 1u)) {
+        const int x = L.real_x(L.vw);
+        ids[x] = id;
+        out[id++] = Vertex{x, y};
       }
     }
     if (pred_slots_ > 0) {
