@@ -41,6 +41,19 @@ constexpr std::uint32_t kWorse = 0x80000000u;  // 45 degrees off the direction
 
 inline void offer(std::uint32_t& slot, std::uint32_t key) { slot = std::min(slot, key); }
 
+// An offer whose class is known at compile time. A parallel edge (class 0)
+// is the slot's choice outright: it beats every 45-degree one, and a vertex
+// has at most one edge in a given direction (the mesh is conforming), so no
+// other parallel key can come. A plain store then, not a min.
+template <std::uint32_t kClass>
+inline void offer_class(std::uint32_t& slot, std::uint32_t id) {
+  if constexpr (kClass == 0) {
+    slot = id;
+  } else {
+    offer(slot, id | kClass);
+  }
+}
+
 // The edge from vertex `from` to vertex `to` = from + (kEx, kEy) of a plain
 // RTIN leaf, offered to both ends along the kSlots (2 or 6) directions.
 template <int kSlots, int kEx, int kEy>
@@ -55,18 +68,18 @@ inline void offer_rtin_edge(std::uint32_t* keys, std::int32_t from, std::int32_t
     std::uint32_t* at_lower = keys + static_cast<std::size_t>(lower) * kSlots;
     std::uint32_t* at_upper = keys + static_cast<std::size_t>(upper) * kSlots;
     constexpr std::uint32_t vertical = dx == 0 ? 0u : kWorse;
-    offer(at_lower[0], upper | vertical);  // (0, 1)
-    offer(at_upper[1], lower | vertical);  // (0, -1)
+    offer_class<vertical>(at_lower[0], upper);  // (0, 1)
+    offer_class<vertical>(at_upper[1], lower);  // (0, -1)
     if constexpr (kSlots == 6) {
       if constexpr (dx >= 0) {  // (p - q) . u > 0 for u = (1, 1) and (-1, -1)
         constexpr std::uint32_t cls = dx == dy ? 0u : kWorse;
-        offer(at_lower[2], upper | cls);
-        offer(at_upper[3], lower | cls);
+        offer_class<cls>(at_lower[2], upper);
+        offer_class<cls>(at_upper[3], lower);
       }
       if constexpr (dx <= 0) {  // u = (-1, 1) and (1, -1)
         constexpr std::uint32_t cls = dx == -dy ? 0u : kWorse;
-        offer(at_lower[4], upper | cls);
-        offer(at_upper[5], lower | cls);
+        offer_class<cls>(at_lower[4], upper);
+        offer_class<cls>(at_upper[5], lower);
       }
     }
   }
