@@ -88,6 +88,19 @@ void for_output_blocks(const In* in, int n, Io* io, Block block, Narrow narrow) 
   block(in + n - Lanes, io + n - Lanes);
 }
 
+// A call too short for a register: Kernel<Narrower<A>> when there is one,
+// else the scalar twin.
+template <template <class> class Kernel, class A, class Scalar, class... Args>
+void narrower_or_scalar(Scalar scalar, Args... args) {
+  using Half = typename Narrower<A>::type;
+  if constexpr (!std::is_void<Half>::value) {
+    (void)scalar;
+    Kernel<Half>::call(args...);
+  } else {
+    scalar(args...);
+  }
+}
+
 // nullptr, or a lambda forwarding a remainder to Kernel<Narrower<A>>.
 template <template <class> class Kernel, class A, class Fwd>
 auto narrower_or_null(Fwd fwd) {
@@ -1299,12 +1312,8 @@ void Side4TestsU8<Arch>::call(const std::uint8_t* const* rows, int n, int first_
                               std::size_t sums_stride) {
   constexpr int lanes = static_cast<int>(xsimd::batch<std::uint32_t, Arch>::size);
   if (n < lanes) {
-    using Half = typename detail::Narrower<Arch>::type;
-    if constexpr (!std::is_void<Half>::value) {
-      Side4TestsU8<Half>::call(rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
-    } else {
-      side4_tests_u8_scalar(rows, n, first_backslash, sse_limit, wants, sums, sums_stride);
-    }
+    detail::narrower_or_scalar<Side4TestsU8, Arch>(&side4_tests_u8_scalar, rows, n, first_backslash, sse_limit,
+                                                   wants, sums, sums_stride);
     return;
   }
   const auto block = [&](int m0) {
@@ -1452,12 +1461,8 @@ void MidpointsRowQ4<Arch>::call(const std::int32_t* above, const std::int32_t* r
   constexpr int lanes = static_cast<int>(s32::size);
   constexpr int block = 2 * lanes;
   if (n < block) {
-    using Half = typename detail::Narrower<Arch>::type;
-    if constexpr (!std::is_void<Half>::value) {
-      MidpointsRowQ4<Half>::call(above, row, below, n, first_backslash, frac_bits, disp_q4);
-    } else {
-      midpoints_row_q4_scalar(above, row, below, n, first_backslash, frac_bits, disp_q4);
-    }
+    detail::narrower_or_scalar<MidpointsRowQ4, Arch>(&midpoints_row_q4_scalar, above, row, below, n,
+                                                     first_backslash, frac_bits, disp_q4);
     return;
   }
   alignas(64) std::int32_t x_in_block[lanes];
