@@ -127,6 +127,7 @@ TEST_P(SimdKernels, DispatchGivesTheSetsOwnTable) {
   EXPECT_NE(s.dp_step, scalar().dp_step);
   EXPECT_NE(s.dp_step_u16, scalar().dp_step_u16);
   EXPECT_NE(s.dp_pointer_u16, scalar().dp_pointer_u16);
+  EXPECT_NE(s.midpoints_row_q4, scalar().midpoints_row_q4);
 }
 
 TEST_P(SimdKernels, EnvironmentOverridesAuto) {
