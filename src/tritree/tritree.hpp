@@ -209,8 +209,17 @@ class Tritree {
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
   std::size_t number_vertices(Mesh& mesh, ThreadPool* pool);
+  // number_vertices() in two steps, so that one worker can number each row
+  // of tiles right before the one above it emits (its ids still in cache):
+  // the counts, first ids and leaf counts (returns the leaves), then a row
+  // of tiles' ids, vertices and row starts (the last one's: to the end).
+  std::size_t count_vertices(Mesh& mesh, ThreadPool* pool);
+  void number_band(int band, Mesh& mesh) const;
   std::uint64_t vertex_bits(int vy, int vx0) const;
   void band_rows(int band, int* vy0, int* vy1) const;
+  // Empties the predecessor slots that row of tiles `band`'s leaves offer to,
+  // right before it emits them (so they are in cache when offered).
+  void empty_band_slots(int band, const Mesh& mesh) const;
 
   // Geometry of the hierarchy (virtual coordinates).
   void corners(const Tri& t, int* x, int* y) const;

@@ -1108,7 +1108,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
-    // Also empties the predecessor slots, and counts each row of tiles' leaves.
+    // Also counts each row of tiles' leaves.
     const std::size_t leaves = number_vertices(mesh, workers > 1 ? pool : nullptr);
     vertices_ = mesh.vertices.data();
     // Each row of tiles straight into its place in the mesh, tiles left to
@@ -1120,6 +1120,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     for (int ty = 0; ty < layout_.tiles_y; ++ty)
       bands_[ty] = Band{mesh.triangles.data() + band_start_[ty], 0, 0, 0, 0};
     const auto emit_band = [&](int ty) {
+      if (pred_slots_ > 0) empty_band_slots(ty, mesh);
       Band b = bands_[ty];  // a local copy: neighbouring rows' Bands share cache lines
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;

@@ -61,9 +61,8 @@ void Tritree::band_rows(int band, int* vy0, int* vy1) const {
 // of the closed rectangle and B those on its sides (its first and last
 // rows, and x = 0 or vw on the rows between). So each row of tiles knows
 // where its leaves go before pass 3 writes them.
-std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
-  const int w = gray_.width, h = gray_.height;  // mesh: begin_mesh() done
-  const RtinLayout& L = layout_;
+std::size_t Tritree::count_vertices(Mesh& mesh, ThreadPool* pool) {
+  const RtinLayout& L = layout_;  // mesh: begin_mesh() done
   const int row_len = L.vw + 1;
   const int bands = L.tiles_y;
   // Each band's count, then its first id.
@@ -95,39 +94,6 @@ std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
     first_id[band] = static_cast<std::int32_t>(n);
     band_start_[band] = static_cast<std::size_t>(2 * v - (first + last + sides) - 2);
   };
-  const auto number_band = [&](int band) {
-    int vy0, vy1;
-    band_rows(band, &vy0, &vy1);
-    std::int32_t id = first_id[band];
-    Vertex* out = mesh.vertices.data();
-    int next_y = vy0;  // next real row whose row_start is unset (the band's first row is never moved)
-    for (int vy = vy0; vy < vy1; ++vy) {
-      const int y = L.real_y(vy);
-      for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
-      std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
-      // Every column is its own but the last, vw (real_x), which the loop
-      // leaves for after it: no per-vertex test.
-      for (int vx0 = 0; vx0 < row_len; vx0 += 64) {
-        std::uint64_t bits = vertex_bits(vy, vx0);
-        if (vx0 + 64 >= row_len) bits &= ~(std::uint64_t{1} << (L.vw - vx0));
-        for (; bits != 0; bits &= bits - 1) {
-          const int x = vx0 + __builtin_ctzll(bits);
-          ids[x] = id;
-          out[id++] = Vertex{x, y};
-        }
-      }
-      if ((vy % S == 0 && L.vw % S == 0) || (need_[static_cast<std::size_t>(vy) * row_len + L.vw] & 1u)) {
-        const int x = L.real_x(L.vw);
-        ids[x] = id;
-        out[id++] = Vertex{x, y};
-      }
-    }
-    if (pred_slots_ > 0) {
-      const auto slots = static_cast<std::size_t>(pred_slots_);
-      std::fill(pred_keys_ + static_cast<std::size_t>(first_id[band]) * slots, pred_keys_ + static_cast<std::size_t>(id) * slots,
-                predecessor_keys::kNone);
-    }
-  };
   const bool parallel = pool != nullptr && pool->size() > 1 && bands > 1;
   if (parallel) {
     pool->run([&](int worker) {
@@ -147,15 +113,92 @@ std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
     leaves += t;
   }
   mesh.vertices.resize(static_cast<std::size_t>(total));  // within capacity
-  if (parallel) {
+  return leaves;
+}
+
+void Tritree::number_band(int band, Mesh& mesh) const {
+  const RtinLayout& L = layout_;
+  const int w = gray_.width, row_len = L.vw + 1, S = tile_;
+  int vy0, vy1;
+  band_rows(band, &vy0, &vy1);
+  std::int32_t id = band_first_id_[band];
+  Vertex* out = mesh.vertices.data();
+  int next_y = vy0;  // next real row whose row_start is unset (the band's first row is never moved)
+  for (int vy = vy0; vy < vy1; ++vy) {
+    const int y = L.real_y(vy);
+    for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
+    std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
+    // Every column is its own but the last, vw (real_x), which the loop
+    // leaves for after it: no per-vertex test.
+    for (int vx0 = 0; vx0 < row_len; vx0 += 64) {
+      std::uint64_t bits = vertex_bits(vy, vx0);
+      if (vx0 + 64 >= row_len) bits &= ~(std::uint64_t{1} << (L.vw - vx0));
+      for (; bits != 0; bits &= bits - 1) {
+        const int x = vx0 + __builtin_ctzll(bits);
+        ids[x] = id;
+        out[id++] = Vertex{x, y};
+      }
+    }
+    if ((vy % S == 0 && L.vw % S == 0) || (need_[static_cast<std::size_t>(vy) * row_len + L.vw] & 1u)) {
+      const int x = L.real_x(L.vw);
+      ids[x] = id;
+      out[id++] = Vertex{x, y};
+    }
+  }
+  if (band + 1 == L.tiles_y) {  // the rows after the grid's last
+    const auto total = static_cast<std::int32_t>(mesh.vertices.size());
+    for (int y = L.real_y(L.vh) + 1; y <= gray_.height; ++y) mesh.row_start[static_cast<std::size_t>(y)] = total;
+  }
+}
+
+std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
+  const std::size_t leaves = count_vertices(mesh, pool);
+  const int bands = layout_.tiles_y;
+  if (pool != nullptr && pool->size() > 1 && bands > 1) {
     pool->run([&](int worker) {
-      for (int band = worker; band < bands; band += pool->size()) number_band(band);
+      for (int band = worker; band < bands; band += pool->size()) number_band(band, mesh);
     });
   } else {
-    for (int band = 0; band < bands; ++band) number_band(band);
+    for (int band = 0; band < bands; ++band) number_band(band, mesh);
   }
-  for (int y = L.real_y(L.vh) + 1; y <= h; ++y) mesh.row_start[static_cast<std::size_t>(y)] = total;
   return leaves;
+}
+
+// A row of tiles' leaves offer to the slots of the vertices of its rows and
+// of the next row of tiles' first row (every edge lies in one row of tiles):
+// a slot "from above" (even: directions 2, 4, 6) to an edge's lower end, one
+// "from below" (odd) to its upper end. So its first row's even slots are the
+// row of tiles above's (its edges' lower ends), the next first row's odd
+// ones the row of tiles below's: each row of tiles empties the others right
+// before it emits, and rows on different workers never write the same slot.
+void Tritree::empty_band_slots(int band, const Mesh& mesh) const {
+  const auto slots = static_cast<std::size_t>(pred_slots_);
+  int vy0, vy1;
+  band_rows(band, &vy0, &vy1);
+  const auto ids_of_row = [&](int vy, std::size_t* begin, std::size_t* end) {
+    const auto y = static_cast<std::size_t>(layout_.real_y(vy));
+    *begin = static_cast<std::size_t>(mesh.row_start[y]);
+    *end = static_cast<std::size_t>(mesh.row_start[y + 1]);
+  };
+  const auto empty = [&](std::size_t begin, std::size_t end, std::size_t first_slot, std::size_t step) {
+    for (std::size_t id = begin; id < end; ++id)
+      for (std::size_t s = first_slot; s < slots; s += step) pred_keys_[id * slots + s] = predecessor_keys::kNone;
+  };
+  std::size_t b0, e0;
+  ids_of_row(vy0, &b0, &e0);
+  if (band == 0) {
+    empty(b0, e0, 0, 1);
+  } else {
+    empty(b0, e0, 1, 2);
+  }
+  const std::size_t band_end = band + 1 < layout_.tiles_y ? static_cast<std::size_t>(band_first_id_[band + 1])
+                                                          : mesh.vertices.size();
+  std::fill(pred_keys_ + e0 * slots, pred_keys_ + band_end * slots, predecessor_keys::kNone);
+  if (band + 1 < layout_.tiles_y) {
+    std::size_t b1, e1;
+    ids_of_row(vy1, &b1, &e1);
+    empty(b1, e1, 0, 2);
+  }
 }
 
 void Tritree::begin_mesh(Mesh& mesh) const {
