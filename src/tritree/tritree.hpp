@@ -209,10 +209,9 @@ class Tritree {
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
   std::size_t number_vertices(Mesh& mesh, ThreadPool* pool);
-  // number_vertices() in two steps, so that one worker can number each row
-  // of tiles right before the one above it emits (its ids still in cache):
-  // the counts, first ids and leaf counts (returns the leaves), then a row
-  // of tiles' ids, vertices and row starts (the last one's: to the end).
+  // number_vertices()'s two steps: the counts, first ids and leaf counts
+  // (returns the leaves), then a row of tiles' ids, vertices and row starts
+  // (the last one's: to the end).
   std::size_t count_vertices(Mesh& mesh, ThreadPool* pool);
   void number_band(int band, Mesh& mesh) const;
   std::uint64_t vertex_bits(int vy, int vx0) const;
