@@ -895,10 +895,12 @@ TEST(Tritree, ReportsItsMemory) {
   EXPECT_EQ(tree.working_memory_bytes(), 0u);
   tree.configure(640, 480, TritreeParams{});
   const double per_pixel = static_cast<double>(tree.working_memory_bytes()) / (640.0 * 480.0);
-  // Need byte + vertex id (5 B) and the tile scratch; the leaves go straight
+  // The need byte, each pass-3 worker's S + 2 rows of vertex ids and the
+  // tile scratch; no W x H grid of ids (4 B more). The leaves go straight
   // into the mesh, whose capacity is the caller's (reserve()).
-  EXPECT_GT(per_pixel, 5.0);
-  EXPECT_LT(per_pixel, 8.0);
+  const double ids = Tritree::kMaxTileWorkers * (tree.tile_side() + 2) * 640.0 * 4.0 / (640.0 * 480.0);
+  EXPECT_GT(per_pixel, 1.0 + ids);
+  EXPECT_LT(per_pixel, 1.0 + ids + 3.0);
 }
 
 // ------------------------------------------------------------ bad input

@@ -41,12 +41,11 @@ class ThreadPool;
 struct KernelSet;
 
 // What the last build() left behind, for the interpolation by midpoints
-// (src/interp/interpolate_midpoints.hpp): the hierarchy's layout, the need
-// grid and the vertex ids. Valid until the next build() or configure().
+// (src/interp/interpolate_midpoints.hpp): the hierarchy's layout and the need
+// grid. Valid until the next build() or configure().
 struct TritreeGrid {
   RtinLayout layout;
   const std::uint8_t* need = nullptr;      // (vw + 1) x (vh + 1), bit 0 = need(m)
-  const std::int32_t* vertex_id = nullptr; // width x height, valid at the vertices
   // The leaves with a corner on a moved line (stretched: not the power-of-two
   // triangles of their virtual corners), as vertex ids.
   const Triangle* stretched = nullptr;
@@ -162,6 +161,9 @@ class Tritree {
     std::uint32_t* side8_wants = nullptr;
     std::int32_t* side8_sums = nullptr;
     SpanCache* spans = nullptr;  // the general tiles' (this worker slot's)
+    // Pass 3: the vertex ids of the row of tiles this worker slot emits,
+    // (S + 2) x max width (band_ids()).
+    std::int32_t* band_ids = nullptr;
   };
 
   void validate_image(ImageView<const std::uint8_t> gray) const;
@@ -198,7 +200,14 @@ class Tritree {
     std::size_t count = 0;
     std::int64_t criterion = 0, forced = 0;
     std::int64_t general_begin = 0;
+    // Its vertex ids (band_ids()): real row ids_y0 + r at ids[r * width].
+    const std::int32_t* ids = nullptr;
+    std::int64_t ids_y0 = 0;
   };
+  // Row of tiles `band`'s vertex ids at their real pixels, rows real_y(its
+  // first) .. real_y(the next one's first, or vh) (at most S + 2), into
+  // `ids` (a pass-3 worker's; valid at the vertices only); sets b's ids.
+  void band_ids(int band, const Mesh& mesh, std::int32_t* ids, Band& b) const;
   void collect_stretched(const Mesh& mesh);
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
@@ -274,8 +283,7 @@ class Tritree {
   // Pass 1 on a pool: each row of tiles marks itself done, so a row of the
   // second parity starts as soon as its two neighbours are (configure()).
   std::unique_ptr<std::atomic<std::uint8_t>[]> row_done_;
-  // Pass 3: vertex ids, the leaves as rotated triangles.
-  std::int32_t* vertex_id_ = nullptr;     // W x H, valid at vertices
+  // Pass 3: the leaves as rotated triangles.
   Band* bands_ = nullptr;                 // one per row of tiles
   std::size_t* band_start_ = nullptr;     // each row of tiles' leaf count, then where they go in the mesh
   std::int32_t* band_first_id_ = nullptr; // vertex numbering: each row of tiles' count, then first id

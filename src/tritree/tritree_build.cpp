@@ -853,12 +853,14 @@ inline void emit_plain_half(PlainEmit& e, const std::uint8_t* need, const std::i
                       ids[at(e.id_stride, mx + kDx, my + kDy)]);
 }
 
-// Both halves of a plain tile of side S at (tx0, ty0), hypotenuse first.
+// Both halves of a plain tile of side S at x = tx0, hypotenuse first; `need`
+// and `ids` point at the tile's first row (of the need grid, of the row of
+// tiles' ids).
 template <int kSlots, int S>
-inline void emit_plain_halves(PlainEmit& e, const std::uint8_t* need, const std::int32_t* ids, int tx0, int ty0,
+inline void emit_plain_halves(PlainEmit& e, const std::uint8_t* need, const std::int32_t* ids, int tx0,
                               bool backslash) {
   constexpr int h = S / 2;
-  const int mx = tx0 + h, my = ty0 + h;
+  const int mx = tx0 + h, my = h;
   if (backslash) {
     emit_plain_half<kSlots, h, -h>(e, need, ids, mx, my);  // upper right
     emit_plain_half<kSlots, -h, h>(e, need, ids, mx, my);  // lower left
@@ -904,7 +906,7 @@ void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
 void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
   const int w = gray_.width;
   const auto id = [&](int x, int y) {
-    return vertex_id_[static_cast<std::size_t>(layout_.real_y(y)) * w + layout_.real_x(x)];
+    return b.ids[static_cast<std::size_t>(layout_.real_y(y) - b.ids_y0) * w + layout_.real_x(x)];
   };
   const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
   b.leaves[b.count++] = rotated(ia, ib, ic);
@@ -955,13 +957,15 @@ void Tritree::emit_plain_tile(Band& b, int tx0, int ty0) {
   PlainEmit e{static_cast<std::size_t>(layout_.vw) + 1, static_cast<std::size_t>(gray_.width), b.leaves + b.count,
               0, 0, pred_keys_, vertices_, tx0 == 0};
   const bool bs = RtinLayout::backslash(tx0, ty0, tile_);
+  // A plain tile is off the moved last row: its rows are the ids' first ones.
+  const std::uint8_t* need = need_ + static_cast<std::size_t>(ty0) * e.need_stride;
   switch (tile_) {
-    case 2: emit_plain_halves<kSlots, 2>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 4: emit_plain_halves<kSlots, 4>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 8: emit_plain_halves<kSlots, 8>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 16: emit_plain_halves<kSlots, 16>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    case 32: emit_plain_halves<kSlots, 32>(e, need_, vertex_id_, tx0, ty0, bs); break;
-    default: emit_plain_halves<kSlots, 64>(e, need_, vertex_id_, tx0, ty0, bs); break;  // A_max <= 1024: S <= 64
+    case 2: emit_plain_halves<kSlots, 2>(e, need, b.ids, tx0, bs); break;
+    case 4: emit_plain_halves<kSlots, 4>(e, need, b.ids, tx0, bs); break;
+    case 8: emit_plain_halves<kSlots, 8>(e, need, b.ids, tx0, bs); break;
+    case 16: emit_plain_halves<kSlots, 16>(e, need, b.ids, tx0, bs); break;
+    case 32: emit_plain_halves<kSlots, 32>(e, need, b.ids, tx0, bs); break;
+    default: emit_plain_halves<kSlots, 64>(e, need, b.ids, tx0, bs); break;  // A_max <= 1024: S <= 64
   }
   b.count = static_cast<std::size_t>(e.out - b.leaves);
   b.criterion += e.criterion;
@@ -1006,7 +1010,6 @@ TritreeGrid Tritree::grid() const {
   TritreeGrid g;
   g.layout = layout_;
   g.need = layout_.strip() ? nullptr : need_;
-  g.vertex_id = vertex_id_;
   g.stretched = stretched_;
   g.stretched_count = stretched_count_;
   return g;
@@ -1119,9 +1122,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     mesh.triangles.resize(leaves);  // within capacity
     for (int ty = 0; ty < layout_.tiles_y; ++ty)
       bands_[ty] = Band{mesh.triangles.data() + band_start_[ty], 0, 0, 0, 0};
-    const auto emit_band = [&](int ty) {
+    const auto emit_band = [&](int ty, int w) {
       if (pred_slots_ > 0) empty_band_slots(ty, mesh);
       Band b = bands_[ty];  // a local copy: neighbouring rows' Bands share cache lines
+      band_ids(ty, mesh, scratch_[static_cast<std::size_t>(w)].band_ids, b);
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         const bool plain = x0 + S < layout_.vw && y0 + S < layout_.vh;
@@ -1132,13 +1136,14 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     };
     if (workers > 1) {
       std::atomic<int> next{0};
-      pool->run([&](int) {
+      pool->run([&](int w) {
+        if (w >= workers) return;  // each has its rows of ids
         for (int ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed); ty >= 0;
              ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed))
-          emit_band(ty);
+          emit_band(ty, w);
       });
     } else {
-      for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty);
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty, 0);
     }
     serial([&] {
       collect_stretched(mesh);

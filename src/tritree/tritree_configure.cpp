@@ -77,8 +77,9 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   tile_ = tile_side_for(params.max_area_px2);
   // One block, carved in order of alignment: the moments of one tile per
   // pass-1 worker (level l holds the halves of the squares of side 2^(l+1),
-  // then one level's side triangles), the row-of-tiles starts, the stretched leaves,
-  // the vertex ids and the rows of tiles' first ids, the need grid (the
+  // then one level's side triangles, pass 3's ids of a row of tiles), the
+  // row-of-tiles starts, the stretched leaves, the rows of tiles' first ids,
+  // the need grid (the
   // virtual grid has at most W x H points).
   std::size_t moments = static_cast<std::size_t>(tile_ / 4 + 1) * (tile_ / 4 + 1) * 4;
   for (int s = 2; s <= tile_; s *= 2) moments += static_cast<std::size_t>(tile_ / s) * (tile_ / s) * 2;
@@ -111,13 +112,16 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     span_rows_ += static_cast<std::size_t>(6 * (tile_ / s) * (s + 2));
   }
   span_rows_ = (span_rows_ + 3) / 4 * 4;  // 6-byte rows: an 8-byte multiple
+  // Pass 3's ids of one row of tiles per worker (Band::ids): S + 2 rows.
+  const std::size_t ids_words = (static_cast<std::size_t>(tile_ + 2) * max_width + 1) / 2 * 2;  // 8-byte multiple
   static_assert(sizeof(SpanRecord) % 8 == 0 && sizeof(SpanCache) % 8 == 0, "the carving stays 8-byte aligned");
   const std::size_t span_bytes = sizeof(SpanCache) + 4 * (span_records_ * sizeof(SpanRecord) + span_rows_ * sizeof(SpanRow));
   const std::size_t bytes = kMaxTileWorkers * (span_bytes + moments * sizeof(PixelMoments) +
                                                  intensity_moments * sizeof(IntensityMoments) +
-                                                 (side4_words + side8_words) * sizeof(std::int32_t)) +
+                                                 (side4_words + side8_words) * sizeof(std::int32_t) +
+                                                 ids_words * sizeof(std::int32_t)) +
                             stretched * sizeof(Triangle) + bands * sizeof(Band) +
-                            bands * sizeof(std::size_t) + (pixels + bands + 1) * sizeof(std::int32_t) + pixels;
+                            bands * sizeof(std::size_t) + (bands + 1) * sizeof(std::int32_t) + pixels;
   arena_ = reserve_array<std::uint64_t>((bytes + 7) / 8);
   arena_bytes_ = (bytes + 7) / 8 * 8;
   char* next = reinterpret_cast<char*>(arena_.get());
@@ -150,6 +154,7 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
     sc.side4_wants = side4_kernel_ ? reinterpret_cast<std::uint32_t*>(side4) : nullptr;
     sc.side4_sums = side4_kernel_ ? reinterpret_cast<std::int32_t*>(side4) + static_cast<std::size_t>(tile_ / 4) * side4_stride_
                                   : nullptr;
+    sc.band_ids = reinterpret_cast<std::int32_t*>(take(ids_words * sizeof(std::int32_t)));
     char* side8 = take(side8_words * sizeof(std::int32_t));
     sc.side8_wants = side8_kernel_ ? reinterpret_cast<std::uint32_t*>(side8) : nullptr;
     sc.side8_sums = side8_kernel_ ? reinterpret_cast<std::int32_t*>(side8) + static_cast<std::size_t>(tile_ / 8) * side8_stride_
@@ -211,7 +216,6 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   row_done_ = std::make_unique<std::atomic<std::uint8_t>[]>(bands);
   band_start_ = reinterpret_cast<std::size_t*>(take(bands * sizeof(std::size_t)));
   stretched_ = reinterpret_cast<Triangle*>(take(stretched * sizeof(Triangle)));
-  vertex_id_ = reinterpret_cast<std::int32_t*>(take(pixels * sizeof(std::int32_t)));
   band_first_id_ = reinterpret_cast<std::int32_t*>(take((bands + 1) * sizeof(std::int32_t)));
   need_ = reinterpret_cast<std::uint8_t*>(take(pixels));
 

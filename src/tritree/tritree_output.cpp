@@ -118,7 +118,7 @@ std::size_t Tritree::count_vertices(Mesh& mesh, ThreadPool* pool) {
 
 void Tritree::number_band(int band, Mesh& mesh) const {
   const RtinLayout& L = layout_;
-  const int w = gray_.width, row_len = L.vw + 1, S = tile_;
+  const int row_len = L.vw + 1, S = tile_;
   int vy0, vy1;
   band_rows(band, &vy0, &vy1);
   std::int32_t id = band_first_id_[band];
@@ -127,28 +127,42 @@ void Tritree::number_band(int band, Mesh& mesh) const {
   for (int vy = vy0; vy < vy1; ++vy) {
     const int y = L.real_y(vy);
     for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
-    std::int32_t* ids = vertex_id_ + static_cast<std::size_t>(y) * w;
     // Every column is its own but the last, vw (real_x), which the loop
     // leaves for after it: no per-vertex test.
     for (int vx0 = 0; vx0 < row_len; vx0 += 64) {
       std::uint64_t bits = vertex_bits(vy, vx0);
       if (vx0 + 64 >= row_len) bits &= ~(std::uint64_t{1} << (L.vw - vx0));
       for (; bits != 0; bits &= bits - 1) {
-        const int x = vx0 + __builtin_ctzll(bits);
-        ids[x] = id;
-        out[id++] = Vertex{x, y};
+        out[id++] = Vertex{vx0 + __builtin_ctzll(bits), y};
       }
     }
     if ((vy % S == 0 && L.vw % S == 0) || (need_[static_cast<std::size_t>(vy) * row_len + L.vw] & 1u)) {
-      const int x = L.real_x(L.vw);
-      ids[x] = id;
-      out[id++] = Vertex{x, y};
+      out[id++] = Vertex{L.real_x(L.vw), y};
     }
   }
   if (band + 1 == L.tiles_y) {  // the rows after the grid's last
     const auto total = static_cast<std::int32_t>(mesh.vertices.size());
     for (int y = L.real_y(L.vh) + 1; y <= gray_.height; ++y) mesh.row_start[static_cast<std::size_t>(y)] = total;
   }
+}
+
+// Pass 3 looks up a leaf's corners by position: each row of tiles places its
+// own rows' ids (and the next one's first row's) in its worker's rows of ids
+// right before it emits, where they stay in cache (a W x H grid of them,
+// written by the numbering, was written and read cold in a frame).
+void Tritree::band_ids(int band, const Mesh& mesh, std::int32_t* ids, Band& b) const {
+  int vy0, vy1;
+  band_rows(band, &vy0, &vy1);
+  const int y0 = layout_.real_y(vy0), y1 = layout_.real_y(std::min(vy1, layout_.vh));
+  const auto w = static_cast<std::size_t>(gray_.width);
+  const Vertex* v = mesh.vertices.data();
+  for (int y = y0; y <= y1; ++y) {
+    std::int32_t* row = ids + static_cast<std::size_t>(y - y0) * w;
+    const std::int32_t end = mesh.row_start[static_cast<std::size_t>(y) + 1];
+    for (std::int32_t id = mesh.row_start[static_cast<std::size_t>(y)]; id < end; ++id) row[v[id].x] = id;
+  }
+  b.ids = ids;
+  b.ids_y0 = y0;
 }
 
 std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
