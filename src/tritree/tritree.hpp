@@ -193,13 +193,15 @@ class Tritree {
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves straight into its place in the
   // mesh (counted beforehand by number_vertices(), so rows of tiles can run
-  // on different workers), with its own split counts; the general tiles'
-  // leaves (the row's last tiles) start at general_begin.
+  // on different workers), with its own split counts, and its stretched
+  // leaves into its region of stretched_ (stretched_per_band_ each, the last
+  // row of tiles 8 W more).
   struct Band {
     Triangle* leaves = nullptr;
     std::size_t count = 0;
     std::int64_t criterion = 0, forced = 0;
-    std::int64_t general_begin = 0;
+    Triangle* stretched = nullptr;
+    std::int64_t stretched_count = 0;
     // Its vertex ids (band_ids()): real row ids_y0 + r at ids[r * width].
     const std::int32_t* ids = nullptr;
     std::int64_t ids_y0 = 0;
@@ -208,10 +210,13 @@ class Tritree {
   // first) .. real_y(the next one's first, or vh) (at most S + 2), into
   // `ids` (a pass-3 worker's; valid at the vertices only); sets b's ids.
   void band_ids(int band, const Mesh& mesh, std::int32_t* ids, Band& b) const;
-  void collect_stretched(const Mesh& mesh);
+  void collect_stretched();
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
+  template <int kSlots>
+  void emit_general_rtin(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
   void emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
+  void offer_stretched(const Band& b) const;
   template <int kSlots>
   void emit_plain_tile(Band& b, int tx0, int ty0);
   void finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const;
@@ -289,6 +294,9 @@ class Tritree {
   std::int32_t* band_first_id_ = nullptr; // vertex numbering: each row of tiles' count, then first id
   Triangle* stretched_ = nullptr;         // stretched leaves (TritreeGrid::stretched)
   std::size_t stretched_count_ = 0;
+  // A row of tiles' stretched leaves touch its last column's moved line (the
+  // last row's, its moved row too), at most 8 at each of its vertices there.
+  std::size_t stretched_per_band_ = 0;
   // The build's predecessor output (PredecessorTable), keys until finished.
   std::uint32_t* pred_keys_ = nullptr;
   int pred_slots_ = 0;  // 0 (none), 2 or 6 per vertex

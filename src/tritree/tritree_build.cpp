@@ -14,6 +14,7 @@
 #include "src/aggregate/predecessor_offers.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "src/tritree/fill_rule.hpp"
+#include "src/tritree/rtin_descent.hpp"
 #include "src/tritree/side4_shapes.hpp"
 #include "src/tritree/side8_shapes.hpp"
 #include "src/tritree/tritree.hpp"
@@ -23,7 +24,7 @@ namespace tristereo {
 
 namespace {
 
-constexpr std::uint8_t kNeed = 1;
+using rtin_descent::kNeed;
 
 // A grid point's need byte: bit 0 need, bit 2 (value 4) the wants of the
 // triangle whose apex comes first in raster order, bit 1 (value 2) the
@@ -757,90 +758,8 @@ void Tritree::carry_up(int x, int y) {
 
 namespace {
 
-// A plain tile's descent (emit() without the general tiles' cases): everything it reads and
-// writes is in locals, so the leaf stores cannot make the compiler reload the
-// tree's members.
-struct PlainEmit {
-  std::size_t need_stride;
-  std::size_t id_stride;
-  Triangle* out;
-  std::int64_t criterion, forced;
-  std::uint32_t* pred_keys;  // kSlots per vertex (predecessor_offers.hpp), when kSlots > 0
-  const Vertex* vertices;
-  bool left_border;  // the tile is on x = 0
-};
-
-// A leaf's ids, rotated to start at the smallest (orientation kept).
-inline Triangle rotated(std::int32_t ia, std::int32_t ib, std::int32_t ic) {
-  if (ia < ib && ia < ic) return Triangle{ia, ib, ic};
-  if (ib < ic) return Triangle{ib, ic, ia};
-  return Triangle{ic, ia, ib};
-}
-
-// A plain leaf's edge from -> to = from + (kEx, kEy), in the leaf's positive
-// orientation. An edge inside the mesh belongs to two leaves, going down in
-// one and up in the other: only the one going down offers it. An edge on the
-// mesh's border belongs to one leaf: going up on the left border x = 0 (the
-// only border a plain tile has, besides the top one, whose edges are
-// horizontal); an edge on a general tile's side is offered by that tile.
-template <int kSlots, int kEx, int kEy>
-inline void offer_leaf_edge(PlainEmit& e, std::int32_t from, std::int32_t to) {
-  if constexpr (kEy > 0) {
-    predecessor_keys::offer_rtin_edge<kSlots, kEx, kEy>(e.pred_keys, from, to);
-  } else if constexpr (kEy < 0 && kEx == 0) {
-    if (e.left_border && e.vertices[from].x == 0)
-      predecessor_keys::offer_rtin_edge<kSlots, kEx, kEy>(e.pred_keys, from, to);
-  }
-}
-
-// The triangle whose hypotenuse has midpoint m and whose apex is c = m + d,
-// d = (kDx, kDy) known at compile time: positive orientation puts a = m +
-// (-kDy, kDx) and b = m + (kDy, -kDx). need_m and id_m point at m's need byte
-// and vertex id; ia, ib, ic are the corners' ids. The shape fixes everything
-// the descent used to compute per node: where the children's midpoints are,
-// which of m's two "wants" bits is this triangle's, and which corner comes
-// first in raster order, which is the one with the smallest id (plain tiles'
-// ids are raster-ordered), so a leaf's rotation is a compile-time choice.
-template <int kSlots, int kDx, int kDy>
-inline void emit_rtin(PlainEmit& e, const std::uint8_t* need_m, const std::int32_t* id_m, std::int32_t ia,
-                      std::int32_t ib, std::int32_t ic) {
-  if constexpr (kDx * kDx + kDy * kDy >= 2) {  // hypotenuse^2 = 4 |d|^2 >= 8: may split
-    const std::uint8_t c = *need_m;
-    if (c & kNeed) {
-      constexpr bool apex_after = kDy > 0 || (kDy == 0 && kDx > 0);
-      const std::int64_t wants = (c >> (apex_after ? 1 : 2)) & 1;
-      e.criterion += wants;
-      e.forced += 1 - wants;
-      const std::int32_t im = *id_m;
-      // Children (c, a, m) and (b, c, m): their midpoints are m - d1 and m - d2.
-      constexpr int d1x = (kDy - kDx) / 2, d1y = -(kDx + kDy) / 2;
-      constexpr int d2x = -(kDx + kDy) / 2, d2y = (kDx - kDy) / 2;
-      const auto ns = static_cast<std::ptrdiff_t>(e.need_stride);
-      const auto is = static_cast<std::ptrdiff_t>(e.id_stride);
-      emit_rtin<kSlots, d1x, d1y>(e, need_m - d1x - d1y * ns, id_m - d1x - d1y * is, ic, ia, im);
-      emit_rtin<kSlots, d2x, d2y>(e, need_m - d2x - d2y * ns, id_m - d2x - d2y * is, ib, ic, im);
-      return;
-    }
-  }
-  // The first corner in raster order (smallest y, then x): a (-kDy, kDx) ~ (y
-  // kDx, x -kDy), b (y -kDx, x kDy), c (y kDy, x kDx), relative to m.
-  constexpr auto before = [](int y0, int x0, int y1, int x1) { return y0 < y1 || (y0 == y1 && x0 < x1); };
-  constexpr bool a_first = before(kDx, -kDy, -kDx, kDy) && before(kDx, -kDy, kDy, kDx);
-  constexpr bool b_first = !a_first && before(-kDx, kDy, kDy, kDx);
-  if constexpr (a_first) {
-    *e.out++ = Triangle{ia, ib, ic};
-  } else if constexpr (b_first) {
-    *e.out++ = Triangle{ib, ic, ia};
-  } else {
-    *e.out++ = Triangle{ic, ia, ib};
-  }
-  if constexpr (kSlots > 0) {
-    // Edges a -> b, b -> c, c -> a (a = m + (-kDy, kDx), b = m + (kDy, -kDx), c = m + d).
-    offer_leaf_edge<kSlots, 2 * kDy, -2 * kDx>(e, ia, ib);
-    offer_leaf_edge<kSlots, kDx - kDy, kDy + kDx>(e, ib, ic);
-    offer_leaf_edge<kSlots, -kDy - kDx, kDx - kDy>(e, ic, ia);
-  }
-}
+using rtin_descent::emit_rtin;
+using rtin_descent::PlainEmit;
 
 // A plain tile's half with apex offset (kDx, kDy) from the tile centre (mx, my).
 template <int kSlots, int kDx, int kDy>
@@ -871,85 +790,6 @@ inline void emit_plain_halves(PlainEmit& e, const std::uint8_t* need, const std:
 }
 
 }  // namespace
-
-// A general tile's triangle (a, b, c) with hypotenuse a-b (virtual corners):
-// dropped when outside, split when crossing, or when it can (virtual area2
-// >= 4) and need(midpoint); the children are (c, a, m) and (b, c, m). Plain
-// tiles take emit_plain instead.
-void Tritree::emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
-  const int xs[3] = {ax, bx, cx}, ys[3] = {ay, by, cy};
-  const Where w = where(xs, ys);
-  if (w == Where::kOutside) return;
-  if (w == Where::kCrossing) {
-    const int mx = (ax + bx) / 2, my = (ay + by) / 2;
-    emit(b, cx, cy, ax, ay, mx, my);
-    emit(b, bx, by, cx, cy, mx, my);
-    return;
-  }
-  const int dx = bx - ax, dy = by - ay;
-  if (dx * dx + dy * dy >= 8) {
-    const int mx = (ax + bx) / 2, my = (ay + by) / 2;
-    const std::uint8_t c = cell(mx, my);
-    if (c & kNeed) {
-      const bool apex_after = cy > my || (cy == my && cx > mx);
-      (c & (apex_after ? 2 : 4) ? b.criterion : b.forced) += 1;
-      emit(b, cx, cy, ax, ay, mx, my);
-      emit(b, bx, by, cx, cy, mx, my);
-      return;
-    }
-  }
-  emit_leaf(b, ax, ay, bx, by, cx, cy);
-}
-
-// A general tile's leaf: its real corners' vertex ids (numbered before this
-// pass), rotated to start at the smallest (orientation kept).
-void Tritree::emit_leaf(Band& b, int ax, int ay, int bx, int by, int cx, int cy) {
-  const int w = gray_.width;
-  const auto id = [&](int x, int y) {
-    return b.ids[static_cast<std::size_t>(layout_.real_y(y) - b.ids_y0) * w + layout_.real_x(x)];
-  };
-  const std::int32_t ia = id(ax, ay), ib = id(bx, by), ic = id(cx, cy);
-  b.leaves[b.count++] = rotated(ia, ib, ic);
-  // After the row's plain tiles, which offered to the same slots first. As
-  // there (offer_leaf_edge), an edge goes down in one of its two leaves: only
-  // that one offers it, or the one leaf of an edge on the left border x = 0,
-  // where it goes up (on the right border x = W - 1 it goes down).
-  const Vertex* v = vertices_;
-  const auto offer = [&](auto slots) {
-    const auto edge = [&](std::int32_t from, std::int32_t to) {
-      if (v[from].y < v[to].y || (v[from].y > v[to].y && v[from].x == 0 && v[to].x == 0))
-        predecessor_keys::offer_exact<decltype(slots)::value>(pred_keys_, v, from, to);
-    };
-    edge(ia, ib);
-    edge(ib, ic);
-    edge(ic, ia);
-  };
-  if (pred_slots_ == 2) offer(std::integral_constant<int, 2>{});
-  if (pred_slots_ == 6) offer(std::integral_constant<int, 6>{});
-}
-
-// The stretched leaves (TritreeGrid::stretched), in the mesh's order: those
-// of the general tiles with some but not all corners on a moved line. A real
-// corner is on the moved last column (row) exactly when its virtual one is
-// (RtinLayout::stretched): every other virtual column maps to a real one at
-// least two pixels to its left (row: above).
-void Tritree::collect_stretched(const Mesh& mesh) {
-  stretched_count_ = 0;
-  if (!layout_.stretch_x && !layout_.stretch_y) return;
-  const int last_x = gray_.width - 1, last_y = gray_.height - 1;
-  const Vertex* v = mesh.vertices.data();
-  for (int ty = 0; ty < layout_.tiles_y; ++ty) {
-    const Band& b = bands_[ty];
-    for (auto i = static_cast<std::size_t>(b.general_begin); i < b.count; ++i) {
-      const Triangle& t = b.leaves[i];
-      const Vertex p = v[t[0]], q = v[t[1]], r = v[t[2]];
-      const int on_x = (p.x == last_x) + (q.x == last_x) + (r.x == last_x);
-      const int on_y = (p.y == last_y) + (q.y == last_y) + (r.y == last_y);
-      if ((layout_.stretch_x && on_x != 0 && on_x != 3) || (layout_.stretch_y && on_y != 0 && on_y != 3))
-        stretched_[stretched_count_++] = t;
-    }
-  }
-}
 
 // A plain tile: the descent for its tile side (and the predecessor slots per vertex).
 template <int kSlots>
@@ -1120,8 +960,11 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     // workers as they come free, the last row first: all general tiles, the
     // slowest. Then the stretched leaves are picked out of the general ones.
     mesh.triangles.resize(leaves);  // within capacity
-    for (int ty = 0; ty < layout_.tiles_y; ++ty)
-      bands_[ty] = Band{mesh.triangles.data() + band_start_[ty], 0, 0, 0, 0};
+    for (int ty = 0; ty < layout_.tiles_y; ++ty) {
+      bands_[ty] = Band{};
+      bands_[ty].leaves = mesh.triangles.data() + band_start_[ty];
+      bands_[ty].stretched = stretched_ + static_cast<std::size_t>(ty) * stretched_per_band_;
+    }
     const auto emit_band = [&](int ty, int w) {
       if (pred_slots_ > 0) empty_band_slots(ty, mesh);
       Band b = bands_[ty];  // a local copy: neighbouring rows' Bands share cache lines
@@ -1130,8 +973,8 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
         const int x0 = tx * S, y0 = ty * S;
         const bool plain = x0 + S < layout_.vw && y0 + S < layout_.vh;
         emit_tile(b, x0, y0, plain);
-        if (plain) b.general_begin = static_cast<std::int64_t>(b.count);
       }
+      if (pred_slots_ > 0) offer_stretched(b);
       bands_[ty] = b;
     };
     if (workers > 1) {
@@ -1146,7 +989,7 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty, 0);
     }
     serial([&] {
-      collect_stretched(mesh);
+      collect_stretched();
       if (pred_slots_ > 0) finish_predecessors(mesh, preds);
     });
   }

@@ -36,8 +36,6 @@ std::size_t max_leaves(int w, int h) {
 
 // A stretched leaf has a corner on the moved last column or row, and a vertex
 // has at most 8 leaves around it.
-std::size_t max_stretched_leaves(int w, int h) { return 8 * (static_cast<std::size_t>(w) + h) + 8; }
-
 // Uninitialised storage (src/memory/large_array.hpp): a frame smaller than the
 // configured maximum never faults the rest in.
 // PixelMoments has default member initialisers, so the block is raw words.
@@ -89,7 +87,12 @@ void Tritree::configure(int max_width, int max_height, const TritreeParams& para
   // Pass 3 writes the leaves straight into the mesh (each row of tiles'
   // count is known beforehand, tritree_output.cpp).
   const RtinLayout largest(max_width, max_height, params.max_area_px2);
-  const std::size_t stretched = max_stretched_leaves(max_width, max_height);
+  // Each row of tiles' region of stretched leaves: 8 at each vertex on a
+  // moved line, at most S + 2 of them on the last column's (its rows and the
+  // next one's first, the moved last row below the last row of tiles' own),
+  // and W more on the last row's.
+  stretched_per_band_ = 8 * static_cast<std::size_t>(tile_ + 2);
+  const std::size_t stretched = static_cast<std::size_t>(largest.tiles_y) * stretched_per_band_ + 8 * static_cast<std::size_t>(max_width);
   // The side-4 level by the kernel when the 2 x 2 squares' halves are not
   // tested (A_min >= 2) and the 4 x 4 squares' triangles all are (A_max >= 8):
   // per pass-1 worker, a row of tiles' results, S / 4 rows of squares.
