@@ -162,7 +162,7 @@ class Tritree {
     std::int32_t* side8_sums = nullptr;
     SpanCache* spans = nullptr;  // the general tiles' (this worker slot's)
     // Pass 3: the vertex ids of the row of tiles this worker slot emits,
-    // (S + 2) x max width (band_ids()).
+    // (S + 2) x max width (Band::ids).
     std::int32_t* band_ids = nullptr;
   };
 
@@ -192,7 +192,7 @@ class Tritree {
   void carry_across_tile_borders();
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves straight into its place in the
-  // mesh (counted beforehand by number_vertices(), so rows of tiles can run
+  // mesh (counted beforehand by count_vertices(), so rows of tiles can run
   // on different workers), with its own split counts, and its stretched
   // leaves into its region of stretched_ (stretched_per_band_ each, the last
   // row of tiles 8 W more).
@@ -202,14 +202,12 @@ class Tritree {
     std::int64_t criterion = 0, forced = 0;
     Triangle* stretched = nullptr;
     std::int64_t stretched_count = 0;
-    // Its vertex ids (band_ids()): real row ids_y0 + r at ids[r * width].
-    const std::int32_t* ids = nullptr;
+    // Its vertex ids at their real pixels (valid at the vertices only): real
+    // row ids_y0 + r at ids[r * width], rows real_y(its first) .. real_y(the
+    // next one's first, or vh), at most S + 2 (a pass-3 worker's).
+    std::int32_t* ids = nullptr;
     std::int64_t ids_y0 = 0;
   };
-  // Row of tiles `band`'s vertex ids at their real pixels, rows real_y(its
-  // first) .. real_y(the next one's first, or vh) (at most S + 2), into
-  // `ids` (a pass-3 worker's; valid at the vertices only); sets b's ids.
-  void band_ids(int band, const Mesh& mesh, std::int32_t* ids, Band& b) const;
   void collect_stretched();
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
   void emit(Band& b, int ax, int ay, int bx, int by, int cx, int cy);
@@ -222,12 +220,12 @@ class Tritree {
   void finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const;
   void begin_mesh(Mesh& mesh) const;
   void finish(Mesh& mesh);
-  std::size_t number_vertices(Mesh& mesh, ThreadPool* pool);
-  // number_vertices()'s two steps: the counts, first ids and leaf counts
-  // (returns the leaves), then a row of tiles' ids, vertices and row starts
-  // (the last one's: to the end).
+  // The vertices: the counts, first ids and leaf counts of every row of
+  // tiles (returns the leaves), then, in pass 3, each one's vertices, row
+  // starts (the last one's: to the end) and ids (into `ids`, for b).
   std::size_t count_vertices(Mesh& mesh, ThreadPool* pool);
-  void number_band(int band, Mesh& mesh) const;
+  void number_band(int band, Mesh& mesh, std::int32_t* ids, Band& b) const;
+  void next_first_row_ids(int band, const Mesh& mesh, Band& b) const;
   std::uint64_t vertex_bits(int vy, int vx0) const;
   void band_rows(int band, int* vy0, int* vy1) const;
   // Empties the predecessor slots that row of tiles `band`'s leaves offer to,

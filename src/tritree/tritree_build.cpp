@@ -952,23 +952,37 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
     // Also counts each row of tiles' leaves.
-    const std::size_t leaves = number_vertices(mesh, workers > 1 ? pool : nullptr);
+    const std::size_t leaves = count_vertices(mesh, workers > 1 ? pool : nullptr);
     vertices_ = mesh.vertices.data();
-    // Each row of tiles straight into its place in the mesh, tiles left to
-    // right: the plain ones by the fixed-shape descent, then the general ones
-    // (the last column's, or all of the last row's) by emit(). Rows go to the
-    // workers as they come free, the last row first: all general tiles, the
-    // slowest. Then the stretched leaves are picked out of the general ones.
+    // Each row of tiles numbers its vertices, then writes its leaves straight
+    // into their place in the mesh, tiles left to right: the plain ones by the
+    // fixed-shape descent, then the general ones (the last column's, or all of
+    // the last row's) by emit(). Its leaves reach the next one's first row,
+    // which that one numbers: on a pool, rows go from the last one up (to the
+    // workers as they come free: the last row, all general tiles, is the
+    // slowest), and each waits for the one below to be numbered.
     mesh.triangles.resize(leaves);  // within capacity
     for (int ty = 0; ty < layout_.tiles_y; ++ty) {
       bands_[ty] = Band{};
       bands_[ty].leaves = mesh.triangles.data() + band_start_[ty];
       bands_[ty].stretched = stretched_ + static_cast<std::size_t>(ty) * stretched_per_band_;
+      row_done_[ty].store(0, std::memory_order_relaxed);
     }
-    const auto emit_band = [&](int ty, int w) {
-      if (pred_slots_ > 0) empty_band_slots(ty, mesh);
+    const auto number = [&](int ty, std::int32_t* ids) {
+      number_band(ty, mesh, ids, bands_[ty]);
+      row_done_[ty].store(1, std::memory_order_release);
+    };
+    const auto emit_band = [&](int ty) {
       Band b = bands_[ty];  // a local copy: neighbouring rows' Bands share cache lines
-      band_ids(ty, mesh, scratch_[static_cast<std::size_t>(w)].band_ids, b);
+      if (ty + 1 < layout_.tiles_y) {
+        // A short wait: the row below was taken before this one.
+        for (int spins = 0; row_done_[ty + 1].load(std::memory_order_acquire) == 0; ++spins) {
+          cpu_relax();
+          if (spins >= 4096) std::this_thread::yield();
+        }
+        next_first_row_ids(ty, mesh, b);
+      }
+      if (pred_slots_ > 0) empty_band_slots(ty, mesh);
       for (int tx = 0; tx < layout_.tiles_x; ++tx) {
         const int x0 = tx * S, y0 = ty * S;
         const bool plain = x0 + S < layout_.vw && y0 + S < layout_.vh;
@@ -982,11 +996,20 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       pool->run([&](int w) {
         if (w >= workers) return;  // each has its rows of ids
         for (int ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed); ty >= 0;
-             ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed))
-          emit_band(ty, w);
+             ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed)) {
+          number(ty, scratch_[static_cast<std::size_t>(w)].band_ids);
+          emit_band(ty);
+        }
       });
     } else {
-      for (int ty = 0; ty < layout_.tiles_y; ++ty) emit_band(ty, 0);
+      // In order, each row numbered one ahead (into the other of two sets of
+      // rows of ids), so that the mesh is written front to back.
+      const auto ids = [&](int ty) { return scratch_[static_cast<std::size_t>(ty & 1)].band_ids; };
+      number(0, ids(0));
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) {
+        if (ty + 1 < layout_.tiles_y) number(ty + 1, ids(ty + 1));
+        emit_band(ty);
+      }
     }
     serial([&] {
       collect_stretched();

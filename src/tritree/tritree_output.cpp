@@ -2,7 +2,7 @@
 // from the leaves: vertex ids by one scan of the vertex marks; the triangles,
 // rotated to their smallest id as pass 3 emits them, are already in the
 // hierarchy's order, and each row of tiles writes them straight into its
-// place: the scan also counts them (Euler's formula, number_vertices()).
+// place: the scan also counts them (Euler's formula, count_vertices()).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -116,66 +116,58 @@ std::size_t Tritree::count_vertices(Mesh& mesh, ThreadPool* pool) {
   return leaves;
 }
 
-void Tritree::number_band(int band, Mesh& mesh) const {
+// Pass 3 looks up a leaf's corners by position: each row of tiles numbers
+// its rows right before it emits, into the mesh and into its worker's rows of
+// ids, where they stay in cache (a W x H grid of ids, written by a numbering
+// pass of its own, was written and read cold in a frame).
+void Tritree::number_band(int band, Mesh& mesh, std::int32_t* ids, Band& b) const {
   const RtinLayout& L = layout_;
-  const int row_len = L.vw + 1, S = tile_;
+  const int w = gray_.width, row_len = L.vw + 1, S = tile_;
   int vy0, vy1;
   band_rows(band, &vy0, &vy1);
   std::int32_t id = band_first_id_[band];
   Vertex* out = mesh.vertices.data();
-  int next_y = vy0;  // next real row whose row_start is unset (the band's first row is never moved)
+  const int y0 = L.real_y(vy0);  // never moved: the band's first row is not the grid's last
+  int next_y = y0;                // next real row whose row_start is unset
   for (int vy = vy0; vy < vy1; ++vy) {
     const int y = L.real_y(vy);
     for (; next_y <= y; ++next_y) mesh.row_start[static_cast<std::size_t>(next_y)] = id;
+    std::int32_t* row_ids = ids + static_cast<std::size_t>(y - y0) * w;
     // Every column is its own but the last, vw (real_x), which the loop
     // leaves for after it: no per-vertex test.
     for (int vx0 = 0; vx0 < row_len; vx0 += 64) {
       std::uint64_t bits = vertex_bits(vy, vx0);
       if (vx0 + 64 >= row_len) bits &= ~(std::uint64_t{1} << (L.vw - vx0));
       for (; bits != 0; bits &= bits - 1) {
-        out[id++] = Vertex{vx0 + __builtin_ctzll(bits), y};
+        const int x = vx0 + __builtin_ctzll(bits);
+        row_ids[x] = id;
+        out[id++] = Vertex{x, y};
       }
     }
     if ((vy % S == 0 && L.vw % S == 0) || (need_[static_cast<std::size_t>(vy) * row_len + L.vw] & 1u)) {
-      out[id++] = Vertex{L.real_x(L.vw), y};
+      const int x = L.real_x(L.vw);
+      row_ids[x] = id;
+      out[id++] = Vertex{x, y};
     }
   }
   if (band + 1 == L.tiles_y) {  // the rows after the grid's last
     const auto total = static_cast<std::int32_t>(mesh.vertices.size());
     for (int y = L.real_y(L.vh) + 1; y <= gray_.height; ++y) mesh.row_start[static_cast<std::size_t>(y)] = total;
   }
-}
-
-// Pass 3 looks up a leaf's corners by position: each row of tiles places its
-// own rows' ids (and the next one's first row's) in its worker's rows of ids
-// right before it emits, where they stay in cache (a W x H grid of them,
-// written by the numbering, was written and read cold in a frame).
-void Tritree::band_ids(int band, const Mesh& mesh, std::int32_t* ids, Band& b) const {
-  int vy0, vy1;
-  band_rows(band, &vy0, &vy1);
-  const int y0 = layout_.real_y(vy0), y1 = layout_.real_y(std::min(vy1, layout_.vh));
-  const auto w = static_cast<std::size_t>(gray_.width);
-  const Vertex* v = mesh.vertices.data();
-  for (int y = y0; y <= y1; ++y) {
-    std::int32_t* row = ids + static_cast<std::size_t>(y - y0) * w;
-    const std::int32_t end = mesh.row_start[static_cast<std::size_t>(y) + 1];
-    for (std::int32_t id = mesh.row_start[static_cast<std::size_t>(y)]; id < end; ++id) row[v[id].x] = id;
-  }
   b.ids = ids;
   b.ids_y0 = y0;
 }
 
-std::size_t Tritree::number_vertices(Mesh& mesh, ThreadPool* pool) {
-  const std::size_t leaves = count_vertices(mesh, pool);
-  const int bands = layout_.tiles_y;
-  if (pool != nullptr && pool->size() > 1 && bands > 1) {
-    pool->run([&](int worker) {
-      for (int band = worker; band < bands; band += pool->size()) number_band(band, mesh);
-    });
-  } else {
-    for (int band = 0; band < bands; ++band) number_band(band, mesh);
-  }
-  return leaves;
+// The next row of tiles' first row (numbered by it: wait for that first)
+// into `b`'s ids, after its own rows.
+void Tritree::next_first_row_ids(int band, const Mesh& mesh, Band& b) const {
+  int vy0, vy1;
+  band_rows(band, &vy0, &vy1);
+  const auto y = static_cast<std::size_t>(layout_.real_y(vy1));
+  std::int32_t* row = b.ids + (y - static_cast<std::size_t>(b.ids_y0)) * static_cast<std::size_t>(gray_.width);
+  const Vertex* v = mesh.vertices.data();
+  const std::int32_t end = mesh.row_start[y + 1];
+  for (std::int32_t id = mesh.row_start[y]; id < end; ++id) row[v[id].x] = id;
 }
 
 // A row of tiles' leaves offer to the slots of the vertices of its rows and
@@ -239,7 +231,7 @@ void Tritree::finish(Mesh& mesh) {
     return;
   }
   // The split counts; each row of tiles' leaves are in place, as many as
-  // number_vertices() counted (anything else is a broken mesh: stop).
+  // count_vertices() counted (anything else is a broken mesh: stop).
   std::int64_t criterion = 0, forced = 0;
   for (int band = 0; band < layout_.tiles_y; ++band) {
     const Band& b = bands_[band];
