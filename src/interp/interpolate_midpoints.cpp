@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <type_traits>
 
 #include "src/interp/interpolate_planes.hpp"
@@ -86,7 +87,7 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
     // Every row, and S points past the last: a partial tile's crossing
     // squares (whose centres are vertices) read past the grid's last row
     // and column.
-    std::fill(scratch, values + (S + 1) * n + S, kUnknown);
+    std::memset(scratch, kMidpointUnknownByte, static_cast<std::size_t>(values + (S + 1) * n + S - scratch) * sizeof(*scratch));
     // The vertices' samples: each row's vertices are consecutive ids. The
     // last real column is on the grid's last, vw (the same column unless
     // the side is stretched, when real x = vw is no grid point).
