@@ -5,7 +5,6 @@
 #include <cstring>
 #include <string>
 #include <thread>
-#include <type_traits>
 
 #include "platform/clock.hpp"
 #include "platform/cpu_relax.hpp"
