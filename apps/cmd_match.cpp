@@ -48,7 +48,9 @@ to a temporary file in its folder and renamed into place when complete):
                             millimetres (0 = invalid); needs --calib or --camera
   --points OUT.ply          the dense map as a coloured point cloud in metres
   --samples OUT.csv         the samples (mesh vertices): x,y,disparity (for eval --samples)
-  --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds
+  --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds,
+                            and the run's own (run_ms: reading both inputs, configure,
+                            the frame, waiting for the swapped-pair check)
   --reference               run the float reference instead of the integer pipeline
 
 Cost: a frame takes time in proportion to D times (pixels + samples x window area +
@@ -63,7 +65,15 @@ in gray), mesh faces left out (vertices without a valid or finite depth).
 )";
 }  // namespace
 
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+}  // namespace
+
 int cmd_match(int argc, char** argv) {
+  const Clock::time_point t_start = Clock::now();
   std::set<std::string> values = {"disp",   "disp-color", "mesh",       "camera", "calib",
                                   "calib-format", "disp-format", "calib-unit", "depth", "points", "samples",
                                   "stats"};
@@ -107,6 +117,8 @@ int cmd_match(int argc, char** argv) {
   }
 
   MatchRun run;
+  Clock::time_point t_mark = Clock::now();
+  run.phases.read_inputs_ms = ms_between(t_start, t_mark);
   run.config = config;
   run.camera = camera_from_args(args, left.width, left.height, &run.camera_source);
   // The swapped-pair check reads the images only: it runs beside the frame
@@ -127,19 +139,27 @@ int cmd_match(int argc, char** argv) {
     if (!w.empty()) std::cerr << w << "\n";
   Pipeline pipeline;  // lives until the outputs are written: its result is not copied
   if (args.flag("reference")) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     run.output = run_reference(left, right, config.params);
-    run.timings.total_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                               std::chrono::steady_clock::now() - t0).count();
+    run.timings.total_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
     run.implementation = "reference";
+    run.phases.configure_ms = 0;
+    run.phases.frame_ms = ms_between(t0, Clock::now());
   } else {
+    t_mark = Clock::now();
     pipeline.configure(config);
+    const Clock::time_point t_configured = Clock::now();
+    run.phases.configure_ms = ms_between(t_mark, t_configured);
     run.result = &pipeline.process(left.view(), right.view());
+    run.phases.frame_ms = ms_between(t_configured, Clock::now());
     run.timings = pipeline.last_timings();
     run.implementation = std::string("integer/") + to_string(pipeline.active_kernels());
     run.threads = pipeline.worker_count();
   }
-  if (const std::string w = swapped.get(); !w.empty()) std::cerr << w << "\n";
+  t_mark = Clock::now();
+  const std::string swapped_text = swapped.get();
+  run.phases.checks_ms = ms_between(t_mark, Clock::now());
+  if (!swapped_text.empty()) std::cerr << swapped_text << "\n";
   write_match_outputs(args, left, run);
   print_match_summary(std::cout, run);
   return 0;

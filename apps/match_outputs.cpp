@@ -193,6 +193,14 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns));
   std::string text = buf;
+  if (run.phases.read_inputs_ms >= 0) {
+    std::snprintf(buf, sizeof buf,
+                  ",\n  \"run_ms\": {\"read_inputs\": %.3f, \"configure\": %.3f, \"frame\": %.3f, "
+                  "\"checks\": %.3f}\n}\n",
+                  run.phases.read_inputs_ms, run.phases.configure_ms, run.phases.frame_ms, run.phases.checks_ms);
+    text.resize(text.size() - 3);  // drop "\n}\n": the object goes on
+    text += buf;
+  }
   if (run.camera) {
     // The fields of a ROS stereo_msgs/DisparityImage for this frame.
     const Window w = valid_window(o.disp_q4);

@@ -24,6 +24,14 @@ struct MatchRun {
   int threads = 1;
   std::optional<CameraParams> camera;  // from --calib or --camera: metric outputs
   std::string camera_source;           // the calibration file, or "--camera"
+  // Where a one-shot run's wall time went before its outputs (--stats
+  // "run_ms"; docs/performance.md, "One-shot match"), in ms of steady clock:
+  // from the command's start through decoding both inputs, configure(), the
+  // frame as the caller sees it, and the wait for the swapped-pair check
+  // after it. Negative when not measured.
+  struct Phases {
+    double read_inputs_ms = -1, configure_ms = -1, frame_ms = -1, checks_ms = -1;
+  } phases;
 };
 
 // The camera of --calib FILE [--calib-format F] [--calib-unit U] or --camera
