@@ -47,4 +47,12 @@ esac
   -DTRISTEREO_BUILD_PYTHON=OFF "${flags[@]}"
 cmake --build "${build}" -j"$(nproc)"
 cd "${build}"
-ctest --output-on-failure --no-tests=error -j"$(nproc)"
+excluded=()
+if [[ "${mode}" == asan ]]; then
+  # The two tests that call mlockall (real-time mode) skip themselves under a
+  # sanitizer, which would lock its shadow memory; they are left out here so
+  # the report lists no skipped test (they run in the native and kernel-set
+  # stages, and in `sanitize-test.sh clang`).
+  excluded=(-E '^(ThreadPoolRealtime\.AppliesToEveryWorkerOrChangesNothing|Realtime\.EnableRealtimeSucceedsOrExplains)$')
+fi
+ctest --output-on-failure --no-tests=error -j"$(nproc)" "${excluded[@]}"
