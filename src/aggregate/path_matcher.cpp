@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
-#include <cstring>
 #include <string>
 #include <thread>
 
@@ -103,7 +102,6 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
     w.row_path = std::unique_ptr<std::uint16_t[]>(new std::uint16_t[2 * path_stride_ + 64]());
     w.scratch.resize(d);
     w.total.assign(cost_stride_ + 64, 0);
-    w.row_sums = untouched<std::uint16_t>(static_cast<std::size_t>(max_width) * cost_stride_ + 64);
     if (by_rows) {
       w.pixel_rows = untouched<std::uint16_t>(cost_elems(ring_len_));
       w.column_sums = untouched<std::uint16_t>(cost_elems(static_cast<std::size_t>(max_width) * cost_stride_));
@@ -151,8 +149,7 @@ std::size_t PathMatcher::working_memory_bytes() const {
     bytes += pass_paths_[pass].size() * ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) +
                                          2 * sizeof(LargeArray<std::uint16_t>));
   for (const Worker& w : workers_)
-    bytes += (2 * path_stride_ + 64 + static_cast<std::size_t>(max_width_) * cost_stride_ + 64) * sizeof(std::uint16_t) +
-             w.scratch.working_memory_bytes() +
+    bytes += (2 * path_stride_ + 64) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
              capacity_bytes(w.total) + capacity_bytes(w.slot_row) +
              capacity_bytes(w.lr_cost) + capacity_bytes(w.lr_k) + capacity_bytes(w.row_k) +
              (w.pixel_rows ? (ring_len_ + static_cast<std::size_t>(max_width_) * cost_stride_) *
@@ -460,13 +457,11 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
   // Sample i at (x, y) with intensity ip; `add`: S(i) holds the other pass's
   // sums already; `hq`: its horizontal predecessor's x and intensity, or
   // hq_x = -1 for none.
-  // `sum`: where S(i) is, and where this pass adds its paths (add) or writes
-  // them; a completed row for match() has S(i) copied into the worker's row
-  // first (S's own row is then only read).
-  const auto step_sample = [&](int i, bool add, int x, int y, int ip, int hq_x, int hq_i, std::uint16_t* sum) {
+  const auto step_sample = [&](int i, bool add, int x, int y, int ip, int hq_x, int hq_i) {
     if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
     else slot = slot == 0 ? ring_n - 1 : slot - 1;
     const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
+    std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
     // Horizontal: the predecessor is the previous step's sample when it is on the same row.
     std::uint16_t* out = ring[step & 1];
     const std::uint16_t* prev = zero;
@@ -515,20 +510,14 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
   };
   // A row's samples in the pass's order, each with the one before as its
   // horizontal predecessor.
-  const auto step_row = [&](int y, int v0, int v1, bool add, std::uint16_t* row_sums) {
+  const auto step_row = [&](int y, int v0, int v1, bool add) {
     const std::uint8_t* g = gray.row(y);
     const int di = forward ? 1 : -1;
     int hq_x = -1, hq_i = 0;
     for (int i = forward ? v0 : v1 - 1; forward ? i < v1 : i >= v0; i += di) {
       const int x = dense ? i - v0 : verts[i].x;
       const int ip = g[x];
-      std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
-      if (row_sums != nullptr) {
-        std::uint16_t* own = row_sums + row(i - v0, cost_stride_);
-        std::memcpy(own, sum, static_cast<std::size_t>(d) * sizeof(std::uint16_t));
-        sum = own;
-      }
-      step_sample(i, add, x, y, ip, hq_x, hq_i, sum);
+      step_sample(i, add, x, y, ip, hq_x, hq_i);
       hq_x = x;
       hq_i = ip;
     }
@@ -543,13 +532,12 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     const bool first = row_claim_[static_cast<std::size_t>(y)].fetch_add(1, std::memory_order_relaxed) == 0;
     if (!first)
       while (done.load(std::memory_order_acquire) == 0) std::this_thread::yield();
-    std::uint16_t* row_sums = !first && decide != nullptr ? wk.row_sums.get() : nullptr;
-    step_row(y, v0, v1, !first, row_sums);
+    step_row(y, v0, v1, !first);
     if (first) {
       done.store(1, std::memory_order_release);
     } else if (decide != nullptr) {
       decide->begin_row(y);
-      for (int i = v0; i < v1; ++i) decide->sample(i, row_sums + row(i - v0, cost_stride_));
+      for (int i = v0; i < v1; ++i) decide->sample(i, sum_.get() + row(i, cost_stride_));
       decide->end_row();
     }
   }

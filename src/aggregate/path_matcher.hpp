@@ -193,10 +193,6 @@ class PathMatcher {
     // right pixel of the row (index W - 1 - xr + ... see select), and each
     // sample's k.
     std::vector<std::uint16_t> lr_cost, lr_k, row_k;
-    // match(): the final S of the row this worker's pass completes, by sample
-    // of the row, in place of S's own row. The row is decided from here and S
-    // is not written back (a sixth of the path passes' memory traffic).
-    LargeArray<std::uint16_t> row_sums;
   };
   std::vector<Worker> workers_;
   template <class T>
