@@ -19,13 +19,17 @@ process's user + system time against the profile's CPU time per frame, all
 threads) do not, and with --threads 1 their ratio is what the wall ratio is on
 an idle machine.
 
+--raw decodes each pair once (the project's Python module, from BUILD/python)
+into binary PPM/PGM files in a temporary folder and measures on those: the same
+frames without PNG's inflate in the reading.
+
 --pause S sleeps S seconds before each match: a one-shot run after the machine
 sat idle. In a virtual machine whose balloon reports free pages (see
 `tristereo info`, "huge pages"), the host takes freed memory back within
 seconds, and a first touch of it costs more; back-to-back runs never see that.
 
 Usage: /usr/bin/python3 scripts/first_frame.py [--build build] [--runs 7]
-           [--threads N] [--pause S] [--data DIR] [--markdown]
+           [--threads N] [--pause S] [--raw] [--data DIR] [--markdown]
 """
 import argparse
 import json
@@ -45,6 +49,16 @@ def run(cmd):
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 
 
+def write_raw(png, out, build):
+    """PNG -> binary PPM (RGB) or PGM (gray), decoded by the project's own reader."""
+    sys.path.insert(0, os.path.join(build, "python"))
+    import tristereo  # noqa: E402 (the build's module)
+    img = tristereo.read_image(png)
+    with open(out, "wb") as f:
+        f.write(b"P%d\n%d %d\n255\n" % (6 if img.ndim == 3 else 5, img.shape[1], img.shape[0]))
+        f.write(img.tobytes())
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -54,6 +68,8 @@ def main():
                                                      os.path.join(ROOT, "..", "shared", "data")))
     ap.add_argument("--pause", type=float, default=0.0,
                     help="seconds to sleep before each match (default 0: back to back)")
+    ap.add_argument("--raw", action="store_true",
+                    help="measure on the pairs decoded once into binary PPM/PGM (no PNG inflate)")
     ap.add_argument("--markdown", action="store_true", help="print the table as Markdown")
     a = ap.parse_args()
     exe = os.path.join(a.build, "tristereo")
@@ -65,6 +81,11 @@ def main():
             if not os.path.exists(left):
                 print("first_frame: %s not found, skipped" % left, file=sys.stderr)
                 continue
+            if a.raw:
+                raw = [os.path.join(tmp, "%s_%s.ppm" % (pair.replace("/", "_"), n)) for n in ("left", "right")]
+                for png, out in zip((left, right), raw):
+                    write_raw(png, out, a.build)
+                left, right = raw
             common = ["--ndisp", str(ndisp), "--threads", str(a.threads)]
             walls, firsts, frames, cpus, frame_cpus, reads, confs, calls = [], [], [], [], [], [], [], []
             for _ in range(a.runs):
@@ -109,8 +130,8 @@ def main():
         print("  ".join(head))
         for r in rows:
             print("  ".join(f % v for f, v in zip(fmt, r)))
-    print("(%d paired runs per pair, threads %s, %s; medians of the per-pair ratios)" % (
-        a.runs, a.threads if a.threads else "one per CPU",
+    print("(%d paired runs per pair, threads %s, %s%s; medians of the per-pair ratios)" % (
+        a.runs, a.threads if a.threads else "one per CPU", "raw PPM/PGM inputs, " if a.raw else "",
         "%g s idle before each match" % a.pause if a.pause > 0 else "back to back"))
 
 
