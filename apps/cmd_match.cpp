@@ -63,9 +63,7 @@ Warnings (stderr, exit 0): LEFT and RIGHT probably swapped, a disparity range wi
 match inside the image, more --threads than CPUs, a gray image with an RGB one (matched
 in gray), mesh faces left out (vertices without a valid or finite depth).
 )";
-}  // namespace
 
-namespace {
 using Clock = std::chrono::steady_clock;
 double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();

@@ -13,10 +13,11 @@ drifts); the table gives medians over the pairs of wall / frame and of first
 frame / frame. From the match's --stats "run_ms": reading (decoding) both
 inputs, configure(), and the wall time outside the frame (the whole process
 less the frame as the command saw it: start, reading, configure, the checks,
-writing, exit), beside the half frame that 1.5x leaves for all of it. Target (issue #15): wall <= 1.5x the frame. On a machine busy
-with other work, wall times stretch with the load; the CPU columns (the match
-process's user + system time against the profile's CPU time per frame, all
-threads) do not, and with --threads 1 their ratio is what the wall ratio is on
+writing, exit), beside the half frame that 1.5x leaves for all of it.
+Target (issue #15): wall <= 1.5x the frame. On a machine busy with other
+work, wall times stretch with the load; the CPU columns (the match process's
+user + system time against the profile's CPU time per frame, all threads) do
+not, and with --threads 1 their ratio is what the wall ratio is on
 an idle machine.
 
 --raw decodes each pair once (the project's Python module, from BUILD/python)
@@ -49,11 +50,9 @@ def run(cmd):
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 
 
-def write_raw(png, out, build):
+def write_raw(png, out, module):
     """PNG -> binary PPM (RGB) or PGM (gray), decoded by the project's own reader."""
-    sys.path.insert(0, os.path.join(build, "python"))
-    import tristereo  # noqa: E402 (the build's module)
-    img = tristereo.read_image(png)
+    img = module.read_image(png)
     with open(out, "wb") as f:
         f.write(b"P%d\n%d %d\n255\n" % (6 if img.ndim == 3 else 5, img.shape[1], img.shape[0]))
         f.write(img.tobytes())
@@ -73,6 +72,10 @@ def main():
     ap.add_argument("--markdown", action="store_true", help="print the table as Markdown")
     a = ap.parse_args()
     exe = os.path.join(a.build, "tristereo")
+    module = None
+    if a.raw:
+        sys.path.insert(0, os.path.join(a.build, "python"))
+        import tristereo as module  # the build's own module
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         stats, prof = os.path.join(tmp, "stats.json"), os.path.join(tmp, "profile.json")
@@ -84,7 +87,7 @@ def main():
             if a.raw:
                 raw = [os.path.join(tmp, "%s_%s.ppm" % (pair.replace("/", "_"), n)) for n in ("left", "right")]
                 for png, out in zip((left, right), raw):
-                    write_raw(png, out, a.build)
+                    write_raw(png, out, module)
                 left, right = raw
             common = ["--ndisp", str(ndisp), "--threads", str(a.threads)]
             walls, firsts, frames, cpus, frame_cpus, reads, confs, calls = [], [], [], [], [], [], [], []

@@ -18,7 +18,7 @@ build="${1:-${repo}/build-tsan}"
 regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|SideWork|Tritree\.IdenticalForAnyThreadCount|TritreePredecessors|PathAggregation|FillThreads|PipelineThreads\.(SyntheticScene|WorkersArePinned|SecondPipeline|Reconfigure))}"
 targets=(thread_pool_test work_chunks_test platform_test tritree_test tritree_predecessors_test paths_test sample_fill_test pipeline_threads_test)
 jobs="${TSAN_JOBS:-$(nproc)}"
-kLocksMemory='^(ThreadPoolRealtime\.AppliesToEveryWorkerOrChangesNothing|Realtime\.EnableRealtimeSucceedsOrExplains)$'
+locks_memory='^(ThreadPoolRealtime\.AppliesToEveryWorkerOrChangesNothing|Realtime\.EnableRealtimeSucceedsOrExplains)$'
 
 cmake -S "${repo}" -B "${build}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTRISTEREO_TSAN=ON -DTRISTEREO_BUILD_BENCH=OFF -DTRISTEREO_BUILD_APPS=OFF
@@ -44,4 +44,4 @@ cd "${build}"
 # The two tests that call mlockall (real-time mode) skip themselves under a
 # sanitizer, which would lock its shadow memory; they are left out here so the
 # report lists no skipped test (they run in the native and kernel-set stages).
-"${runner[@]}" ctest --output-on-failure -R "${regex}" -E "${kLocksMemory}"
+"${runner[@]}" ctest --output-on-failure -R "${regex}" -E "${locks_memory}"
