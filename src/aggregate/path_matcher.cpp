@@ -80,22 +80,28 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   zero_path_.assign(path_stride_, 0);
   zero_path_[0] = kGuard;
   zero_path_[static_cast<std::size_t>(d) + 1] = kGuard;
-  // Predecessors (find_predecessors, predecessor()) lie within S + 1 rows:
-  // fewer than (S + 2) rows of samples apart.
-  const std::size_t ring = std::min(
-      n, static_cast<std::size_t>(tile_side_for(params.tritree.max_area_px2) + 2) * static_cast<std::size_t>(max_width) + 1);
-  ring_samples_ = static_cast<int>(ring);
-  for (int pass = 0; pass < 2; ++pass) {
-    pass_paths_[pass].clear();
-    pass_mins_[pass].clear();
-    for (int j = 0; j < directions_ / 2 - 1; ++j) {
-      pass_paths_[pass].push_back(untouched<std::uint16_t>(ring * path_stride_ + 64));
-      pass_mins_[pass].push_back(untouched<std::uint16_t>(ring));
-    }
+  // The rings hold the rows of the bands under way plus the rows their
+  // predecessors reach up (plan_pass): mesh edges span at most a tile side + 1
+  // rows (a leaf's edges span at most a tile side, plus the stretch).
+  max_in_flight_ = workers == 1 ? 1 : workers + 1;
+  const std::size_t ring_rows = static_cast<std::size_t>(max_in_flight_) * kMaxRowsPerBand +
+                                static_cast<std::size_t>(tile_side_for(params.tritree.max_area_px2) + 2);
+  const std::size_t ring = std::min(n, ring_rows * static_cast<std::size_t>(max_width) + 1);
+  ring_capacity_ = static_cast<int>(ring);
+  path_rings_.clear();
+  path_mins_.clear();
+  for (int j = 0; j < directions_ / 2 - 1; ++j) {
+    path_rings_.push_back(untouched<std::uint16_t>(ring * path_stride_ + 64));
+    path_mins_.push_back(untouched<std::uint16_t>(ring));
   }
+  carry_.assign(static_cast<std::size_t>(max_in_flight_) * kMaxRowsPerBand, RowCarry{});
+  carry_paths_.assign(carry_.size() * path_stride_ + 64, 0);
+  for (std::size_t c = 0; c < carry_.size(); ++c) {
+    carry_paths_[c * path_stride_] = kGuard;
+    carry_paths_[c * path_stride_ + static_cast<std::size_t>(d) + 1] = kGuard;
+  }
+  wavefront_.configure(max_height);
   sum_ = untouched<std::uint16_t>(n * cost_stride_);
-  row_claim_.reset(new std::atomic<int>[static_cast<std::size_t>(max_height)]);
-  row_done_.reset(new std::atomic<int>[static_cast<std::size_t>(max_height)]);
   workers_.clear();
   workers_.resize(static_cast<std::size_t>(workers));
   for (Worker& w : workers_) {
@@ -122,32 +128,30 @@ void PathMatcher::release() {
   costs_.reset();
   preds_.reset();
   sum_.reset();
-  row_claim_.reset();
-  row_done_.reset();
   costs_len_ = preds_len_ = 0;
   max_samples_ = 0;
-  ring_samples_ = 0;
+  ring_capacity_ = 0;
+  std::vector<RowCarry>().swap(carry_);
+  std::vector<std::uint16_t>().swap(carry_paths_);
+  wavefront_.configure(1);
   std::vector<std::uint32_t>().swap(p1_by_gap_);
   std::vector<std::uint32_t>().swap(p2_by_gap_);
   std::vector<std::uint16_t>().swap(zero_path_);
   std::vector<Worker>().swap(workers_);
-  for (int pass = 0; pass < 2; ++pass) {
-    std::vector<LargeArray<std::uint16_t>>().swap(pass_paths_[pass]);
-    std::vector<LargeArray<std::uint16_t>>().swap(pass_mins_[pass]);
-  }
+  std::vector<LargeArray<std::uint16_t>>().swap(path_rings_);
+  std::vector<LargeArray<std::uint16_t>>().swap(path_mins_);
   kernels_ = nullptr;
 }
 
 std::size_t PathMatcher::working_memory_bytes() const {
-  const std::size_t rows = row_claim_ ? static_cast<std::size_t>(max_samples_ / max_width_) : 0;
+  const std::size_t bands = kernels_ != nullptr ? static_cast<std::size_t>(max_samples_ / max_width_) : 0;
   std::size_t bytes = 2 * costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
-                      2 * rows * sizeof(std::atomic<int>) +
+                      bands * 64 +  // the wavefront's state, a cache line per band
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
-                      capacity_bytes(workers_);
-  const auto ring = static_cast<std::size_t>(ring_samples_);
-  for (int pass = 0; pass < 2; ++pass)
-    bytes += pass_paths_[pass].size() * ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) +
-                                         2 * sizeof(LargeArray<std::uint16_t>));
+                      capacity_bytes(workers_) + capacity_bytes(carry_) + capacity_bytes(carry_paths_);
+  const auto ring = static_cast<std::size_t>(ring_capacity_);
+  bytes += path_rings_.size() *
+           ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) + 2 * sizeof(LargeArray<std::uint16_t>));
   for (const Worker& w : workers_)
     bytes += (2 * path_stride_ + 64) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
              capacity_bytes(w.total) + capacity_bytes(w.slot_row) +
@@ -173,12 +177,14 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
   // (Unless the mesher wrote them while it built this mesh: use_predecessors.)
   const bool supplied = !samples.dense() && supplied_for_ == samples.mesh;
   supplied_for_ = nullptr;
-  side_next_.store(samples.dense() || supplied ? 1 : 0, std::memory_order_relaxed);
+  side_next_.store(samples.dense() ? 1 : 0, std::memory_order_relaxed);
   int reach = supplied ? supplied_reach_ : 0;
   if (supplied) reach_ = reach;
   preds_for_ = nullptr;
   const auto side_tasks = [&] {
-    if (side_next_.fetch_add(1, std::memory_order_relaxed) == 0) reach_ = reach = find_predecessors(samples);
+    if (side_next_.fetch_add(1, std::memory_order_relaxed) != 0) return;
+    if (!supplied) reach_ = reach = find_predecessors(samples);
+    bounds_ = predecessor_bounds(samples);
   };
   if (params_.cost.kind == CostKind::kCensus) {
     // Chunks of 16 rows. A chunk needs the window's rows above it, which its
@@ -369,9 +375,9 @@ int PathMatcher::find_predecessors(const SampleLayout& samples) {
 // The rings of run_pass hold ring_samples_ samples: enough for every tritree
 // mesh. Another mesh whose edges reach further is refused before any pass.
 void PathMatcher::check_reach(int reach) const {
-  if (reach >= ring_samples_)
+  if (reach >= ring_capacity_)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: a mesh edge spans " + std::to_string(reach) +
-                                                 " samples, the path rings hold " + std::to_string(ring_samples_) +
+                                                 " samples, the path rings hold " + std::to_string(ring_capacity_) +
                                                  " (edges of at most tile side + 1 rows)");
 }
 
@@ -395,26 +401,97 @@ int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
       preds_[static_cast<std::size_t>(i) * static_cast<std::size_t>(directions_ - 2) + static_cast<std::size_t>(r - 2)]);
 }
 
-int PathMatcher::frame_ring(const SampleLayout& samples) const {
-  // Dense: the predecessors are the pixels of the row above or below.
-  const int reach = samples.dense() ? samples.width + 1 : reach_;
-  return std::max(1, std::min({samples.count(), reach + 1, ring_samples_}));
+PathMatcher::PredecessorBounds PathMatcher::predecessor_bounds(const SampleLayout& samples) const {
+  PredecessorBounds b;
+  if (samples.dense()) {
+    // The pixel above or below, and with 8 directions the diagonal ones: one
+    // pixel ahead per row.
+    b.reach_rows = 1;
+    b.shear[0] = b.shear[1] = directions_ == 8 ? 1 : 0;
+    return b;
+  }
+  const int n = samples.count();
+  const auto per = static_cast<std::size_t>(directions_ - 2);
+  const Vertex* v = samples.mesh->vertices.data();
+  const std::int32_t* preds = preds_.get();
+  for (int i = 0; i < n; ++i) {
+    const Vertex p = v[i];
+    for (std::size_t s = 0; s < per; ++s) {
+      const int q = predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + s]);
+      if (q < 0) continue;
+      const int dy = std::max(1, std::abs(p.y - v[q].y));
+      const int pass = path_runs_forward(static_cast<int>(s) + 2) ? 0 : 1;
+      const int ahead = pass == 0 ? v[q].x - p.x : p.x - v[q].x;  // along the pass's x order
+      b.reach_rows = std::max(b.reach_rows, dy);
+      if (ahead > 0) b.shear[pass] = std::max(b.shear[pass], (ahead + dy - 1) / dy);
+    }
+  }
+  return b;
 }
 
-void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> gray,
-                           bool forward, int worker, RowDecider* decide) {
+// Tiles: a band of R rows cut into blocks of B pixels along the pass's x
+// order u (x forward, W - 1 - x backward), each border moved back by `shear`
+// pixels per row down the band. A predecessor q of p is at most reach_rows
+// rows up and shear x (rows up) pixels ahead, so it lies in p's tile (an
+// earlier row), a tile to its left, or a band above at most
+// lead = ceil(shear R / B) tiles ahead per band: the wavefront's rule.
+// Sparse rows hold few samples, so their bands are taller (about 32 samples a
+// tile); a dense row's block is enough.
+PathMatcher::PassPlan PathMatcher::plan_pass(const SampleLayout& samples, bool forward, int workers) const {
+  PassPlan p;
+  p.forward = forward;
+  const int w = samples.width, h = samples.height;
+  const std::int64_t n = std::max(1, samples.count());
+  if (samples.dense()) {
+    p.rows_per_band = 1;
+    p.block = 32;
+  } else {
+    p.block = 16;
+    p.rows_per_band = static_cast<int>(std::clamp<std::int64_t>(std::int64_t{2} * w * h / n, 1, kMaxRowsPerBand));
+  }
+  p.shear = bounds_.shear[forward ? 0 : 1];
+  const int r = p.rows_per_band;
+  p.bands = (h + r - 1) / r;
+  p.cols = (w + p.block - 1) / p.block;
+  p.lead = static_cast<int>(std::min<std::int64_t>(p.cols, (std::int64_t{p.shear} * r + p.block - 1) / p.block));
+  // The ring holds, for the band being started, the rows of the bands still
+  // under way and the rows their predecessors reach up: fewer bands under way
+  // when a frame's rows would not fit (a mesh with long edges).
+  const auto span = [&](int in_flight) {
+    int most = 1;
+    for (int k = 0; k < p.bands; ++k) {
+      const int r0 = std::max(0, k * r - (in_flight - 1) * r - bounds_.reach_rows);
+      const int r1 = std::min(h - 1, k * r + r - 1);
+      const int y0 = forward ? r0 : h - 1 - r1, y1 = forward ? r1 : h - 1 - r0;
+      most = std::max(most, samples.row_end(y1) - samples.row_begin(y0) + 1);
+    }
+    return std::min(most, std::max(1, samples.count()));  // a slot per sample is always enough
+  };
+  p.in_flight = std::max(1, std::min(max_in_flight_, workers == 1 ? 1 : workers + 1));
+  p.ring_n = span(p.in_flight);
+  while (p.ring_n > ring_capacity_ && p.in_flight > 1) p.ring_n = span(--p.in_flight);
+  if (p.ring_n > ring_capacity_)
+    throw Error(ErrorCode::kInvalidArgument, "path matcher: mesh edges span " + std::to_string(bounds_.reach_rows) +
+                                                 " rows, the path rings hold " + std::to_string(ring_capacity_) +
+                                                 " samples (edges of at most tile side + 1 rows)");
+  return p;
+}
+
+void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uint8_t> gray, const PassPlan& plan,
+                           int band, int col, int worker) {
   Worker& wk = workers_[static_cast<std::size_t>(worker)];
   const KernelSet& ks = *kernels_;
-  const int n = samples.count();
+  const bool forward = plan.forward;
   const int d = num_disp_;
   const int edge_scale = params_.paths.p2_edge_scale;
   const int pass = forward ? 0 : 1;
+  const int add = pass;  // the backward pass adds to the forward pass's S
   const int others = directions_ / 2 - 1;  // vertical and diagonal directions of the pass
   std::uint16_t* paths[3] = {};
   std::uint16_t* mins[3] = {};
   for (int j = 0; j < others; ++j) {
-    paths[j] = pass_paths_[pass][static_cast<std::size_t>(j)].get();
-    mins[j] = pass_mins_[pass][static_cast<std::size_t>(j)].get();
+    paths[j] = path_rings_[static_cast<std::size_t>(j)].get();
+    mins[j] = path_mins_[static_cast<std::size_t>(j)].get();
   }
   std::uint16_t* ring[2] = {wk.row_path.get(), wk.row_path.get() + path_stride_};
   for (std::uint16_t* r : ring) {
@@ -441,104 +518,101 @@ void PathMatcher::run_pass(const SampleLayout& samples, ImageView<const std::uin
     *p2 = static_cast<std::uint16_t>(b);
   };
   const std::uint16_t* zero = zero_path_.data() + 1;
-  std::uint16_t row_min = 0;
-  const int ring_n = frame_ring(samples);
-  int slot = forward ? ring_n - 1 : (n - 1) % ring_n + 1;  // slot of i, stepped before use
-  int step = 0;
+  const int ring_n = plan.ring_n;
   // Predecessors: the horizontal one is the row's previous sample in the
-  // pass's order; a mesh's others come from the predecessor table, a dense
-  // frame's are the neighbouring pixels (predecessor()'s rule, without its
-  // divisions: the sample's x and y are the loop's).
+  // pass's order (carried from tile to tile); a mesh's others come from the
+  // predecessor table, a dense frame's are the neighbouring pixels
+  // (predecessor()'s rule, without its divisions).
   const bool dense = samples.dense();
   const int w = samples.width, h = samples.height;
   const Vertex* verts = dense ? nullptr : samples.mesh->vertices.data();
   const std::int32_t* preds = preds_.get();
   const auto per = static_cast<std::size_t>(directions_ - 2);
-  // Sample i at (x, y) with intensity ip; `add`: S(i) holds the other pass's
-  // sums already; `hq`: its horizontal predecessor's x and intensity, or
-  // hq_x = -1 for none.
-  const auto step_sample = [&](int i, bool add, int x, int y, int ip, int hq_x, int hq_i) {
-    if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
-    else slot = slot == 0 ? ring_n - 1 : slot - 1;
-    const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
-    std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
-    // Horizontal: the predecessor is the previous step's sample when it is on the same row.
-    std::uint16_t* out = ring[step & 1];
-    const std::uint16_t* prev = zero;
-    std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
-    if (hq_x >= 0) {
-      penalties(x, y, ip, hq_x, y, hq_i, &p1, &p2);
-      prev = ring[(step & 1) ^ 1] + 1;
-      prev_min = row_min;
-    }
-    row_min = ks.path_step_u16(cost, prev, prev_min, p1, p2, d, out + 1, sum, add ? 1 : 0);
-    ++step;
-    for (int j = 0; j < others; ++j) {
-      const int r = 2 * (j + 1) + pass;
-      std::uint16_t* path = paths[j];
-      std::uint16_t* o = path + row(slot, path_stride_);
-      o[0] = kGuard;
-      o[d + 1] = kGuard;
-      int qr = -1, qx = 0, qy = 0;
-      if (dense) {
-        const PathDirection u = kPathDirections[r];
-        qy = y - u.dy;
-        if (qy >= 0 && qy < h) {
-          qx = x - u.dx >= 0 && x - u.dx < w ? x - u.dx : x;
-          qr = qy * w + qx;
-        }
-      } else {
-        qr = predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(r - 2)]);
-        if (qr >= 0) {
-          qx = verts[qr].x;
-          qy = verts[qr].y;
-        }
-      }
-      const std::uint16_t* pr = zero;
-      std::uint16_t pm = 0, a1 = 0, a2 = 0;
-      if (qr >= 0) {
-        penalties(x, y, ip, qx, qy, gray.row(qy)[qx], &a1, &a2);
-        // |i - qr| < ring_n (frame_ring; checked by find_predecessors in sparse mode).
-        int qs = slot + (qr - i);
-        if (qs < 0) qs += ring_n;
-        else if (qs >= ring_n) qs -= ring_n;
-        pr = path + row(qs, path_stride_) + 1;
-        pm = mins[j][qs];
-      }
-      mins[j][slot] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
-    }
-  };
-  // A row's samples in the pass's order, each with the one before as its
-  // horizontal predecessor.
-  const auto step_row = [&](int y, int v0, int v1, bool add) {
-    const std::uint8_t* g = gray.row(y);
-    const int di = forward ? 1 : -1;
-    int hq_x = -1, hq_i = 0;
-    for (int i = forward ? v0 : v1 - 1; forward ? i < v1 : i >= v0; i += di) {
-      const int x = dense ? i - v0 : verts[i].x;
-      const int ip = g[x];
-      step_sample(i, add, x, y, ip, hq_x, hq_i);
-      hq_x = x;
-      hq_i = ip;
-    }
-  };
-  for (int r = 0; r < samples.height; ++r) {
-    const int y = forward ? r : samples.height - 1 - r;
+  const int rows = plan.rows_per_band;
+  const int di = forward ? 1 : -1;
+  const std::size_t carry_base = static_cast<std::size_t>(band % plan.in_flight) * kMaxRowsPerBand;
+  for (int j = 0; j < rows; ++j) {
+    const int r = band * rows + j;
+    if (r >= h) break;
+    const int y = forward ? r : h - 1 - r;
     const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
     if (v0 == v1) continue;
-    // The first pass at this row writes S; the second adds, once the first is
-    // done with the row (only where two workers meet does it wait).
-    std::atomic<int>& done = row_done_[static_cast<std::size_t>(y)];
-    const bool first = row_claim_[static_cast<std::size_t>(y)].fetch_add(1, std::memory_order_relaxed) == 0;
-    if (!first)
-      while (done.load(std::memory_order_acquire) == 0) std::this_thread::yield();
-    step_row(y, v0, v1, !first);
-    if (first) {
-      done.store(1, std::memory_order_release);
-    } else if (decide != nullptr) {
-      decide->begin_row(y);
-      for (int i = v0; i < v1; ++i) decide->sample(i, sum_.get() + row(i, cost_stride_));
-      decide->end_row();
+    RowCarry& carry = carry_[carry_base + static_cast<std::size_t>(j)];
+    std::uint16_t* carry_path = carry_paths_.data() + (carry_base + static_cast<std::size_t>(j)) * path_stride_;
+    if (col == 0) {
+      carry.next = forward ? v0 : v1 - 1;
+      carry.hq_x = -1;
+    }
+    const int u_end = col + 1 == plan.cols ? w : (col + 1) * plan.block - plan.shear * j;
+    int i = carry.next;
+    const std::uint8_t* g = gray.row(y);
+    const std::uint16_t* hprev = carry_path + 1;
+    std::uint16_t hmin = carry.min;
+    int hq_x = carry.hq_x, hq_i = carry.hq_i;
+    int slot = i % ring_n;
+    int step = 0;
+    for (; forward ? i < v1 : i >= v0; i += di) {
+      const int x = dense ? i - v0 : verts[i].x;
+      if ((forward ? x : w - 1 - x) >= u_end) break;
+      const int ip = g[x];
+      const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
+      std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
+      std::uint16_t* out = ring[step & 1];
+      const std::uint16_t* prev = zero;
+      std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
+      if (hq_x >= 0) {
+        penalties(x, y, ip, hq_x, y, hq_i, &p1, &p2);
+        prev = hprev;
+        prev_min = hmin;
+      }
+      hmin = ks.path_step_u16(cost, prev, prev_min, p1, p2, d, out + 1, sum, add);
+      hprev = out + 1;
+      ++step;
+      for (int k = 0; k < others; ++k) {
+        const int rd = 2 * (k + 1) + pass;
+        std::uint16_t* path = paths[k];
+        std::uint16_t* o = path + row(slot, path_stride_);
+        o[0] = kGuard;
+        o[d + 1] = kGuard;
+        int qr = -1, qx = 0, qy = 0;
+        if (dense) {
+          const PathDirection u = kPathDirections[rd];
+          qy = y - u.dy;
+          if (qy >= 0 && qy < h) {
+            qx = x - u.dx >= 0 && x - u.dx < w ? x - u.dx : x;
+            qr = qy * w + qx;
+          }
+        } else {
+          qr = predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + static_cast<std::size_t>(rd - 2)]);
+          if (qr >= 0) {
+            qx = verts[qr].x;
+            qy = verts[qr].y;
+          }
+        }
+        const std::uint16_t* pr = zero;
+        std::uint16_t pm = 0, a1 = 0, a2 = 0;
+        if (qr >= 0) {
+          penalties(x, y, ip, qx, qy, gray.row(qy)[qx], &a1, &a2);
+          // |i - qr| < ring_n (plan_pass: the ring spans the rows predecessors reach).
+          int qs = slot + (qr - i);
+          if (qs < 0) qs += ring_n;
+          else if (qs >= ring_n) qs -= ring_n;
+          pr = path + row(qs, path_stride_) + 1;
+          pm = mins[k][qs];
+        }
+        mins[k][slot] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
+      }
+      hq_x = x;
+      hq_i = ip;
+      if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;
+      else slot = slot == 0 ? ring_n - 1 : slot - 1;
+    }
+    carry.next = i;
+    if (step > 0) {
+      std::copy_n(hprev, d, carry_path + 1);
+      carry.min = hmin;
+      carry.hq_x = hq_x;
+      carry.hq_i = hq_i;
     }
   }
 }
@@ -551,25 +625,40 @@ void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::ui
 PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
                                                   ImageView<const std::uint8_t> left_gray, ThreadPool& pool,
                                                   std::int16_t* disp_q4) {
-  if (!samples.dense() && preds_for_ != samples.mesh) {
+  if (samples.dense()) {
+    bounds_ = predecessor_bounds(samples);
+  } else if (preds_for_ != samples.mesh) {
     reach_ = find_predecessors(samples);
     check_reach(reach_);
+    bounds_ = predecessor_bounds(samples);
   }
   preds_for_ = nullptr;  // the next frame finds its own
-  for (int y = 0; y < samples.height; ++y) {
-    row_claim_[static_cast<std::size_t>(y)].store(0, std::memory_order_relaxed);
-    row_done_[static_cast<std::size_t>(y)].store(0, std::memory_order_relaxed);
-  }
-  dirs_.reset(0, 2, 1);
   RejectedSum rejected;
-  pool.run([&](int w) {
-    RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
-    int p0 = 0, p1 = 0;
-    while (dirs_.next(&p0, &p1))
-      for (int pass = p0; pass < p1; ++pass)
-        run_pass(samples, left_gray, pass == 0, w, disp_q4 != nullptr ? &decide : nullptr);
-    rejected.add(decide.rejected);
-  });
+  for (int pass = 0; pass < 2; ++pass) {
+    const PassPlan plan = plan_pass(samples, pass == 0, pool.size());
+    const bool decide_rows = pass == 1 && disp_q4 != nullptr;
+    wavefront_.reset(plan.bands, plan.cols, plan.lead, plan.in_flight);
+    pool.run([&](int w) {
+      RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
+      int band = -1, col = 0;
+      while (wavefront_.next(&band, &col)) {
+        run_tile(samples, left_gray, plan, band, col, w);
+        if (!wavefront_.finish(band, col) || !decide_rows) continue;
+        // The band's S is complete: decide its rows while they are in cache.
+        for (int j = 0; j < plan.rows_per_band; ++j) {
+          const int r = band * plan.rows_per_band + j;
+          if (r >= samples.height) break;
+          const int y = samples.height - 1 - r;
+          const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
+          if (v0 == v1) continue;
+          decide.begin_row(y);
+          for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
+          decide.end_row();
+        }
+      }
+      if (decide_rows) rejected.add(decide.rejected);
+    });
+  }
   return rejected.total();
 }
 

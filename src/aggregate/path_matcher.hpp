@@ -9,12 +9,15 @@
 //       + select: smallest argmin of S, sub-pixel, uniqueness, left-right
 //         check from S (lr_source = costs)
 //
-// The two passes are handed to the workers on demand and add their paths into
-// one S buffer: per row of samples, the pass that comes first writes its sums
-// and the second, once the first is done with the row, adds to them (two
-// workers meet in the middle rows; one worker runs the passes in turn). Integer
-// sums do not depend on the order, so the output is the same for any thread
-// count, and S costs one buffer, not one per worker.
+// Each pass is a wavefront of tiles (platform/wavefront.hpp): bands of rows
+// cut into column blocks, sheared so that every predecessor of a tile's
+// samples lies in the tile itself, in the tiles to its left, or in the band
+// above at most `lead` tiles ahead. Any worker takes any ready tile, so every
+// worker takes part in both passes and a slowed one takes fewer tiles. The
+// forward pass writes S, the backward pass adds to it and decides each band
+// as it completes. Every sample's L_r is computed from the same predecessors
+// by the same kernel whatever the schedule, and integer sums do not depend on
+// the order, so the output is the same for any thread count.
 // Every buffer is sized at configure for max_width x max_height samples (dense
 // mode's worst case) and allocated without being touched, so a sparse frame
 // only pays for the pages its samples use. No heap allocation per frame.
@@ -28,6 +31,7 @@
 #include "src/memory/large_array.hpp"
 
 #include "platform/thread_pool.hpp"
+#include "platform/wavefront.hpp"
 #include "platform/work_chunks.hpp"
 #include "src/aggregate/predecessor_offers.hpp"
 #include "src/aggregate/samples.hpp"
@@ -127,16 +131,29 @@ class PathMatcher {
   // Returns the largest id distance of a mesh edge between two rows.
   int find_predecessors(const SampleLayout& samples);
   void check_reach(int reach) const;
-  // One pass; with `decide`, every row this pass completes (it comes second
-  // there) is decided right away.
-  void run_pass(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, bool forward,
-                int worker, RowDecider* decide);
+  // How a pass is cut into tiles this frame (plan_pass()).
+  struct PassPlan {
+    bool forward = true;
+    int rows_per_band = 1;  // R
+    int block = 32;         // B: tile width in pixels along the pass
+    int shear = 0;          // pixels the tile borders move back per row of a band
+    int bands = 0, cols = 0, lead = 0, in_flight = 1;
+    int ring_n = 1;         // ring slots this frame: sample i is slot i mod ring_n
+  };
+  // The predecessors' extent this frame: rows up (reach_rows) and, per pass,
+  // the pixels ahead along the pass per row up (shear, rounded up).
+  struct PredecessorBounds {
+    int reach_rows = 1;
+    int shear[2] = {0, 0};
+  };
+  PredecessorBounds predecessor_bounds(const SampleLayout& samples) const;
+  PassPlan plan_pass(const SampleLayout& samples, bool forward, int workers) const;
+  // Tile (band, col) of a pass; `add`: S holds the forward pass's sums.
+  void run_tile(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, const PassPlan& plan,
+                int band, int col, int worker);
   // aggregate(), deciding the rows on the way when disp_q4 is given.
   Rejected aggregate_rows(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                           ThreadPool& pool, std::int16_t* disp_q4);
-  // Ring slots this frame needs: one more than the largest id distance of a
-  // predecessor (fewer slots touch fewer pages and stay in cache).
-  int frame_ring(const SampleLayout& samples) const;
 
   StereoParams params_;
   const KernelSet* kernels_ = nullptr;
@@ -160,24 +177,37 @@ class PathMatcher {
   LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
   // The directions run in two passes, forward (raster order: the even
-  // directions) and backward (the odd ones); a pass steps every direction at
-  // each sample while its costs and sums are in cache. L_r of a vertical or
-  // diagonal direction is kept until no later sample can need it: its
-  // predecessor is a mesh neighbour at most S + 1 rows away (a leaf's edges
-  // span at most a tile side, plus the stretch), or the pixel row above/below
-  // (dense), so its id is less than ring_samples_ away. pass_paths_[pass][j]
-  // (direction 2 (j + 1) + pass) and pass_mins_ (the minimum of each L_r) are
-  // rings of ring_samples_ samples: sample i is slot i mod ring_samples_.
-  std::vector<LargeArray<std::uint16_t>> pass_paths_[2], pass_mins_[2];
-  int ring_samples_ = 0;
+  // directions) and backward (the odd ones), one after the other; a pass steps
+  // every direction at each sample while its costs and sums are in cache. L_r
+  // of a vertical or diagonal direction is kept until no later sample can need
+  // it, in rings shared by the passes: path_rings_[j] (direction 2 (j + 1) +
+  // pass) and path_mins_ (the minimum of each L_r) hold ring_capacity_
+  // samples, of which a frame uses plan.ring_n (sample i is slot i mod
+  // ring_n): enough for the rows of the bands under way plus the rows their
+  // predecessors reach up.
+  std::vector<LargeArray<std::uint16_t>> path_rings_, path_mins_;
+  int ring_capacity_ = 0;
   int reach_ = 0;                    // find_predecessors' reach for preds_for_
   const Mesh* preds_for_ = nullptr;  // the mesh whose predecessors preds_ holds (this frame)
   const Mesh* supplied_for_ = nullptr;  // use_predecessors(): filled by the mesher, for this mesh
   int supplied_reach_ = 0;
-  // S, and per image row which pass came first (claims) and whether it is done.
-  LargeArray<std::uint16_t> sum_;
-  std::unique_ptr<std::atomic<int>[]> row_claim_, row_done_;
+  PredecessorBounds bounds_;          // of preds_for_ (compute_costs)
   std::atomic<int> side_next_{0};
+  // The horizontal path where a row leaves one tile for the next: per band
+  // under way (band mod in_flight) and row of the band, the last L_0/L_1 (with
+  // guards), its minimum, the next sample and the last sample's x and I.
+  struct RowCarry {
+    int next = 0;
+    int hq_x = -1, hq_i = 0;
+    std::uint16_t min = 0;
+  };
+  static constexpr int kMaxRowsPerBand = 8;
+  int max_in_flight_ = 1;
+  std::vector<RowCarry> carry_;
+  std::vector<std::uint16_t> carry_paths_;
+  Wavefront wavefront_;
+  // S: the forward pass writes it, the backward pass adds to it.
+  LargeArray<std::uint16_t> sum_;
   struct Worker {
     // L_r of the horizontal direction: the previous sample's and this one's.
     std::unique_ptr<std::uint16_t[]> row_path;
@@ -197,7 +227,7 @@ class PathMatcher {
   std::vector<Worker> workers_;
   template <class T>
   void census_costs_by_rows(const MatchContext& ctx, const SampleLayout& samples, Worker& wk, int y0, int y1);
-  WorkChunks rows_, dirs_;
+  WorkChunks rows_;
   HomeChunks row_homes_;  // census costs by rows: chunks of 16 rows
 };
 
