@@ -37,6 +37,7 @@
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
+#include "tristereo/trace.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
 
@@ -75,6 +76,11 @@ Real time and markers:
 Reports:
   --csv FILE           one row per measured frame (ms)
   --json FILE          the summary (config, per-stage stats, fps, memory, machine)
+  --trace FILE         the last measured frames as a Chrome trace (JSON): one track
+                       per worker with its runs and work items, the frames and
+                       their stages on a pipeline track; open it in Perfetto
+                       (ui.perfetto.dev) or chrome://tracing (docs/profiling.md)
+  --trace-frames N     how many frames the trace keeps, 1..100 (default 3)
   --quiet              no progress line and no table on stdout
 Memory: resident memory is sampled (outside the timed frames) before the first
 measured frame, every frames/100 frames and after the last; the JSON's "rss"
@@ -332,7 +338,8 @@ int cmd_profile(int argc, char** argv) {
 
   std::set<std::string> values = {
       "frames",        "warmup", "source", "left", "right", "folder", "left-pattern",
-      "right-pattern", "width",  "height", "gpio", "json",  "csv",    "realtime-priority"};
+      "right-pattern", "width",  "height", "gpio", "json",  "csv",    "realtime-priority",
+      "trace",         "trace-frames"};
   std::set<std::string> flags = {"realtime", "mesh-output", "quiet", "help"};
   add_stereo_options(values, flags);
   const Args args(static_cast<int>(nargv.size()), nargv.data(), values, flags);
@@ -370,6 +377,10 @@ int cmd_profile(int argc, char** argv) {
   const int rt_priority = args.get_int("realtime-priority", kDefaultRealtimePriority);
   if (realtime) validate_realtime_priority(rt_priority);
   const bool mesh_output = args.flag("mesh-output");
+  const std::string trace_path = args.get("trace", "");
+  if (args.has("trace-frames") && trace_path.empty())
+    throw UsageError("--trace-frames needs --trace FILE (it says how many frames the trace keeps)");
+  const int trace_frames = bounded_int(args, "trace-frames", 3, 1, 100);
   const bool quiet = args.flag("quiet");
   const std::string gpio_text = args.get("gpio", "");
   std::vector<GpioLineSpec> gpio_lines;
@@ -405,6 +416,9 @@ int cmd_profile(int argc, char** argv) {
   const std::string csv_path = args.get("csv", ""), json_path = args.get("json", "");
   check_writable("--csv", csv_path);
   check_writable("--json", json_path);
+  check_writable("--trace", trace_path);
+  if (!trace_path.empty() && (trace_path == csv_path || trace_path == json_path))
+    throw UsageError("--trace '" + trace_path + "' is also another report's path");
   std::unique_ptr<TempFile> ply;
   if (mesh_output) ply = std::make_unique<TempFile>();
 
@@ -451,6 +465,17 @@ int cmd_profile(int argc, char** argv) {
   Pipeline pipeline;
   pipeline.configure(config);
   if (markers.enabled()) pipeline.set_stage_listener(&listener);
+  // The trace keeps the last trace_frames measured frames; its storage is
+  // reserved here, for the most spans such a frame can give (a path tile per
+  // 16 pixels of a row in each pass, rows of costs and interpolation tiles).
+  FrameTrace trace;
+  if (!trace_path.empty()) {
+    const std::size_t per_frame = 2 * static_cast<std::size_t>(ring.height) * (ring.width / 16 + 2) +
+                                  4 * static_cast<std::size_t>(ring.height) + 256;
+    trace.reserve(pipeline.worker_count(), per_frame * static_cast<std::size_t>(trace_frames));
+    trace.set_enabled(false);
+    pipeline.set_trace(&trace);
+  }
   FrameLog log(static_cast<std::size_t>(frames));
   RssTrace rss(frames, RssTrace::interval_for(frames, kRssSamples));
   ProgressLine progress(quiet);
@@ -470,6 +495,7 @@ int cmd_profile(int argc, char** argv) {
       loop_start_ns = monotonic_ns();
     }
     const std::size_t slot = static_cast<std::size_t>(i) % ring.size();
+    if (!trace_path.empty()) trace.set_enabled(i >= run_frames - trace_frames);
     const std::int64_t cpu0 = process_cpu_ns();
     const std::int64_t t0 = monotonic_ns();
     markers.frame_begin();
@@ -540,6 +566,12 @@ int cmd_profile(int argc, char** argv) {
 
   write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });
   write_report(json_path, [&](std::ostream& os) { write_profile_json(os, report); });
+  if (!trace_path.empty()) {
+    write_chrome_trace(trace, trace_path);
+    if (trace.dropped() > 0)
+      std::cerr << "tristereo profile: warning: the trace's storage was full, " << trace.dropped()
+                << " spans were dropped\n";
+  }
   if (!quiet) write_profile_table(std::cout, report);
   return 0;
 }

@@ -204,7 +204,13 @@ void ThreadPool::wait_until_all_done() {
 
 void ThreadPool::run_on_this_thread(int index) noexcept {
   try {
-    (*task_)(index);
+    if (trace_ == nullptr) {
+      (*task_)(index);
+    } else {
+      const std::int64_t t0 = monotonic_ns();
+      (*task_)(index);
+      trace_->record(index, TraceKind::kRun, t0, monotonic_ns(), run_number_);
+    }
   } catch (...) {
     // Copying the exception_ptr may allocate; only on this error path.
     slots_[index].error = std::current_exception();
@@ -222,8 +228,11 @@ void ThreadPool::run(FunctionRef<void(int worker)> task) {
     ~ClearFlag() { flag->store(false, std::memory_order_release); }
   } clear{&in_run_};
 
+  ++run_number_;
   if (threads_.empty()) {
+    const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
     task(0);
+    if (trace_ != nullptr) trace_->record(0, TraceKind::kRun, t0, monotonic_ns(), run_number_);
     return;
   }
   task_ = &task;

@@ -32,6 +32,7 @@
 
 #include "platform/function_ref.hpp"
 #include "platform/realtime.hpp"
+#include "tristereo/trace.hpp"
 
 namespace tristereo {
 
@@ -69,6 +70,10 @@ class ThreadPool {
   void run(FunctionRef<void(int worker)> task);
 
   int size() const { return size_; }
+  // Each run() records a kRun span on each worker's track of `trace` (null =
+  // none; not owned), numbered from 0 after trace_new_frame().
+  void set_trace(FrameTrace* trace) { trace_ = trace; }
+  void trace_new_frame() { run_number_ = -1; }
   // How long a waiting thread (a worker between runs, the owner at the end of
   // a run) spins before it blocks: 0.5 ms when every worker has a core of its
   // own, so a frame's back-to-back runs never pay a wake-up; 20 us when
@@ -136,6 +141,8 @@ class ThreadPool {
   std::atomic<bool> stopping_{false};
   std::atomic<bool> in_run_{false};
   const FunctionRef<void(int)>* task_ = nullptr;
+  FrameTrace* trace_ = nullptr;
+  int run_number_ = -1;  // written by the owner before a run is published
 
   // What start()/set_realtime() changed on the owner thread, for stop().
   std::thread::id owner_;

@@ -1,5 +1,6 @@
 // Once configured, process() performs no heap allocation (any thread count,
-// sparse or dense, box or adaptive weights, frames smaller than the maximum).
+// sparse or dense, box or adaptive weights, frames smaller than the maximum,
+// with a frame trace recording or not).
 #include <gtest/gtest.h>
 
 #include "support/alloc_counter.hpp"
@@ -28,6 +29,7 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
   for (int threads : {1, 2, 3}) {
     for (bool dense : {false, true}) {
       for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
+       for (bool traced : {false, true}) {
         PipelineConfig c;
         c.max_width = 200;
         c.max_height = 150;
@@ -41,6 +43,11 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
         c.pin_threads = false;
         Pipeline pipe;
         pipe.configure(c);
+        FrameTrace trace;
+        if (traced) {
+          trace.reserve(threads, 1 << 16);
+          pipe.set_trace(&trace);
+        }
         test::start_counting_allocations();
         for (int f = 0; f < 3; ++f) {
           pipe.process(s.left.view(), s.right.view());
@@ -48,9 +55,13 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
           pipe.process(rgb_l.view(), rgb_r.view());
         }
         const std::int64_t n = test::stop_counting_allocations();
-        EXPECT_EQ(n, 0) << "threads=" << threads << " dense=" << dense << " weights=" << to_string(w);
-        // The frames really were processed.
+        EXPECT_EQ(n, 0) << "threads=" << threads << " dense=" << dense << " weights=" << to_string(w)
+                        << " traced=" << traced;
+        // The frames really were processed, and traced when asked.
         EXPECT_GT(pipe.last_timings().total_ns, 0);
+        EXPECT_EQ(trace.workers() > 0 && trace.track(FrameTrace::kPipelineTrack).size() >= 9, traced);
+        EXPECT_EQ(trace.dropped(), 0u);
+       }
       }
     }
   }

@@ -19,6 +19,7 @@
 #include "tristereo/kernels.hpp"
 #include "tristereo/mesh.hpp"
 #include "tristereo/params.hpp"
+#include "tristereo/trace.hpp"
 
 namespace tristereo {
 
@@ -77,6 +78,11 @@ class TRISTEREO_API Pipeline {
 
   // nullptr (the default) = no listener. Not owned; must outlive its use.
   void set_stage_listener(StageListener* listener);
+  // Records each frame's stages and every worker's runs and work items into
+  // `trace` (reserved beforehand for worker_count() workers; spans beyond its
+  // room are dropped and counted). nullptr (the default) = no trace. Not
+  // owned; must outlive its use. No allocation per frame either way.
+  void set_trace(FrameTrace* trace);
   KernelChoice active_kernels() const;
   int worker_count() const;
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <thread>
 
+#include "platform/clock.hpp"
 #include "src/dp/penalty.hpp"
 #include "src/memory/capacity_bytes.hpp"
 #include "src/tritree/rtin_layout.hpp"
@@ -199,10 +200,12 @@ void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& sam
       Worker& wk = workers_[static_cast<std::size_t>(w)];
       row_homes_.for_each(w, [&](int c) {
         const int y0 = c * kRowsPerChunk, y1 = std::min(samples.height, (c + 1) * kRowsPerChunk);
+        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
         if (byte_costs_)
           census_costs_by_rows<std::uint8_t>(ctx, samples, wk, y0, y1);
         else
           census_costs_by_rows<std::uint16_t>(ctx, samples, wk, y0, y1);
+        if (trace_ != nullptr) trace_->record(w, TraceKind::kCostRows, t0, monotonic_ns(), y0, y1);
       });
     });
   } else {
@@ -638,12 +641,20 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
     const PassPlan plan = plan_pass(samples, pass == 0, pool.size());
     const bool decide_rows = pass == 1 && disp_q4 != nullptr;
     wavefront_.reset(plan.bands, plan.cols, plan.lead, plan.in_flight);
+    const std::int64_t t_pass = trace_ != nullptr ? monotonic_ns() : 0;
     pool.run([&](int w) {
       RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
       int band = -1, col = 0;
       while (wavefront_.next(&band, &col)) {
+        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
         run_tile(samples, left_gray, plan, band, col, w);
-        if (!wavefront_.finish(band, col) || !decide_rows) continue;
+        const bool band_done = wavefront_.finish(band, col);
+        std::int64_t t1 = 0;
+        if (trace_ != nullptr) {
+          t1 = monotonic_ns();
+          trace_->record(w, TraceKind::kPathTile, t0, t1, pass, band, col);
+        }
+        if (!band_done || !decide_rows) continue;
         // The band's S is complete: decide its rows while they are in cache.
         for (int j = 0; j < plan.rows_per_band; ++j) {
           const int r = band * plan.rows_per_band + j;
@@ -655,9 +666,13 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
           for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
           decide.end_row();
         }
+        if (trace_ != nullptr) trace_->record(w, TraceKind::kDecideBand, t1, monotonic_ns(), band);
       }
       if (decide_rows) rejected.add(decide.rejected);
     });
+    if (trace_ != nullptr)
+      trace_->record(FrameTrace::kPipelineTrack, pass == 0 ? TraceKind::kPathsForward : TraceKind::kPathsBackward,
+                     t_pass, monotonic_ns(), plan.cols, plan.lead, plan.rows_per_band);
   }
   return rejected.total();
 }

@@ -38,6 +38,7 @@
 #include "src/cost/match_context.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "tristereo/params.hpp"
+#include "tristereo/trace.hpp"
 
 namespace tristereo {
 
@@ -78,6 +79,9 @@ class PathMatcher {
   // from memory).
   Rejected match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                  ThreadPool& pool, std::int16_t* disp_q4);
+
+  // Work items and passes go to `trace` (null = none; not owned).
+  void set_trace(FrameTrace* trace) { trace_ = trace; }
 
   // Gives every buffer back (working_memory_bytes() becomes 0).
   void release();
@@ -206,6 +210,7 @@ class PathMatcher {
   std::vector<RowCarry> carry_;
   std::vector<std::uint16_t> carry_paths_;
   Wavefront wavefront_;
+  FrameTrace* trace_ = nullptr;
   // S: the forward pass writes it, the backward pass adds to it.
   LargeArray<std::uint16_t> sum_;
   struct Worker {

@@ -69,7 +69,13 @@ struct Pipeline::Impl {
   StereoOutput out;
   FrameTimings timings;
   StageListener* listener = nullptr;
+  FrameTrace* trace = nullptr;
+  int frame_number = 0;
 
+  // A span on the trace's pipeline track (nothing without a trace).
+  void span(TraceKind kind, std::int64_t t0, std::int64_t t1, int a = 0) const {
+    if (trace != nullptr) trace->record(FrameTrace::kPipelineTrack, kind, t0, t1, a);
+  }
   void mark(PipelineStage s, bool begin) const {
     if (listener) listener->on_stage(s, begin);
   }
@@ -98,6 +104,13 @@ bool Pipeline::configured() const { return impl_->configured; }
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 const FrameTimings& Pipeline::last_timings() const { return impl_->timings; }
 void Pipeline::set_stage_listener(StageListener* listener) { impl_->listener = listener; }
+void Pipeline::set_trace(FrameTrace* trace) {
+  impl_->trace = trace;
+  impl_->pool.set_trace(trace);
+  impl_->paths.set_trace(trace);
+  impl_->tritree.set_trace(trace);
+  impl_->right_tritree.set_trace(trace);
+}
 KernelChoice Pipeline::active_kernels() const { return impl_->active; }
 int Pipeline::worker_count() const { return impl_->configured ? impl_->pool.size() : 0; }
 
@@ -168,6 +181,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.mirror_right.pixels.reserve(lr_px);
   m.right_mesh = Mesh{};
   m.right_tritree = Tritree{};
+  m.right_tritree.set_trace(m.trace);
   if (lr) {
     m.right_tritree.configure(config.max_width, config.max_height, config.params.tritree, &kernels);
     m.right_tritree.reserve(m.right_mesh);
@@ -255,6 +269,7 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
   if (config.params.optimizer == Optimizer::kPaths) {
     paths.compute_costs(match, samples, pool);
     const std::int64_t t_costs = monotonic_ns();
+    span(TraceKind::kCosts, t0, t_costs);
     const PathMatcher::Rejected rejected = paths.match(samples, lg, pool, sample_disp);
     *cost_ns += t_costs - t0;
     *dp_ns += monotonic_ns() - t_costs;
@@ -291,7 +306,10 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
     cost_sum += wk.cost_ns;
     dp_sum += wk.dp_ns;
   }
-  const std::int64_t match_wall = monotonic_ns() - t_prepared;
+  const std::int64_t t_matched = monotonic_ns();
+  span(TraceKind::kCosts, t0, t_prepared);
+  span(TraceKind::kRowDp, t_prepared, t_matched);
+  const std::int64_t match_wall = t_matched - t_prepared;
   const std::int64_t both = cost_sum + dp_sum;
   const std::int64_t cost_part =
       both > 0 ? static_cast<std::int64_t>(static_cast<double>(match_wall) * cost_sum / both) : match_wall;
@@ -317,8 +335,11 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     int r0 = 0, r1 = 0;
     bool invalid = false;
     std::int32_t* values = this->workers[static_cast<std::size_t>(w)].tile_values.get();
-    while (triangles.next(&r0, &r1))
+    while (triangles.next(&r0, &r1)) {
+      const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
       invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, *kernels, values, out);
+      if (trace != nullptr) trace->record(w, TraceKind::kInterpolationTiles, t0, monotonic_ns(), r0, r1);
+    }
     if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
   interpolate_stretched_leaves(grid, mesh, vertex_disp, out);
@@ -338,6 +359,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   check_stereo_inputs(left, right, m.config.max_width, m.config.max_height);
 
   const std::int64_t t_start = monotonic_ns();
+  m.pool.trace_new_frame();
   const ImageView<const std::uint8_t> lg = as_gray(left, m.left_gray, *m.kernels);
   const ImageView<const std::uint8_t> rg = as_gray(right, m.right_gray, *m.kernels);
   const int width = lg.width, height = lg.height;
@@ -415,6 +437,12 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);
 
+  m.span(TraceKind::kTritree, t_start, t_tritree);
+  if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass)
+    m.span(TraceKind::kRightPass, t_matched, t_right);
+  m.span(TraceKind::kFill, t_right, t_filled);
+  m.span(TraceKind::kInterpolation, t_filled, t_end);
+  m.span(TraceKind::kFrame, t_start, t_end, m.frame_number++);
   m.timings.tritree_ns = t_tritree - t_start;
   m.timings.cost_aggregation_ns = cost_ns;
   m.timings.dp_ns = dp_ns;

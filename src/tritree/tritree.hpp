@@ -20,6 +20,8 @@
 // includes its children's, which is what keeps the mesh conforming.
 #pragma once
 
+#include "tristereo/trace.hpp"
+
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -105,7 +107,11 @@ class Tritree {
   // The last build's grid (see TritreeGrid); need is null for a 2-pixel strip.
   TritreeGrid grid() const;
 
+  // Rows of tiles go to `trace` as work items (null = none; not owned).
+  void set_trace(FrameTrace* trace) { trace_ = trace; }
+
  private:
+  FrameTrace* trace_ = nullptr;
   // A triangle of the hierarchy: a half of the square of side s at (x0, y0)
   // (virtual coordinates; part 0 = the half along the top side, 1 = the
   // other), or the side triangle from the square's centre to side `part`

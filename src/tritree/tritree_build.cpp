@@ -909,6 +909,13 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
     };
     // A tile reads and writes only the grid points of its own closed square,
     // so rows of tiles two apart never touch the same byte.
+    // A row of tiles as a work item of the trace: phase 0 the criterion, 1
+    // the numbering and emission.
+    const auto traced = [this](int w, int phase, int ty, auto&& work) {
+      const std::int64_t b = trace_ != nullptr ? monotonic_ns() : 0;
+      work();
+      if (trace_ != nullptr) trace_->record(w, TraceKind::kTritreeRows, b, monotonic_ns(), phase, ty);
+    };
     const int workers = pool != nullptr ? std::min(pool->size(), kMaxTileWorkers) : 1;
     if (workers > 1 && layout_.tiles_y > 2) {
       // Rows taken as workers come free (a fixed deal left one worker two
@@ -939,12 +946,12 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
               if (spins >= 4096) std::this_thread::yield();
             }
           }
-          tile_row(ty, scratch_[w]);
+          traced(w, 0, ty, [&] { tile_row(ty, scratch_[w]); });
           row_done_[ty].store(1, std::memory_order_release);
         }
       });
     } else {
-      for (int ty = 0; ty < layout_.tiles_y; ++ty) tile_row(ty, scratch_[0]);
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) traced(0, 0, ty, [&] { tile_row(ty, scratch_[0]); });
     }
     serial([&] { carry_across_tile_borders(); });
     const std::int64_t t1 = monotonic_ns();
@@ -996,8 +1003,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
         if (w >= workers) return;  // each has its rows of ids
         for (int ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed); ty >= 0;
              ty = layout_.tiles_y - 1 - next.fetch_add(1, std::memory_order_relaxed)) {
-          number(ty, scratch_[static_cast<std::size_t>(w)].band_ids);
-          emit_band(ty);
+          traced(w, 1, ty, [&] {
+            number(ty, scratch_[static_cast<std::size_t>(w)].band_ids);
+            emit_band(ty);
+          });
         }
       });
     } else {
@@ -1006,8 +1015,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       const auto ids = [&](int ty) { return scratch_[static_cast<std::size_t>(ty & 1)].band_ids; };
       number(0, ids(0));
       for (int ty = 0; ty < layout_.tiles_y; ++ty) {
-        if (ty + 1 < layout_.tiles_y) number(ty + 1, ids(ty + 1));
-        emit_band(ty);
+        traced(0, 1, ty, [&] {
+          if (ty + 1 < layout_.tiles_y) number(ty + 1, ids(ty + 1));
+          emit_band(ty);
+        });
       }
     }
     serial([&] {

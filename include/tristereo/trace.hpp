@@ -1,0 +1,104 @@
+// A frame trace: where each worker's time goes, span by span.
+//
+//   FrameTrace trace;
+//   trace.reserve(pipeline.worker_count(), 1 << 16);   // allocates, once
+//   pipeline.set_trace(&trace);
+//   pipeline.process(left, right);                      // records, no allocation
+//   write_chrome_trace(trace, "frame.json");            // Perfetto, chrome://tracing
+//
+// Tracks: kPipelineTrack holds the frames and their stages (recorded by the
+// thread that calls process()); track w >= 0 holds worker w's spans: each
+// ThreadPool run it took part in and, inside them, the work items it took
+// (path tiles, bands decided, rows of costs, rows of interpolation tiles).
+// Spans go into storage reserved beforehand; a span that finds its track full
+// is dropped and counted (dropped()), never allocated. A pipeline without a
+// trace, or with a disabled one, records nothing.
+#pragma once
+
+#include "tristereo/export.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tristereo {
+
+enum class TraceKind : std::uint8_t {
+  // Pipeline track.
+  kFrame = 0,       // a = frame number (begin_frame())
+  kTritree,
+  kCosts,           // the right image's rows and the costs at the samples
+  kPathsForward,    // a = tiles per band, b = lead, c = rows per band
+  kPathsBackward,   // the same
+  kRowDp,           // the paper's model: costs and DP row by row
+  kRightPass,       // left-right check by the mirrored pass
+  kFill,
+  kInterpolation,
+  // Worker tracks.
+  kRun,             // one ThreadPool::run on this worker; a = the frame's run number
+  kPathTile,        // a = pass (0 forward, 1 backward), b = band, c = tile in the band
+  kDecideBand,      // a = band (backward pass)
+  kCostRows,        // a = first row, b = end row
+  kInterpolationTiles,  // a = first row of tiles, b = end
+  kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission), b = row of tiles
+  kCount
+};
+
+// Its name in the trace file ("frame", "tritree", "path tile", ...).
+TRISTEREO_API const char* to_string(TraceKind kind);
+
+struct TraceSpan {
+  std::int64_t begin_ns = 0;  // monotonic clock (CLOCK_MONOTONIC)
+  std::int64_t end_ns = 0;
+  TraceKind kind = TraceKind::kFrame;
+  std::int32_t a = 0, b = 0, c = 0;  // what the kind says
+};
+
+class TRISTEREO_API FrameTrace {
+ public:
+  static constexpr int kPipelineTrack = -1;
+
+  // Room for spans_per_track spans on the pipeline track and on each of
+  // `workers` worker tracks; clears. Allocates: call it before the frames.
+  void reserve(int workers, std::size_t spans_per_track);
+  // Forgets every span (keeps the storage).
+  void clear();
+  // Disabled, record() does nothing (a trace starts enabled).
+  void set_enabled(bool on) { enabled_ = on; }
+  bool enabled() const { return enabled_; }
+
+  // Called by the pipeline: the span on `track` (kPipelineTrack or a worker
+  // below workers()); a track is written by one thread only.
+  // Inline: the thread pool records its runs without linking the library.
+  void record(int track, TraceKind kind, std::int64_t begin_ns, std::int64_t end_ns, std::int32_t a = 0,
+              std::int32_t b = 0, std::int32_t c = 0) noexcept {
+    if (!enabled_) return;
+    const bool pipe = track == kPipelineTrack;
+    if (!pipe && (track < 0 || track >= workers())) return;
+    std::vector<TraceSpan>& t = pipe ? pipeline_ : workers_[static_cast<std::size_t>(track)];
+    if (t.size() == t.capacity()) {  // full: push_back would allocate
+      ++dropped_[pipe ? workers_.size() : static_cast<std::size_t>(track)];
+      return;
+    }
+    t.push_back(TraceSpan{begin_ns, end_ns, kind, a, b, c});
+  }
+
+  int workers() const { return static_cast<int>(workers_.size()); }
+  const std::vector<TraceSpan>& track(int t) const { return t == kPipelineTrack ? pipeline_ : workers_[static_cast<std::size_t>(t)]; }
+  // Spans that found their track full.
+  std::size_t dropped() const;
+
+ private:
+  bool enabled_ = true;
+  std::vector<TraceSpan> pipeline_;
+  std::vector<std::vector<TraceSpan>> workers_;
+  std::vector<std::size_t> dropped_;  // per track, the pipeline's last
+};
+
+// The trace as Chrome trace-event JSON (complete "X" events in microseconds
+// from the first span, one thread per track, named), which Perfetto and
+// chrome://tracing open. Throws Error when the file cannot be written.
+TRISTEREO_API void write_chrome_trace(const FrameTrace& trace, const std::string& path);
+
+}  // namespace tristereo
