@@ -60,6 +60,9 @@ std::vector<Pair> load_pairs() {
     if (!std::filesystem::exists(dir + "left.png")) continue;
     pairs.push_back({name, to_gray(read_image_u8(dir + "left.png")), to_gray(read_image_u8(dir + "right.png"))});
   }
+  const std::string kitti = data + "/kitti2015/000000/";
+  if (std::filesystem::exists(kitti + "left.png"))
+    pairs.push_back({"kitti000000", to_gray(read_image_u8(kitti + "left.png")), to_gray(read_image_u8(kitti + "right.png"))});
   return pairs;
 }
 
@@ -157,8 +160,10 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
   std::vector<std::unique_ptr<Pipeline>> solo;
   for (int i = 0; i < threads; ++i) solo.push_back(warm_pipeline(pair, ndisp, dense, k, 1, /*pin=*/false));
   // Per pair: total and the three stage groups, 1 thread / N threads.
-  std::vector<double> ms_one, ms_many, ratio, ratio_tritree, ratio_matching, ratio_interp, ceiling, of_ceiling;
-  for (auto* v : {&ms_one, &ms_many, &ratio, &ratio_tritree, &ratio_matching, &ratio_interp, &ceiling, &of_ceiling})
+  std::vector<double> ms_one, ms_many, ratio, ratio_tritree, ratio_matching, ratio_cost, ratio_paths, ratio_fill,
+      ratio_interp, ceiling, of_ceiling;
+  for (auto* v : {&ms_one, &ms_many, &ratio, &ratio_tritree, &ratio_matching, &ratio_cost, &ratio_paths, &ratio_fill,
+                  &ratio_interp, &ceiling, &of_ceiling})
     v->reserve(state.max_iterations);
   const auto frame = [&](Pipeline& pipe) {
     pipe.process(pair->left.view(), pair->right.view());
@@ -188,6 +193,9 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
     ratio.push_back(r(a.total_ns, b.total_ns));
     ratio_tritree.push_back(r(a.tritree_ns, b.tritree_ns));
     ratio_matching.push_back(r(a.cost_aggregation_ns + a.dp_ns, b.cost_aggregation_ns + b.dp_ns));
+    ratio_cost.push_back(r(a.cost_aggregation_ns, b.cost_aggregation_ns));
+    ratio_paths.push_back(r(a.dp_ns, b.dp_ns));
+    ratio_fill.push_back(r(a.fill_ns, b.fill_ns));
     ratio_interp.push_back(r(a.interpolation_ns, b.interpolation_ns));
     ceiling.push_back(r(std::int64_t{threads} * a.total_ns, together_ns));
     of_ceiling.push_back(r(together_ns, std::int64_t{threads} * b.total_ns));
@@ -202,6 +210,9 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
   state.counters["speedup"] = median(ratio);
   state.counters["speedup_tritree"] = median(ratio_tritree);
   state.counters["speedup_matching"] = median(ratio_matching);
+  state.counters["speedup_cost"] = median(ratio_cost);
+  state.counters["speedup_paths"] = median(ratio_paths);  // the optimizer's stage: path passes and decisions
+  state.counters["speedup_fill"] = median(ratio_fill);
   state.counters["speedup_interp"] = median(ratio_interp);
   state.counters["ceiling"] = median(ceiling);
   state.counters["of_ceiling"] = median(of_ceiling);
@@ -250,22 +261,33 @@ int main(int argc, char** argv) {
     }
   }
   if (!pairs.empty() && max_threads > 1) {
-    const Pair& p = pairs.front();  // the synthetic 640x480 scene (always first)
+    // The synthetic 640x480 scene (always first) at D = 64 and 128, sparse and
+    // dense; Teddy and KITTI 000000 with their own ranges, sparse.
     const KernelChoice best = available_kernel_sets().back();
-    for (int ndisp : {64, 128}) {
-      for (bool dense : {false, true}) {
-        for (int t = 2; t <= max_threads; ++t) {
-          const std::string name =
-              bench_name("frame_pair", p, ndisp, dense, best) + "/t1_vs_t" + std::to_string(t);
-          benchmark::RegisterBenchmark(name.c_str(), bench_frame_pair, &p, ndisp, dense, best, t)
-              ->Unit(benchmark::kMillisecond)
-              ->UseRealTime()
-              // Five runs of 30 pairs: with random interleaving they land at
-              // five moments of a long run, and one bad moment of a shared
-              // machine moves one of the five medians, not the result.
-              ->Iterations(30)
-              ->Repetitions(5);
-        }
+    struct PairRun {
+      const Pair* pair;
+      int ndisp;
+      bool dense;
+    };
+    std::vector<PairRun> runs;
+    for (int ndisp : {64, 128})
+      for (bool dense : {false, true}) runs.push_back({&pairs.front(), ndisp, dense});
+    for (const Pair& p : pairs) {
+      if (p.name == "teddy") runs.push_back({&p, 64, false});
+      if (p.name == "kitti000000") runs.push_back({&p, 80, false});
+    }
+    for (const PairRun& run : runs) {
+      for (int t = 2; t <= max_threads; ++t) {
+        const std::string name =
+            bench_name("frame_pair", *run.pair, run.ndisp, run.dense, best) + "/t1_vs_t" + std::to_string(t);
+        benchmark::RegisterBenchmark(name.c_str(), bench_frame_pair, run.pair, run.ndisp, run.dense, best, t)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            // Five runs of 30 pairs: with random interleaving they land at
+            // five moments of a long run, and one bad moment of a shared
+            // machine moves one of the five medians, not the result.
+            ->Iterations(30)
+            ->Repetitions(5);
       }
     }
   }
