@@ -89,20 +89,22 @@ def frames_of(events):
     return frames
 
 
-def wavefront(tiles, decides, cols, lead, workers):
-    """Makespan of one pass's tiles on `workers` workers (lowest band first)."""
+def wavefront(tiles, decides, cols, lead, workers, speeds=None):
+    """Makespan of one pass's tiles on `workers` workers (lowest band first);
+    speeds[w]: worker w's speed against the traced one (default 1)."""
+    speeds = speeds or [1.0] * workers
     in_flight = 1 if workers == 1 else workers + 1
     dur = {(t["args"]["b"], t["args"]["c"]): t["dur"] for t in tiles}
     bands = 1 + max(b for b, _ in dur)
     done_at = {}
     band_done = [None] * bands
     next_col = [0] * bands
-    free = [0.0] * workers  # times at which each worker is free
+    free = [(0.0, w) for w in range(workers)]  # (time each worker is free, worker)
     heapq.heapify(free)
     low = 0
     remaining = len(dur)
     while remaining:
-        t = heapq.heappop(free)
+        t, w = heapq.heappop(free)
         # The lowest band whose next tile is ready by time t; else wait for the
         # earliest tile that becomes ready.
         best = None
@@ -130,32 +132,35 @@ def wavefront(tiles, decides, cols, lead, workers):
         if pick is None:  # cannot happen: the lowest band's next tile always can
             raise RuntimeError("scaling_model: no tile can start")
         k, c, start = pick
-        d = dur.get((k, c), 0.0)
+        d = dur.get((k, c), 0.0) / speeds[w]
         end = start + d
         done_at[(k, c)] = end
         if c == cols - 1:
-            end += decides.get(k, 0.0)
+            end += decides.get(k, 0.0) / speeds[w]
             band_done[k] = end
             while low < bands and band_done[low] is not None:
                 low += 1
         next_col[k] = c + 1
         remaining -= 1
-        heapq.heappush(free, end)
+        heapq.heappush(free, (end, w))
     return max(list(done_at.values()) + [b for b in band_done if b is not None] + [0.0])
 
 
-def chunks(items, extra, workers):
+def chunks(items, extra, workers, speeds=None):
     """Independent items handed out in order to the first free worker."""
-    free = [0.0] * workers
+    speeds = speeds or [1.0] * workers
+    free = [(0.0, w) for w in range(workers)]
     heapq.heapify(free)
     for d in ([extra] if extra > 0 else []) + [i["dur"] for i in items]:
-        t = heapq.heappop(free)
-        heapq.heappush(free, t + d)
-    return max(free)
+        t, w = heapq.heappop(free)
+        heapq.heappush(free, (t + d / speeds[w], w))
+    return max(t for t, _ in free)
 
 
-def predict(frame, workers):
-    """Per stage and in total, the predicted frame on `workers` workers (us)."""
+def predict(frame, workers, speeds=None):
+    """Per stage and in total, the predicted frame on `workers` workers (us);
+    the serial parts run on worker 0 (speeds[0])."""
+    speeds = speeds or [1.0] * workers
     stages = {}
     even = set()
     for r in frame["runs"]:
@@ -165,16 +170,16 @@ def predict(frame, workers):
             cols, lead = frame["plans"][p]
             decides = {i["args"]["a"]: i["dur"] for i in r["items"] if i["name"] == "decide band"}
             covered = sum(i["dur"] for i in tiles) + sum(decides.values())
-            t = wavefront(tiles, decides, cols, lead, workers) + max(0.0, r["dur"] - covered)
+            t = wavefront(tiles, decides, cols, lead, workers, speeds) + max(0.0, r["dur"] - covered) / speeds[0]
         elif r["items"]:
             covered = sum(i["dur"] for i in r["items"])
-            t = chunks(r["items"], max(0.0, r["dur"] - covered), workers)
+            t = chunks(r["items"], max(0.0, r["dur"] - covered), workers, speeds)
         else:
-            t = r["dur"] / workers
+            t = r["dur"] / sum(speeds)
             even.add(r["stage"])
         stages[r["stage"]] = stages.get(r["stage"], 0.0) + t
     for (stage, _), items in frame["loose"].items():
-        stages[stage] = stages.get(stage, 0.0) + chunks(items, 0.0, workers)
+        stages[stage] = stages.get(stage, 0.0) + chunks(items, 0.0, workers, speeds)
     # What a stage spent outside runs and items (the caller's serial steps)
     # stays on one worker, counted in that stage; so do the gaps between stages.
     spans = [st for st in frame["stages"] if st["name"] in STAGES]
@@ -189,9 +194,9 @@ def predict(frame, workers):
     for (stage, _), items in frame["loose"].items():
         used[stage] = used.get(stage, 0.0) + sum(i["dur"] for i in items)
     for name, t in own.items():
-        stages[name] = stages.get(name, 0.0) + max(0.0, t - used.get(name, 0.0))
+        stages[name] = stages.get(name, 0.0) + max(0.0, t - used.get(name, 0.0)) / speeds[0]
     top = [st for st in spans if not any(within(st, m) for m in spans)]
-    serial = max(0.0, frame["dur"] - sum(st["dur"] for st in top))
+    serial = max(0.0, frame["dur"] - sum(st["dur"] for st in top)) / speeds[0]
     total = serial + sum(stages.values())
     return total, stages, even
 
@@ -222,6 +227,9 @@ def main():
     ap.add_argument("trace", help="a one-worker trace (tristereo profile --threads 1 --trace FILE)")
     ap.add_argument("--measured", help="a trace of the same frames on more workers, to compare with")
     ap.add_argument("--workers", default="1,2,4,8,16", help="worker counts to predict (default 1,2,4,8,16)")
+    ap.add_argument("--slow", type=float, metavar="S",
+                    help="also predict each count with its last worker at speed S (e.g. 0.5: a core half as fast, "
+                         "an A55 beside A76s) beside the ideal, the work of N - 1 + S equal workers")
     ap.add_argument("--same-frames", action="store_true",
                     help="the trace's frames are one pair repeated (profile --left/--right): replay one frame "
                          "whose every duration is the median over them")
@@ -259,6 +267,18 @@ def main():
         print(line)
     if even:
         print("runs without work items, taken to divide evenly: " + ", ".join(sorted(even)))
+    if args.slow:
+        print(f"one worker at speed {args.slow}: predicted frame, and against the ideal "
+              f"(1-worker frame / (N - 1 + {args.slow}))")
+        for n in counts:
+            if n < 2:
+                continue
+            speeds = [1.0] * (n - 1) + [args.slow]
+            slow = statistics.median(predict(f, n, speeds)[0] for f in frames)
+            ideal = base_total / (n - 1 + args.slow)
+            even_n = rows[n][0]
+            print(f"{n:>8} {slow / 1000:8.2f} ms; all at full speed {even_n / 1000:.2f} ms; "
+                  f"ideal {ideal / 1000:.2f} ms; slow / ideal = {slow / ideal:.2f}")
     if args.measured:
         m_events, m_workers = load(args.measured)
         m_frames = frames_of(m_events)
