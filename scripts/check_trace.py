@@ -6,8 +6,8 @@
 It must be Chrome trace-event JSON that Perfetto and chrome://tracing open: a
 named track per worker and one for the pipeline, complete ("X") events with
 ts and dur >= 0; on each worker's track the runs never overlap, nor do the
-work items, and every item lies in one of that worker's runs (or, with one
-worker, in a frame: a one-worker pool runs some stages inline); on the
+work items, and every item lies in one of that worker's runs (or, for
+worker 0, the caller, in a frame: it runs some work inline); on the
 pipeline track the frames never overlap and every stage lies in a frame.
 Prints one line starting with "ok:" or exits 1 naming the first problem.
 """
@@ -78,7 +78,7 @@ def main():
         no_overlap(runs, f"worker {w}'s runs")
         no_overlap(items, f"worker {w}'s items")
         for it in items:
-            if not any(inside(it, r) for r in runs) and not (workers == 1 and any(inside(it, f) for f in frames)):
+            if not any(inside(it, r) for r in runs) and not (w == 0 and any(inside(it, f) for f in frames)):
                 fail(f"worker {w}: '{it['name']}' at {it['ts']} us lies in none of its runs")
         items_total += len(items)
     print(f"ok: {len(frames)} frames, {workers} workers, {len(pipe) - len(frames)} stage spans, "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 
+#include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
 #include "tristereo/fixed_point.hpp"
 
@@ -150,10 +151,15 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   const auto walk_round = [&](bool listed, int n, int chunk) {
     const int chunks = (n + chunk - 1) / chunk;
     if (workers < 2 || chunks < 2) {
+      // By the same chunks as a pool (one trace item each), kept in one run.
       int kept = 0;
-      for (int j = 0; j < n; ++j) {
-        const std::int32_t t = listed ? live[j] : j;
-        if (walk(t, offer_alone)) live[kept++] = t;
+      for (int c = 0; c < chunks; ++c) {
+        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+        for (int j = c * chunk, j1 = std::min(n, j + chunk); j < j1; ++j) {
+          const std::int32_t t = listed ? live[j] : j;
+          if (walk(t, offer_alone)) live[kept++] = t;
+        }
+        if (trace_ != nullptr) trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), c * chunk, n);
       }
       return kept;
     }
@@ -169,12 +175,14 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
       int c0 = 0, c1 = 0;
       while (chunks_.next(&c0, &c1)) {
         const int j0 = c0 * chunk, j1 = std::min(n, j0 + chunk);
+        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
         int kept = j0;
         for (int j = j0; j < j1; ++j) {
           const std::int32_t t = listed ? live[j] : j;
           if (walk(t, offer_own)) live[kept++] = t;
         }
         chunk_live_[static_cast<std::size_t>(c0)] = kept - j0;
+        if (trace_ != nullptr) trace_->record(w, TraceKind::kFillChunk, t0, monotonic_ns(), j0, n);
       }
     });
     workers_ready = true;

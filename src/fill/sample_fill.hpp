@@ -9,6 +9,8 @@
 // does not depend on any processing order.
 #pragma once
 
+#include "tristereo/trace.hpp"
+
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -35,6 +37,8 @@ class SampleFill {
   // round's candidates (dense grids) are shared by its workers in chunks. The
   // result is the same for any pool.
   int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr);
+  // The walks' chunks go to `trace` as work items (null = none; not owned).
+  void set_trace(FrameTrace* trace) { trace_ = trace; }
   // Heap bytes the configured fill holds.
   std::size_t working_memory_bytes() const {
     return ((2 + worker_candidate_.size()) * static_cast<std::size_t>(max_samples_) +
@@ -43,6 +47,7 @@ class SampleFill {
   }
 
  private:
+  FrameTrace* trace_ = nullptr;
   int fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending);
   int fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending);
   int max_samples_ = 0;

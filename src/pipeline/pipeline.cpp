@@ -109,6 +109,7 @@ void Pipeline::set_trace(FrameTrace* trace) {
   impl_->pool.set_trace(trace);
   impl_->paths.set_trace(trace);
   impl_->tritree.set_trace(trace);
+  impl_->fill.set_trace(trace);
   impl_->right_tritree.set_trace(trace);
 }
 KernelChoice Pipeline::active_kernels() const { return impl_->active; }

@@ -28,6 +28,7 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kCostRows: return "cost rows";
     case TraceKind::kInterpolationTiles: return "interpolation tiles";
     case TraceKind::kTritreeRows: return "tritree rows";
+    case TraceKind::kFillChunk: return "fill triangles";
     case TraceKind::kCount: break;
   }
   return "?";
