@@ -116,6 +116,13 @@ run error 1 "huge_claim.png': the header claims 16384 x 16384 pixels .* more tha
 run error 1 "palette_oob.png': pixel \(4, 0\) has palette index 5 but the palette has 2 entries" \
   "palette index beyond the palette" "$T match palette_oob.png $R --ndisp 16"
 run error 1 "corrupt PNG 'truncated.png'" "PNG cut after 300 bytes" "$T match truncated.png $R --ndisp 16"
+# Issue 41: libpng alone took 2.1 GB and 8-15 s on these 52 bytes; 2 s is plenty.
+run error 1 "text_claim.png': chunk 'tEXt' at byte 33 claims 2147483632 bytes, but the 52-byte file ends 11 bytes" \
+  "52-byte PNG whose tEXt claims 2^31-16 bytes (memory limit 100 MB, 2 s)" \
+  "vmem_limit_100mb; timeout 2 $T match text_claim.png $R --ndisp 16"
+run error 1 "iccp_claim.png': chunk 'iCCP' at byte 33 claims 2147483632 bytes" \
+  "the same with an ICC profile, as a disparity file (memory limit 100 MB, 2 s)" \
+  "vmem_limit_100mb; timeout 2 $T eval iccp_claim.png disp16.png"
 run error 1 "corrupt PNM 'claims_256M.pgm': truncated: header promises 256000000 bytes of pixels, file has 10" \
   "PGM claiming 16000x16000 (memory limit 100 MB)" "vmem_limit_100mb; $T match claims_256M.pgm $R --ndisp 16"
 run error 1 "PNM 'claims_3600M.pgm': image size 60000 x 60000 exceeds the reader limit of 268435456 pixels" \
