@@ -82,6 +82,11 @@ int cmd_match(int argc, char** argv) {
     std::cout << kMatchHelp << stereo_options_help() << exit_codes_help();
     return 0;
   }
+  // Options that act only beside another (cli_args.hpp, OptionNeed).
+  static const std::vector<OptionNeed> kNeeds = {
+      {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
+  };
+  check_option_needs(args, kNeeds);
   const auto& pos = args.positional();
   check_two_paths("match", pos);
   // Every option is checked before any file is read: a usage error is

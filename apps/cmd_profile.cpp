@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "apps/cli_args.hpp"
+#include "apps/option_errors.hpp"
 #include "apps/stereo_options.hpp"
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
@@ -115,9 +116,14 @@ bool is_unsigned_number(const char* s) {
 // and --ndisp gets the profiler's default (match and verify require it).
 std::vector<std::string> normalize_args(int argc, char** argv) {
   std::vector<std::string> out;
-  bool has_ndisp = false;
+  bool has_ndisp = false, ended = false;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
+    ended = ended || a == "--";  // after it, nothing is an option (cli::Args)
+    if (ended) {
+      out.push_back(a);
+      continue;
+    }
     if (a == "--ndisp" || a.rfind("--ndisp=", 0) == 0) has_ndisp = true;
     if (a == "--realtime") {
       out.push_back(a);
@@ -130,9 +136,9 @@ std::vector<std::string> normalize_args(int argc, char** argv) {
       out.push_back(a);
     }
   }
-  if (!has_ndisp) {
-    out.push_back("--ndisp");
-    out.push_back(std::to_string(kDefaultNumDisp));
+  if (!has_ndisp) {  // right after the command's name: before any "--"
+    const std::string d[] = {"--ndisp", std::to_string(kDefaultNumDisp)};
+    out.insert(out.begin() + 1, d, d + 2);
   }
   return out;
 }
@@ -368,13 +374,17 @@ int cmd_profile(int argc, char** argv) {
   if (!realtime && args.has("realtime-priority"))
     throw UsageError("--realtime-priority needs --realtime");
   const int rt_priority = args.get_int("realtime-priority", kDefaultRealtimePriority);
-  if (realtime) validate_realtime_priority(rt_priority);
+  // Named as typed: "--realtime 0", not the priority's internal name.
+  if (realtime) {
+    const std::string typed = "--realtime " + std::to_string(rt_priority);
+    as_usage_error(typed.c_str(), [&] { validate_realtime_priority(rt_priority); });
+  }
   const bool mesh_output = args.flag("mesh-output");
   const bool quiet = args.flag("quiet");
   const std::string gpio_text = args.get("gpio", "");
   std::vector<GpioLineSpec> gpio_lines;
   if (args.has("gpio")) {
-    gpio_lines = parse_gpio_specs(gpio_text);
+    as_usage_error("--gpio", [&] { gpio_lines = parse_gpio_specs(gpio_text); });
     if (!gpio_supported())
       throw Error(ErrorCode::kPlatform,
                   "--gpio " + gpio_text +

@@ -19,7 +19,14 @@ int cmd_synth(int argc, char** argv) {
                  "Middlebury PFM) and nonocc.png (255 = visible in both views).\n" << "\n" << exit_codes_help();
     return 0;
   }
-  if (args.positional().size() != 1) throw UsageError("synth needs OUTDIR (see --help)");
+  const auto& pos = args.positional();
+  if (pos.empty()) throw UsageError("synth needs OUTDIR, the folder to write the pair into; got no path (see --help)");
+  if (pos.size() > 1) {
+    std::string list;
+    for (const std::string& p : pos) list += (list.empty() ? "" : ", ") + p;
+    throw UsageError("synth takes one path, OUTDIR; got " + std::to_string(pos.size()) + " (" + list +
+                     "): is an option missing its --name? (see --help)");
+  }
   SynthParams sp;
   sp.width = args.get_int_in("width", sp.width, 16, 4096);
   sp.height = args.get_int_in("height", sp.height, 16, 4096);

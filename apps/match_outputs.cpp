@@ -125,6 +125,13 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
   else if (unit == "mm") unit_m = 0.001;
   else throw UsageError("--calib-unit " + unit + ": expected m, cm or mm");
   const StereoCalibration c = read_calibration(args.get("calib", ""), format, unit_m);
+  // Middlebury and KITTI files state their unit; --calib-unit would silently
+  // do nothing there, which hides a wrong belief about the file.
+  if (args.has("calib-unit") && c.format != CalibFormat::kOpenCv)
+    throw UsageError("--calib-unit " + unit + " has no effect: --calib " + c.path + " is a " + to_string(c.format) +
+                     " calibration, whose unit is fixed (" +
+                     (c.format == CalibFormat::kMiddlebury ? "baseline in millimetres" : "metres") +
+                     "); --calib-unit applies to OpenCV files, which state none");
   check_calibration_size(c, width, height);
   if (c.format == CalibFormat::kOpenCv && !args.has("calib-unit") && c.baseline_m > 5)
     std::cerr << "warning: --calib " << c.path << ": the baseline comes out as " << c.baseline_m

@@ -253,6 +253,21 @@ TEST_F(Calib, BadFilesNameFileLineAndKey) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
 }
 
+TEST_F(Calib, AUtf8ByteOrderMarkIsNotPartOfTheFirstKey) {
+  // Windows editors start a saved text file with EF BB BF; before issue 41
+  // it made "cam0" unrecognisable.
+  const std::string text = "cam0=[700 0 320; 0 700 240; 0 0 1]\ndoffs=2\nbaseline=120\n";
+  const StereoCalibration plain = read_calibration(write("plain.txt", text));
+  const StereoCalibration bom = read_calibration(write("bom.txt", "\xEF\xBB\xBF" + text));
+  EXPECT_EQ(bom.format, CalibFormat::kMiddlebury);
+  EXPECT_EQ(bom.focal_px, plain.focal_px);
+  EXPECT_EQ(bom.baseline_m, plain.baseline_m);
+  EXPECT_EQ(bom.doffs_px, plain.doffs_px);
+  const StereoCalibration yaml = read_calibration(write("bom.yml", std::string("\xEF\xBB\xBF") + kOpenCvYaml));
+  EXPECT_EQ(yaml.format, CalibFormat::kOpenCv);
+  EXPECT_EQ(yaml.focal_px, 700);
+}
+
 // A stream has no size to check and no end: the reader stops one byte past its limit.
 TEST_F(Calib, StreamsFoldersAndBinaryFilesAreNotCalibrations) {
   ErrorCode code{};

@@ -225,6 +225,57 @@ TEST(CliArgs, IntegersOutOfRangeAreNotCalledNonIntegers) {
 TEST(CliArgs, AnOptionGivenTwiceIsAUsageError) {
   const char* argv[] = {"match", "--ndisp", "16", "--ndisp=32"};
   EXPECT_EQ(usage_message([&] { Args(4, const_cast<char**>(argv), {"ndisp"}, {}); }), "option --ndisp given twice");
+  // A flag too (README: "option given twice" is a usage error).
+  const char* flags[] = {"match", "--dense", "a", "--dense"};
+  EXPECT_EQ(usage_message([&] { Args(4, const_cast<char**>(flags), {}, {"dense"}); }), "option --dense given twice");
+}
+
+TEST(CliArgs, DoubleDashEndsTheOptions) {
+  const char* argv[] = {"match", "--dense", "--", "--odd-name.png", "--", "b.png"};
+  const Args a(6, const_cast<char**>(argv), {"ndisp"}, {"dense"});
+  EXPECT_TRUE(a.flag("dense"));
+  EXPECT_EQ(a.positional(), (std::vector<std::string>{"--odd-name.png", "--", "b.png"}));
+}
+
+TEST(CliArgs, AnOptionWhereAValueBelongsIsNamed) {
+  // "--disp --stats s.json" once read --stats as the disparity file and
+  // complained about three paths.
+  const char* argv[] = {"match", "l.png", "r.png", "--disp", "--stats", "s.json"};
+  EXPECT_EQ(usage_message([&] { Args(6, const_cast<char**>(argv), {"disp", "stats"}, {}); }),
+            "option --disp needs a value, but the option --stats follows it (a value that starts with -- goes as "
+            "--disp=VALUE)");
+  const char* inline_value[] = {"match", "--disp=--stats"};
+  EXPECT_EQ(Args(2, const_cast<char**>(inline_value), {"disp", "stats"}, {}).get("disp", ""), "--stats");
+  // A value that merely starts with -- but names no option is a value.
+  const char* odd[] = {"match", "--disp", "--x.pfm"};
+  EXPECT_EQ(Args(3, const_cast<char**>(odd), {"disp", "stats"}, {}).get("disp", ""), "--x.pfm");
+}
+
+TEST(CliArgs, OptionsWithoutEffectAreRefusedByTheTable) {
+  const std::vector<OptionNeed> table = {
+      {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
+      {"gamma-color", {"weights"}, "adaptive", "it scales the adaptive weights' colour term"},
+  };
+  const char* alone[] = {"match", "--mesh-ascii"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(2, const_cast<char**>(alone), {"mesh", "points"}, {"mesh-ascii"}), table);
+            }),
+            "--mesh-ascii has no effect without --mesh or --points (it writes their PLY files as ASCII)");
+  const char* with_points[] = {"match", "--mesh-ascii", "--points", "p.ply"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(4, const_cast<char**>(with_points), {"mesh", "points"}, {"mesh-ascii"}), table);
+            }),
+            "(no UsageError)");
+  const char* box[] = {"match", "--gamma-color", "5", "--weights", "box"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(5, const_cast<char**>(box), {"gamma-color", "weights"}, {}), table);
+            }),
+            "--gamma-color has no effect without --weights adaptive (it scales the adaptive weights' colour term)");
+  const char* adaptive[] = {"match", "--gamma-color", "5", "--weights", "adaptive"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(5, const_cast<char**>(adaptive), {"gamma-color", "weights"}, {}), table);
+            }),
+            "(no UsageError)");
 }
 
 }  // namespace

@@ -28,6 +28,9 @@ std::vector<Line> read_lines(const std::string& path) {
   if (all.find('\0') != std::string::npos)
     throw Error(ErrorCode::kUnsupportedFormat,
                 "calibration file '" + path + "': holds NUL bytes, not a text calibration file");
+  // A UTF-8 byte-order mark, which Windows editors put at the start of a
+  // text file, is not part of the first key.
+  if (all.compare(0, 3, "\xEF\xBB\xBF") == 0) all.erase(0, 3);
   std::vector<Line> lines;
   std::istringstream in(all);
   std::string text;

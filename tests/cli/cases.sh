@@ -31,6 +31,8 @@ echo "previous results" > "$W/old.pfm"
 # /dev/full under an output name: a device node where root may create one
 # (the issue's reproducer), else a symbolic link to it.
 mknod "$W/full.ply" c 1 7 2> /dev/null || ln -s /dev/full "$W/full.ply"
+# A Middlebury calibration for the 96x64 pair.
+printf 'cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\nwidth=96\nheight=64\n' > "$W/calib.txt"
 L=p/left.png
 R=p/right.png
 M="$T match $L $R"
@@ -76,10 +78,17 @@ run error 2 '--width 5 is out of range \[16, 4096\]' "synthetic scene too small"
 run error 2 '--ndisp 4 is out of range \[8, 256\]' "synthetic scene with D = 4" "$T synth s --ndisp 4"
 run error 2 '--frame -1 is out of range \[0, 100000\]' "negative frame number" "$T synth s --frame -1"
 run error 2 'synth needs OUTDIR' "synth without a folder" "$T synth"
+run error 2 'synth takes one path, OUTDIR; got 2 \(a, b\)' "synth with two folders" "$T synth a b" \
+  "test ! -e a && test ! -e b" "nothing written"
 run error 1 "cannot create 'p/left.png': Not a directory" "synth into a file" "$T synth p/left.png"
 run error 2 '--threads -1 is out of range \[0, 256\]' "demo with -1 threads" "$T demo d --threads -1" "test ! -e d" "nothing written"
 run error 2 'demo takes at most one path, OUTDIR; got 2' "demo with two folders" "$T demo d e"
 run error 2 "info takes no paths; got 'x'" "info with a path" "$T info x"
+run error 2 '--max-size 0x0: the width 0 is out of range \[2, 4096\]' "info with an empty size" "$T info --max-size 0x0"
+run error 2 '--ndisp 0 is out of range \[1, 256\]' "info with D = 0" "$T info --ndisp 0"
+run error 2 '--realtime 0: real-time priority 0 is outside 1\.\.' "profile with real-time priority 0" \
+  "$T profile --realtime 0 --frames 1"
+run error 2 "--gpio: invalid GPIO line 'x'" "profile with a GPIO line that is no line" "$T profile --gpio x --frames 1"
 run error 2 "--mesh m.obj: extension '.obj' is not written; the file must end in .ply" \
   "mesh in a format not written" "$M --ndisp 16 --mesh m.obj" "test ! -e m.obj" "no m.obj"
 run error 2 "--disp-color c.jpg: extension '.jpg' is not written; the file must end in .png" \
@@ -95,6 +104,16 @@ run error 2 '--disp-color ./p/../p/right.png is the RIGHT input' "output over RI
 run error 2 '--points a.ply is also the --mesh output' "two outputs, one file" \
   "$M --ndisp 16 --camera 200,0.1,48,32 --mesh a.ply --points a.ply" "test ! -e a.ply" "nothing written"
 run error 2 'option --stats given twice' "an option given twice" "$M --ndisp 16 --stats x.json --stats y.json"
+run error 2 'option --dense given twice' "a flag given twice" "$M --ndisp 16 --dense --dense"
+run error 2 'option --disp needs a value, but the option --stats follows it' "an output option missing its file" \
+  "$M --ndisp 16 --disp --stats s.json" "test ! -e s.json" "nothing written"
+run error 2 '--mesh-ascii has no effect without --mesh or --points' "ASCII without a PLY output" "$M --ndisp 16 --mesh-ascii"
+run error 2 '--gamma-color has no effect without --weights adaptive' "adaptive weight scale with box weights" \
+  "$M --ndisp 16 --gamma-color 5"
+run error 2 '--calib-unit mm has no effect: --calib calib.txt is a middlebury calibration' \
+  "a unit for a Middlebury file (whose unit is fixed)" "$M --ndisp 16 --calib calib.txt --calib-unit mm --depth z.pfm" \
+  "test ! -e z.pfm" "no z.pfm"
+run error 1 "cannot open '--left.png'" "after --, a path that starts with --" "$T match --ndisp 16 -- --left.png $R"
 run error 2 '--disp d.png: a PNG cannot hold the negative disparities of --dmin -4' \
   "negative disparities into a PNG" "$M --ndisp 16 --dmin -4 --disp d.png"
 run error 2 '--camera: 1e\+308 is out of range' "camera values that overflow" \
