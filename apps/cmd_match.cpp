@@ -38,7 +38,8 @@ to a temporary file in its folder and renamed into place when complete):
   --disp-color OUT.png      colour-mapped disparity for viewing
   --mesh OUT.ply            2.5D mesh (binary PLY; --mesh-ascii for ASCII); vertices in
                             (x, y, disparity) or metric 3D with --camera
-  --camera F,B,CX,CY[,DOFFS]  focal length (px), baseline, principal point, Middlebury doffs
+  --camera F,B,CX,CY[,DOFFS]  focal length (px), baseline (m), principal point, Middlebury
+                            doffs (px), within the bounds of docs/calibration.md
   --calib FILE              the camera from a calibration file: Middlebury calib.txt, KITTI
                             (P2/P3 or P0/P1) or OpenCV YAML/XML (P1+P2 or Q); sets the metric
                             mesh, --depth, --points and the ROS fields of --stats (metres)
@@ -134,6 +135,12 @@ int cmd_match(int argc, char** argv) {
                            right.channels == 1 ? right.view() : rg.view(), p.d_min, p.num_disp);
   });
   for (const std::string& w : {range_outside_image_warning(left.width, p.d_min, p.num_disp),
+                               run.camera ? no_depth_warning(*run.camera,
+                                                             run.camera_source == "--camera"
+                                                                 ? run.camera_source
+                                                                 : "--calib " + run.camera_source,
+                                                             p.d_min, p.num_disp)
+                                          : std::string(),
                                threads_warning(config.threads,
                                                static_cast<int>(config.cpus.empty()
                                                                     ? ThreadPool::available_cpus().size()

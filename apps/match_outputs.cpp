@@ -41,16 +41,6 @@ CameraParams parse_camera(const std::string& text) {
     v[n++] = parse_double("--camera", item);
   }
   if (n < 4) throw UsageError("--camera needs F,B,CX,CY[,DOFFS]");
-  if (!(v[0] > 0) || !(v[1] > 0)) throw UsageError("--camera: focal length and baseline must be > 0");
-  // Far beyond any real camera, and refused now rather than after computing; a
-  // combination that still overflows (a doffs cancelling a disparity to 1e-300)
-  // is refused by the writers, which never write inf/nan.
-  for (int i = 0; i < 5; ++i)
-    if (!(std::fabs(v[i]) <= 1e6)) {
-      char num[32];
-      std::snprintf(num, sizeof num, "%g", v[i]);
-      throw UsageError(std::string("--camera: ") + num + " is out of range; each of F,B,CX,CY,DOFFS must be within +-1e6");
-    }
   c.focal_px = v[0];
   c.baseline = v[1];
   c.cx = v[2];
@@ -109,7 +99,12 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
     throw UsageError("--points " + args.get("points", "") + ": the file must end in .ply");
   if (camera) {
     *source = "--camera";
-    return parse_camera(args.get("camera", ""));
+    const CameraParams c = parse_camera(args.get("camera", ""));
+    // The bounds every calibration file is held to (calib.hpp), for this
+    // input's size; refused now rather than after computing.
+    if (const CameraBoundsCheck check = check_camera_bounds(c, width, height))
+      throw UsageError("--camera: " + check.message + " (F,B,CX,CY,DOFFS: B in metres)");
+    return c;
   }
   if (!calib) return std::nullopt;
   CalibFormat format = CalibFormat::kAuto;
@@ -133,6 +128,10 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
                      (c.format == CalibFormat::kMiddlebury ? "baseline in millimetres" : "metres") +
                      "); --calib-unit applies to OpenCV files, which state none");
   check_calibration_size(c, width, height);
+  // The file's bounds were checked for the size it states, if any; the
+  // principal point must also make sense for the image it is used with.
+  if (const CameraBoundsCheck check = check_camera_bounds(c.camera(), width, height))
+    throw Error(ErrorCode::kInvalidArgument, "calibration file '" + c.path + "': " + check.message);
   if (c.format == CalibFormat::kOpenCv && !args.has("calib-unit") && c.baseline_m > 5)
     std::cerr << "warning: --calib " << c.path << ": the baseline comes out as " << c.baseline_m
               << " m; OpenCV files carry no unit: if the calibration target was measured in "

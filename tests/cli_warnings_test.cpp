@@ -176,6 +176,21 @@ TEST(CliWarnings, ThreadsBeyondCpus) {
 }
 
 // Each parameter validate_params can refuse comes back under its option name.
+TEST(CliWarnings, NoDepthWhenEveryDisparityPlusDoffsIsAtMostZero) {
+  // Without --mesh too (issue 41): all-invalid depth must not pass silently.
+  CameraParams cam{200, 0.1, 48, 32, -20};
+  EXPECT_EQ(no_depth_warning(cam, "--camera", 0, 16),
+            "warning: --camera: with doffs -20 px, no disparity searched (0..15) gives a finite positive depth "
+            "(that needs disparity + doffs > 0): every depth, point and metric mesh vertex will be invalid; check "
+            "the sign of doffs and --dmin");
+  cam.doffs = -15;  // 15 + (-15) = 0: still no depth
+  EXPECT_NE(no_depth_warning(cam, "--camera", 0, 16), "");
+  cam.doffs = -14;  // the largest disparity gets one
+  EXPECT_EQ(no_depth_warning(cam, "--camera", 0, 16), "");
+  cam.doffs = 0;
+  EXPECT_NE(no_depth_warning(cam, "--calib c.txt", -20, 16).find("--calib c.txt: with doffs 0 px"), std::string::npos);
+}
+
 TEST(CliOptionErrors, EveryRefusedFieldIsNamedAsAnOption) {
   struct Case {
     void (*set)(StereoParams&);

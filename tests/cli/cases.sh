@@ -31,8 +31,11 @@ echo "previous results" > "$W/old.pfm"
 # /dev/full under an output name: a device node where root may create one
 # (the issue's reproducer), else a symbolic link to it.
 mknod "$W/full.ply" c 1 7 2> /dev/null || ln -s /dev/full "$W/full.ply"
-# A Middlebury calibration for the 96x64 pair.
+# A Middlebury calibration for the 96x64 pair; one of absurd values (issue
+# 41), one whose principal point is valid for a large image but not this one.
 printf 'cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\nwidth=96\nheight=64\n' > "$W/calib.txt"
+printf 'cam0=[1e300 0 48; 0 1e300 32; 0 0 1]\ndoffs=2\nbaseline=1e300\n' > "$W/huge_f.txt"
+printf 'cam0=[200 0 5000; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\n' > "$W/far_cx.txt"
 L=p/left.png
 R=p/right.png
 M="$T match $L $R"
@@ -116,9 +119,13 @@ run error 2 '--calib-unit mm has no effect: --calib calib.txt is a middlebury ca
 run error 1 "cannot open '--left.png'" "after --, a path that starts with --" "$T match --ndisp 16 -- --left.png $R"
 run error 2 '--disp d.png: a PNG cannot hold the negative disparities of --dmin -4' \
   "negative disparities into a PNG" "$M --ndisp 16 --dmin -4 --disp d.png"
-run error 2 '--camera: 1e\+308 is out of range' "camera values that overflow" \
+run error 2 '--camera: focal length 1e\+308 px is outside \[1, 1e\+06\] px' "camera values that overflow" \
   "$M --ndisp 16 --camera 1e308,1e308,0,0 --mesh m.ply" "test ! -e m.ply" "no m.ply"
-run error 2 '--camera: focal length and baseline must be > 0' "zero focal length" "$M --ndisp 16 --camera 0,1,0,0 --mesh m.ply"
+run error 2 '--camera: focal length 0 px is outside \[1, 1e\+06\] px' "zero focal length" "$M --ndisp 16 --camera 0,1,0,0 --mesh m.ply"
+run error 2 '--camera: baseline 1e-300 m is outside \[0.0001, 1000\] m' "a baseline of 1e-300 (depth 0 m everywhere)" \
+  "$M --ndisp 16 --camera 200,1e-300,48,32 --depth z.pfm" "test ! -e z.pfm" "no z.pfm"
+run error 2 '--camera: principal point cy 1000 px is outside \[-64, 128\] px \(for a 96x64 image\)' \
+  "principal point far outside the image" "$M --ndisp 16 --camera 200,0.1,48,1000 --depth z.pfm"
 run error 2 '--camera needs F,B,CX,CY' "camera with 3 numbers" "$M --ndisp 16 --camera 1,2,3 --mesh m.ply"
 run error 2 '--calib and --camera both set the camera' "two cameras" "$M --ndisp 16 --camera 1,1,0,0 --calib x.txt"
 run error 2 '--depth needs a camera' "depth without a camera" "$M --ndisp 16 --depth z.pfm"
@@ -163,6 +170,10 @@ run error 1 "calibration file 'missing.txt': cannot open it: No such file or dir
 run error 1 "calibration file '/dev/zero': more than 1048576 bytes, not a calibration file" \
   "endless stream as calibration (memory limit 100 MB)" "vmem_limit_100mb; $M --ndisp 16 --calib /dev/zero --depth z.pfm"
 run error 1 "calibration file 'p': cannot read it" "a folder as calibration" "$M --ndisp 16 --calib p --depth z.pfm"
+run error 1 "calibration file 'huge_f.txt', line 1, key 'focal length': focal length 1e\+300 px is outside \[1, 1e\+06\] px" \
+  "calibration with f = B = 1e300 (+inf everywhere)" "$M --ndisp 16 --calib huge_f.txt --mesh m.ply" "test ! -e m.ply" "no m.ply"
+run error 1 "calibration file 'far_cx.txt': principal point cx 5000 px is outside \[-96, 192\] px \(for a 96x64 image\)" \
+  "calibration whose principal point is far outside the input" "$M --ndisp 16 --calib far_cx.txt --depth z.pfm"
 run error 1 "--stats nodir/s.json: folder 'nodir': No such file or directory \(create it first\)" \
   "stats into a missing folder" "$M --ndisp 16 --disp d.pfm --stats nodir/s.json" "test ! -e d.pfm" "no d.pfm written"
 run error 1 "--stats folder.json is a folder" "stats onto a folder" "$M --ndisp 16 --stats folder.json"
@@ -188,5 +199,10 @@ run warning 0 "warning: --threads [0-9]+ with only [0-9]+ CPUs allowed" "more th
 run warning 0 "warning: --threads 2 with only 1 CPUs in --cpus" "more threads than --cpus" "$M --ndisp 16 --threads 2 --cpus 0"
 run warning 0 "warning: --mesh m.ply: [0-9]+ of [0-9]+ faces left out; [0-9]+ touch a vertex at or beyond infinity" \
   "metric mesh with vertices behind the camera" "$M --ndisp 16 --camera 100,1,48,32,-3 --mesh m.ply" "test -s m.ply" "m.ply written"
+run warning 0 "warning: --camera: with doffs -20 px, no disparity searched \(0\.\.15\) gives a finite positive depth" \
+  "a doffs that leaves no pixel a depth (without --mesh)" "$M --ndisp 16 --camera 200,0.1,48,32,-20 --depth z.pfm" \
+  "test -s z.pfm" "z.pfm written"
+run warning 0 "warning: --calib calib.txt: with doffs 2 px, no disparity searched \(-20\.\.-5\) gives" \
+  "a disparity range with no depth, from a calibration file" "$M --ndisp 16 --dmin -20 --calib calib.txt --depth z.pfm"
 run warning 0 "warning: LEFT p/left.png is gray but RIGHT rgb.ppm is RGB" "gray LEFT, RGB RIGHT" "$T match $L rgb.ppm --ndisp 16"
 run warning 0 "warning: RIGHT p/right.png is gray but LEFT rgb.ppm is RGB" "RGB LEFT, gray RIGHT" "$T match rgb.ppm $R --ndisp 16"
