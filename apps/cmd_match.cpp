@@ -29,8 +29,9 @@ mesh by default; --optimizer dp: the paper's row DP), the dense disparity map an
 2.5D mesh. LEFT/RIGHT: rectified 8-bit PNG/PGM/PPM (gray or RGB).
 
 Outputs (each checked before computing: the format follows the extension, other
-extensions are refused, no output may name an input or another output; each is written
-to a temporary file in its folder and renamed into place when complete):
+extensions are refused, no output may name an input or another output; all or nothing:
+each is written to a temporary file in its folder, and they are renamed into place
+together once every one is complete):
   --disp OUT.pfm|OUT.png    dense disparity: PFM float (Middlebury, +inf = invalid) or
                             16-bit PNG holding disparity*16 (0 = invalid)
   --disp-format q4|kitti    how a --disp PNG encodes d: q4 (default, value = 16 d) or

@@ -17,15 +17,19 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "apps/cli_args.hpp"
 #include "apps/option_errors.hpp"
+#include "apps/output_paths.hpp"
+#include "apps/output_set.hpp"
 #include "apps/stereo_options.hpp"
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
@@ -74,8 +78,10 @@ Real time and markers:
                        mesh output
   --mesh-output        time writing the mesh as binary PLY (to a temp file) as a stage
 Reports:
-  --csv FILE           one row per measured frame (ms)
-  --json FILE          the summary (config, per-stage stats, fps, memory, machine)
+  --csv FILE.csv       one row per measured frame (ms)
+  --json FILE.json     the summary (config, per-stage stats, fps, memory, machine);
+                       both checked before the run (never an input, a frame of
+                       --folder or each other) and written together, all or nothing
   --quiet              no progress line and no table on stdout
 Memory: resident memory is sampled (outside the timed frames) before the first
 measured frame, every frames/100 frames and after the last; the JSON's "rss"
@@ -196,6 +202,7 @@ bool file_exists(const std::string& path) { return access(path.c_str(), F_OK) ==
 // (warm-up included) uses slot i % size().
 struct FrameRing {
   std::vector<ImageU8> left, right;
+  std::vector<std::string> files;  // the frames read from --folder: no output may name one
   int width = 0, height = 0;
   std::size_t size() const { return left.size(); }
 };
@@ -254,6 +261,8 @@ FrameRing folder_frames(const std::string& dir, const std::string& left_pattern,
     const ImageU8 l = read_image_u8(left_path(i));
     const ImageU8 r = read_image_u8(right_path(i));
     add_pair(ring, l, r, "frame '" + left_path(i) + "'");
+    ring.files.push_back(left_path(i));
+    ring.files.push_back(right_path(i));
     bytes += 2 * ring.left.back().pixels.size();
     if (bytes >= kFolderBudgetBytes) break;
   }
@@ -307,26 +316,15 @@ class ProgressLine {
   std::int64_t last_print_ns_ = 0;
 };
 
-// Fails before the run, not after it, when a report cannot be written, and
-// leaves an existing file untouched until the run has succeeded.
-void check_writable(const std::string& option, const std::string& path) {
+// The reports, as text files written all or nothing (output_set.hpp).
+void add_report(OutputSet& outputs, const char* option, const std::string& path,
+                const std::function<void(std::ostream&)>& write) {
   if (path.empty()) return;
-  const bool existed = access(path.c_str(), F_OK) == 0;
-  std::FILE* f = std::fopen(path.c_str(), "a");  // "a": creates, never truncates
-  if (!f)
-    throw Error(ErrorCode::kIoError,
-                option + ": cannot write '" + path + "': " + std::strerror(errno));
-  std::fclose(f);
-  if (!existed) unlink(path.c_str());
-}
-
-template <typename WriteFn>
-void write_report(const std::string& path, WriteFn write) {
-  if (path.empty()) return;
-  std::ofstream f(path);
-  if (f) write(f);
-  f.close();
-  if (!f) throw Error(ErrorCode::kIoError, "writing '" + path + "' failed");
+  outputs.add(option, path, [write](const std::string& to) {
+    std::ostringstream text;
+    write(text);
+    write_text_file(to, text.str());
+  });
 }
 
 }  // namespace
@@ -391,6 +389,10 @@ int cmd_profile(int argc, char** argv) {
                       ": this build has no GPIO support (libgpiod v1 was not "
                       "found at build time; install libgpiod-dev and reconfigure)");
   }
+  // Like match's: the format follows the extension, never onto an input or
+  // the other report, the folder exists (output_paths.hpp).
+  static const std::vector<OutputOption> kReports = {{"csv", {".csv"}}, {"json", {".json"}}};
+  check_output_paths(args, kReports, {{"--left", args.get("left", "")}, {"--right", args.get("right", "")}});
   // The synthetic scene's own limits (make_synthetic_scene: 16..4096 per side).
   const int synth_w = bounded_int(args, "width", 640, 16, kMaxImageSide);
   const int synth_h = bounded_int(args, "height", 480, 16, kMaxImageSide);
@@ -412,9 +414,13 @@ int cmd_profile(int argc, char** argv) {
   config.max_width = ring.width;
   config.max_height = ring.height;
 
+  // The frames of --folder are inputs too, known once read (before any computing).
+  for (const char* option : {"csv", "json"})
+    for (const std::string& frame : ring.files)
+      if (args.has(option) && same_file(args.get(option, ""), frame))
+        throw UsageError(std::string("--") + option + " " + args.get(option, "") + " is the frame '" + frame +
+                         "' of --folder; refusing to overwrite an input (choose another output name)");
   const std::string csv_path = args.get("csv", ""), json_path = args.get("json", "");
-  check_writable("--csv", csv_path);
-  check_writable("--json", json_path);
   std::unique_ptr<TempFile> ply;
   if (mesh_output) ply = std::make_unique<TempFile>();
 
@@ -548,8 +554,10 @@ int cmd_profile(int argc, char** argv) {
   const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
   const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss);
 
-  write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });
-  write_report(json_path, [&](std::ostream& os) { write_profile_json(os, report); });
+  OutputSet outputs;
+  add_report(outputs, "--csv", csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });
+  add_report(outputs, "--json", json_path, [&](std::ostream& os) { write_profile_json(os, report); });
+  outputs.commit();
   if (!quiet) write_profile_table(std::cout, report);
   return 0;
 }

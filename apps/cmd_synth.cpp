@@ -4,6 +4,7 @@
 
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
+#include "apps/output_set.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
@@ -37,13 +38,19 @@ int cmd_synth(int argc, char** argv) {
   sp.frame = args.get_int_in("frame", 0, 0, 100000);
   const SyntheticScene scene = make_synthetic_scene(sp);
   const std::filesystem::path dir = args.positional()[0];
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw Error(ErrorCode::kIoError, "cannot create '" + dir.string() + "': " + ec.message());
-  write_png_u8((dir / "left.png").string(), scene.left.view());
-  write_png_u8((dir / "right.png").string(), scene.right.view());
-  write_pfm((dir / "disp_left.pfm").string(), scene.disp_left.view());
-  write_png_u8((dir / "nonocc.png").string(), scene.nonocc_mask.view());
+  OutputFolder folder(dir);
+  // The four files all or nothing (output_set.hpp): a failed run leaves no
+  // new left image beside an old ground truth.
+  OutputSet outputs;
+  outputs.add("OUTDIR", (dir / "left.png").string(), [&](const std::string& p) { write_png_u8(p, scene.left.view()); });
+  outputs.add("OUTDIR", (dir / "right.png").string(),
+              [&](const std::string& p) { write_png_u8(p, scene.right.view()); });
+  outputs.add("OUTDIR", (dir / "disp_left.pfm").string(),
+              [&](const std::string& p) { write_pfm(p, scene.disp_left.view()); });
+  outputs.add("OUTDIR", (dir / "nonocc.png").string(),
+              [&](const std::string& p) { write_png_u8(p, scene.nonocc_mask.view()); });
+  outputs.commit();
+  folder.keep();
   std::cout << "wrote " << dir.string() << "/{left.png,right.png,disp_left.pfm,nonocc.png} ("
             << sp.width << "x" << sp.height << ", ndisp " << sp.num_disp << ")\n";
   return 0;

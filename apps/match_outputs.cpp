@@ -9,6 +9,7 @@
 
 #include "apps/option_errors.hpp"
 #include "apps/output_paths.hpp"
+#include "apps/output_set.hpp"
 #include "tristereo/calib.hpp"
 #include "tristereo/depth.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -19,16 +20,6 @@ namespace tristereo::cli {
 
 namespace {
 double ms(std::int64_t ns) { return static_cast<double>(ns) / 1e6; }
-
-// Runs one output's writer; its errors name the option as typed.
-template <typename Fn>
-void write_output(const char* option, const Fn& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    throw Error(e.code(), std::string("--") + option + ": " + without_function_prefix(e.what()));
-  }
-}
 
 CameraParams parse_camera(const std::string& text) {
   CameraParams c{};
@@ -235,53 +226,55 @@ const std::vector<OutputOption>& match_output_options() {
 
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run) {
   const StereoOutput& o = run.out();
+  // All or nothing (output_set.hpp): staged in this order, renamed together.
+  OutputSet outputs;
   if (args.has("disp"))
-    write_output("disp", [&] {
-      write_disparity(args.get("disp", ""), o.disp_q4.view(),
+    outputs.add("--disp", args.get("disp", ""), [&](const std::string& path) {
+      write_disparity(path, o.disp_q4.view(),
                       args.get("disp-format", "q4") == "kitti" ? DispPngScale::kKitti : DispPngScale::kQ4);
     });
   if (args.has("disp-color"))
-    write_output("disp-color", [&] {
-      write_disparity_color(args.get("disp-color", ""), o.disp_q4.view(), run.config.params.d_min,
-                            run.config.params.num_disp);
+    outputs.add("--disp-color", args.get("disp-color", ""), [&](const std::string& path) {
+      write_disparity_color(path, o.disp_q4.view(), run.config.params.d_min, run.config.params.num_disp);
     });
   const CameraParams* cam = run.camera ? &*run.camera : nullptr;
-  if (args.has("mesh")) {
-    MeshWriteReport r;
-    write_output("mesh", [&] {
-      r = write_mesh_ply(args.get("mesh", ""), o.mesh, o.vertex_disp_q4, left.view(), cam,
-                         !args.flag("mesh-ascii"));
+  MeshWriteReport mesh_report;
+  if (args.has("mesh"))
+    outputs.add("--mesh", args.get("mesh", ""), [&](const std::string& path) {
+      mesh_report = write_mesh_ply(path, o.mesh, o.vertex_disp_q4, left.view(), cam, !args.flag("mesh-ascii"));
     });
-    const std::size_t dropped = r.faces_without_disparity + r.faces_behind_camera;
-    if (dropped > 0) {
-      std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
-                << o.mesh.triangles.size() << " faces left out";
-      if (r.faces_without_disparity > 0)
-        std::cerr << "; " << r.faces_without_disparity
-                  << " touch a vertex without a valid disparity";
-      if (r.faces_behind_camera > 0)
-        std::cerr << "; " << r.faces_behind_camera
-                  << " touch a vertex at or beyond infinity (disparity + doffs <= 0: check the "
-                     "camera's doffs and --dmin)";
-      std::cerr << " (their vertices are still written, so indices match the mesh)\n";
-    }
-  }
-  if (args.has("depth") && cam) {
-    DepthWriteReport r;
-    write_output("depth", [&] {
-      r = write_depth(args.get("depth", ""), depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
+  DepthWriteReport depth_report;
+  if (args.has("depth") && cam)
+    outputs.add("--depth", args.get("depth", ""), [&](const std::string& path) {
+      depth_report = write_depth(path, depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
     });
-    if (r.out_of_range > 0)
-      std::cerr << "warning: --depth " << args.get("depth", "") << ": " << r.out_of_range
-                << " pixels are 65.535 m or farther and were written as 0 (invalid); use a .pfm file "
-                   "to keep them\n";
-  }
   if (args.has("points") && cam)
-    write_output("points", [&] {
-      write_points_ply(args.get("points", ""), o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
+    outputs.add("--points", args.get("points", ""), [&](const std::string& path) {
+      write_points_ply(path, o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
     });
-  if (args.has("samples")) write_output("samples", [&] { write_samples_csv(args.get("samples", ""), o); });
-  if (args.has("stats")) write_output("stats", [&] { write_stats_json(args.get("stats", ""), run); });
+  if (args.has("samples"))
+    outputs.add("--samples", args.get("samples", ""), [&](const std::string& path) { write_samples_csv(path, o); });
+  if (args.has("stats"))
+    outputs.add("--stats", args.get("stats", ""), [&](const std::string& path) { write_stats_json(path, run); });
+  outputs.commit();
+
+  // What the writers reported, once every output is in place.
+  const std::size_t dropped = mesh_report.faces_without_disparity + mesh_report.faces_behind_camera;
+  if (dropped > 0) {
+    std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
+              << o.mesh.triangles.size() << " faces left out";
+    if (mesh_report.faces_without_disparity > 0)
+      std::cerr << "; " << mesh_report.faces_without_disparity << " touch a vertex without a valid disparity";
+    if (mesh_report.faces_behind_camera > 0)
+      std::cerr << "; " << mesh_report.faces_behind_camera
+                << " touch a vertex at or beyond infinity (disparity + doffs <= 0: check the "
+                   "camera's doffs and --dmin)";
+    std::cerr << " (their vertices are still written, so indices match the mesh)\n";
+  }
+  if (depth_report.out_of_range > 0)
+    std::cerr << "warning: --depth " << args.get("depth", "") << ": " << depth_report.out_of_range
+              << " pixels are 65.535 m or farther and were written as 0 (invalid); use a .pfm file "
+                 "to keep them\n";
 }
 
 void print_match_summary(std::ostream& os, const MatchRun& run) {

@@ -1,9 +1,11 @@
 // The command line's rules, without a terminal: warnings for suspicious
 // input (apps/match_warnings.cpp), library errors in option names
-// (apps/option_errors.cpp) and integer parsing (apps/cli_args.cpp).
+// (apps/option_errors.cpp), integer parsing (apps/cli_args.cpp) and
+// all-or-nothing outputs (apps/output_set.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -14,10 +16,12 @@
 #include "apps/cli_args.hpp"
 #include "apps/match_warnings.hpp"
 #include "apps/option_errors.hpp"
+#include "apps/output_set.hpp"
 #include "support/data.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/params.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
 
 namespace tristereo::cli {
@@ -291,6 +295,124 @@ TEST(CliArgs, OptionsWithoutEffectAreRefusedByTheTable) {
               check_option_needs(Args(5, const_cast<char**>(adaptive), {"gamma-color", "weights"}, {}), table);
             }),
             "(no UsageError)");
+}
+
+// ---------------------------------------------------------------- outputs
+
+namespace fs = std::filesystem;
+
+class OutputSetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("tristereo_outset_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+            "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  static std::string slurp(const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  }
+  std::vector<std::string> listing() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  fs::path dir_;
+};
+
+// A writer as the library's are: the bytes to `p`, atomically.
+std::function<void(const std::string&)> writes(const std::string& text) {
+  return [text](const std::string& p) { write_text_file(p, text); };
+}
+
+TEST_F(OutputSetTest, EveryOutputInPlaceAndNothingElseLeft) {
+  std::ofstream(path("a.csv")) << "old a";
+  OutputSet set;
+  set.add("--a", path("a.csv"), writes("new a"));
+  set.add("--b", path("b.json"), writes("new b"));
+  set.commit();
+  EXPECT_EQ(slurp(path("a.csv")), "new a");
+  EXPECT_EQ(slurp(path("b.json")), "new b");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.csv", "b.json"}));
+}
+
+TEST_F(OutputSetTest, ALastOutputThatFailsChangesNoTarget) {
+  std::ofstream(path("a.csv")) << "old a";
+  std::ofstream(path("b.ply")) << "old b";
+  std::string seen_path;
+  OutputSet set;
+  set.add("--a", path("a.csv"), writes("new a"));
+  set.add("--b", path("b.ply"), [&](const std::string& p) {
+    seen_path = p;
+    write_text_file(p, "new b");
+  });
+  set.add("--c", path("c.json"), [](const std::string& p) {
+    throw Error(ErrorCode::kIoError, "write_text_file: cannot write '" + p + "': No space left on device");
+  });
+  try {
+    set.commit();
+    ADD_FAILURE() << "committed";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kIoError);
+    // The target, not the temporary; the option as typed.
+    EXPECT_EQ(std::string(e.what()), "--c: cannot write '" + path("c.json") + "': No space left on device");
+  }
+  // Written beside its target, with its extension (which picks the format).
+  EXPECT_EQ(fs::path(seen_path).parent_path(), dir_);
+  EXPECT_EQ(fs::path(seen_path).extension(), ".ply");
+  EXPECT_EQ(slurp(path("a.csv")), "old a");
+  EXPECT_EQ(slurp(path("b.ply")), "old b");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.csv", "b.ply"}));  // no c.json, no temporaries
+}
+
+TEST_F(OutputSetTest, ARenameThatFailsHalfWayPutsBackWhatItReplaced) {
+  // A folder at the last target: staging succeeds, its rename fails after the
+  // first two targets were replaced, which must then be put back.
+  std::ofstream(path("a.csv")) << "old a";
+  fs::create_directories(path("c.json"));
+  std::ofstream(path("c.json") + "/inside") << "x";
+  OutputSet set;
+  set.add("--a", path("a.csv"), writes("new a"));
+  set.add("--b", path("b.csv"), writes("new b"));
+  set.add("--c", path("c.json"), writes("new c"));
+  EXPECT_THROW(set.commit(), Error);
+  EXPECT_EQ(slurp(path("a.csv")), "old a");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.csv", "c.json"}));  // b.csv was new: gone again
+}
+
+TEST_F(OutputSetTest, ALinkKeepsPointingAtTheFileItNames) {
+  std::ofstream(path("real.csv")) << "old";
+  fs::create_symlink(path("real.csv"), path("link.csv"));
+  OutputSet set;
+  set.add("--a", path("link.csv"), writes("new"));
+  set.commit();
+  EXPECT_TRUE(fs::is_symlink(path("link.csv")));
+  EXPECT_EQ(slurp(path("real.csv")), "new");
+}
+
+TEST_F(OutputSetTest, AFolderCreatedForAFailedRunIsRemoved) {
+  {
+    OutputFolder folder(path("x/y"));
+    EXPECT_TRUE(fs::is_directory(path("x/y")));
+  }
+  EXPECT_FALSE(fs::exists(path("x")));
+  {
+    OutputFolder folder(path("x/y"));
+    folder.keep();
+  }
+  EXPECT_TRUE(fs::is_directory(path("x/y")));
+  std::ofstream(path("file")) << "x";
+  try {
+    OutputFolder folder(path("file"));
+    ADD_FAILURE() << "a file as a folder";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("Not a directory"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

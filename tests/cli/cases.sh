@@ -31,6 +31,19 @@ echo "previous results" > "$W/old.pfm"
 # /dev/full under an output name: a device node where root may create one
 # (the issue's reproducer), else a symbolic link to it.
 mknod "$W/full.ply" c 1 7 2> /dev/null || ln -s /dev/full "$W/full.ply"
+# All or nothing (issue 41): earlier outputs that existed must stay byte for
+# byte what they were when the last output fails on a full device.
+full() { mknod "$1" c 1 7 2> /dev/null || ln -s /dev/full "$1"; }
+full "$W/full.json"
+echo "previous disparities" > "$W/prev.pfm"; echo "previous mesh" > "$W/prev.ply"; echo "previous csv" > "$W/prev.csv"
+cp "$W/prev.pfm" "$W/prev.pfm.orig"; cp "$W/prev.ply" "$W/prev.ply.orig"; cp "$W/prev.csv" "$W/prev.csv.orig"
+mkdir -p "$W/sy" "$W/de" "$W/frames"
+echo "previous left" > "$W/sy/left.png"; full "$W/sy/nonocc.png"
+echo "previous left" > "$W/de/left.png"; full "$W/de/dense_stats.json"
+# Frames of a --folder named like reports (the reader goes by content), and
+# an image named like a report.
+cp "$W/p/left.png" "$W/frames/left_0000.csv"; cp "$W/p/right.png" "$W/frames/right_0000.csv"
+cp "$W/p/left.png" "$W/image.json"
 # A Middlebury calibration for the 96x64 pair; one of absurd values (issue
 # 41), one whose principal point is valid for a large image but not this one.
 printf 'cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\nwidth=96\nheight=64\n' > "$W/calib.txt"
@@ -188,6 +201,32 @@ run error 1 "--points: cannot write 'old.ply': File too large" "point cloud onto
 run error 1 "--disp: cannot write 'old.pfm': File too large" "disparity onto a full disk (ulimit -f 8)" \
   "ulimit -f 8; trap '' XFSZ; $M --ndisp 16 --disp old.pfm" \
   "test \"\$(cat old.pfm)\" = 'previous results' && test -z \"\$(ls -A | grep tmp-)\"" "old.pfm intact, no temporary left"
+
+# ---- all or nothing: a failing output leaves every target as it was
+nothing_new="cmp prev.pfm prev.pfm.orig && cmp prev.ply prev.ply.orig && cmp prev.csv prev.csv.orig && test -z \"\$(ls -A | grep -E 'tmp-|bak-')\""
+run error 1 "--stats: cannot write 'full.json': No space left on device" \
+  "match's last output onto /dev/full (mknod full.json c 1 7)" \
+  "$M --ndisp 16 --disp prev.pfm --mesh prev.ply --samples prev.csv --disp-color new.png --stats full.json" \
+  "$nothing_new && test ! -e new.png" "every earlier target byte-identical, no new file, no temporary"
+run error 1 "OUTDIR: cannot write 'sy/nonocc.png': No space left on device" "synth whose last file is /dev/full" \
+  "$T synth sy --width 32 --height 24 --ndisp 8" \
+  "test \"\$(cat sy/left.png)\" = 'previous left' && test \"\$(ls -A sy | tr '\n' ' ')\" = 'left.png nonocc.png '" \
+  "sy/left.png as it was, nothing else written"
+run error 1 "OUTDIR: cannot write 'de/dense_stats.json': No space left on device" "demo whose last file is /dev/full" \
+  "$T demo de --width 32 --height 24 --ndisp 8" \
+  "test \"\$(cat de/left.png)\" = 'previous left' && test \"\$(ls -A de | tr '\n' ' ')\" = 'dense_stats.json left.png '" \
+  "de/left.png as it was, nothing else written"
+run error 1 "--json: cannot write 'full.json': No space left on device" "profile's --json onto /dev/full" \
+  "$T profile --width 32 --height 24 --ndisp 8 --frames 2 --warmup 0 --csv prev.csv --json full.json" \
+  "$nothing_new" "prev.csv as it was, no temporary"
+run error 2 "--csv frames/left_0000.csv is the frame 'frames/left_0000.csv' of --folder; refusing to overwrite an input" \
+  "profile's report onto a frame of --folder" \
+  "$T profile --folder frames --left-pattern left_%04d.csv --right-pattern right_%04d.csv --frames 1 --warmup 0 --csv frames/left_0000.csv" \
+  "cmp frames/left_0000.csv p/left.png" "the frame unchanged"
+run error 2 "--json image.json is the --left input; refusing to overwrite an input" "profile's report onto its input" \
+  "$T profile --left image.json --right $R --frames 1 --json image.json" "cmp image.json p/left.png" "the input unchanged"
+run error 2 "--json r.csv: extension '.csv' is not written; the file must end in .json" "profile's reports into one file" \
+  "$T profile --frames 1 --csv r.csv --json r.csv" "test ! -e r.csv" "nothing written"
 
 # ---- valid but suspicious: exit 0, a warning that says what to check
 run warning 0 "warning: LEFT and RIGHT look swapped: .* check the order of the paths" "LEFT and RIGHT swapped" \
