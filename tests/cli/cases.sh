@@ -219,6 +219,8 @@ run error 1 "OUTDIR: cannot write 'de/dense_stats.json': No space left on device
 run error 1 "--json: cannot write 'full.json': No space left on device" "profile's --json onto /dev/full" \
   "$T profile --width 32 --height 24 --ndisp 8 --frames 2 --warmup 0 --csv prev.csv --json full.json" \
   "$nothing_new" "prev.csv as it was, no temporary"
+run error 1 "--json: cannot write 'full.json': No space left on device" "eval's --json onto /dev/full" \
+  "$T eval disp16.png disp16.png --disp-format q4 --gt-format q4 --json full.json" "test -c full.json || test -L full.json" "full.json still the device"
 run error 2 "--csv frames/left_0000.csv is the frame 'frames/left_0000.csv' of --folder; refusing to overwrite an input" \
   "profile's report onto a frame of --folder" \
   "$T profile --folder frames --left-pattern left_%04d.csv --right-pattern right_%04d.csv --frames 1 --warmup 0 --csv frames/left_0000.csv" \
