@@ -87,6 +87,8 @@ int cmd_match(int argc, char** argv) {
   // Options that act only beside another (cli_args.hpp, OptionNeed).
   static const std::vector<OptionNeed> kNeeds = {
       {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
+      {"calib-format", {"calib"}, nullptr, "it says how to read the calibration file"},
+      {"calib-unit", {"calib"}, nullptr, "it gives the unit of an OpenCV calibration file's translations"},
   };
   check_option_needs(args, kNeeds);
   const auto& pos = args.positional();

@@ -346,6 +346,12 @@ int cmd_profile(int argc, char** argv) {
   }
   if (!args.positional().empty())
     throw UsageError("profile takes no positional arguments, got '" + args.positional()[0] + "'");
+  // Options that act only beside another (cli_args.hpp, OptionNeed).
+  static const std::vector<OptionNeed> kNeeds = {
+      {"left-pattern", {"folder"}, nullptr, "it names the left frames in that folder"},
+      {"right-pattern", {"folder"}, nullptr, "it names the right frames in that folder"},
+  };
+  check_option_needs(args, kNeeds);
 
   // ---- options (all checked before anything is loaded or opened)
   const int frames = bounded_int(args, "frames", 100, 1, static_cast<int>(FrameLog::kMaxFrames));

@@ -71,8 +71,6 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
                                              std::string* source) {
   const bool calib = args.has("calib"), camera = args.has("camera");
   if (calib && camera) throw UsageError("--calib and --camera both set the camera: give one of them");
-  if (!calib && (args.has("calib-format") || args.has("calib-unit")))
-    throw UsageError("--calib-format and --calib-unit apply to --calib FILE, which is missing");
   for (const char* opt : {"depth", "points"})
     if (args.has(opt) && !calib && !camera)
       throw UsageError(std::string("--") + opt + " needs a camera: --calib FILE (or --camera F,B,CX,CY[,DOFFS])");

@@ -129,6 +129,10 @@ run error 2 '--gamma-color has no effect without --weights adaptive' "adaptive w
 run error 2 '--calib-unit mm has no effect: --calib calib.txt is a middlebury calibration' \
   "a unit for a Middlebury file (whose unit is fixed)" "$M --ndisp 16 --calib calib.txt --calib-unit mm --depth z.pfm" \
   "test ! -e z.pfm" "no z.pfm"
+run error 2 '--calib-unit has no effect without --calib' "a calibration unit without a calibration" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --calib-unit mm --depth z.pfm"
+run error 2 '--left-pattern has no effect without --folder' "profile's frame pattern without a folder" \
+  "$T profile --left-pattern l%d.png --frames 1"
 run error 1 "cannot open '--left.png'" "after --, a path that starts with --" "$T match --ndisp 16 -- --left.png $R"
 run error 2 '--disp d.png: a PNG cannot hold the negative disparities of --dmin -4' \
   "negative disparities into a PNG" "$M --ndisp 16 --dmin -4 --disp d.png"
