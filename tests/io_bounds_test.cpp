@@ -175,24 +175,6 @@ std::vector<std::uint8_t> png_claiming(int color_type, std::uint32_t w, std::uin
   return b;
 }
 
-TEST_F(IoBoundsTest, APngHeaderClaimingMoreThanItsFileCanHoldIsRefusedBeforeAllocating) {
-  const std::vector<std::uint8_t> b = png_claiming(PNG_COLOR_TYPE_RGB, 16384, 16384, path("tmp.png"));
-  spit(path("huge.png"), b);
-  try {
-    read_image_u8(path("huge.png"));
-    ADD_FAILURE() << "read";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorruptFile);
-    EXPECT_NE(std::string(e.what()).find("more than a " + std::to_string(b.size()) + "-byte file can hold"),
-              std::string::npos)
-        << e.what();
-  }
-  // A claim the file could hold (deflate's ratio) but whose data stops early:
-  // decoded row by row, it fails on the missing rows.
-  spit(path("tall.png"), png_claiming(PNG_COLOR_TYPE_GRAY, 8, 8000, path("tmp2.png")));
-  EXPECT_EQ(code_of([&] { read_image_u8(path("tall.png")); }), ErrorCode::kCorruptFile);
-}
-
 // A chunk as the PNG specification lays it out: length, type, data, CRC-32.
 std::vector<std::uint8_t> png_chunk(const char* type, const std::vector<std::uint8_t>& data) {
   std::vector<std::uint8_t> c;
@@ -205,6 +187,41 @@ std::vector<std::uint8_t> png_chunk(const char* type, const std::vector<std::uin
   for (std::uint8_t v : data) c.push_back(v);
   push_be32(static_cast<std::uint32_t>(crc32(0L, c.data() + 4, static_cast<uInt>(c.size() - 4))));
   return c;
+}
+
+TEST_F(IoBoundsTest, APngHeaderClaimingMoreThanItsFileCanHoldIsRefusedBeforeAllocating) {
+  const std::vector<std::uint8_t> b = png_claiming(PNG_COLOR_TYPE_RGB, 16384, 16384, path("tmp.png"));
+  spit(path("huge.png"), b);
+  try {
+    read_image_u8(path("huge.png"));
+    ADD_FAILURE() << "read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorruptFile);
+    EXPECT_NE(std::string(e.what()).find("more than a " + std::to_string(b.size()) + "-byte file can hold"),
+              std::string::npos)
+        << e.what();
+  }
+  // Metadata buys no pixels: the same claim behind a 1 MiB text chunk.
+  {
+    std::vector<std::uint8_t> padded(b.begin(), b.begin() + 33);
+    const std::vector<std::uint8_t> text = png_chunk("tEXt", std::vector<std::uint8_t>(1 << 20, 'x'));
+    padded.insert(padded.end(), text.begin(), text.end());
+    padded.insert(padded.end(), b.begin() + 33, b.end());
+    spit(path("padded.png"), padded);
+    try {
+      read_image_u8(path("padded.png"));
+      ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("more than the " + std::to_string(b.size()) + " bytes of its image chunks (of " +
+                                           std::to_string(padded.size()) + ") can hold"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // A claim the file could hold (deflate's ratio) but whose data stops early:
+  // decoded row by row, it fails on the missing rows.
+  spit(path("tall.png"), png_claiming(PNG_COLOR_TYPE_GRAY, 8, 8000, path("tmp2.png")));
+  EXPECT_EQ(code_of([&] { read_image_u8(path("tall.png")); }), ErrorCode::kCorruptFile);
 }
 
 // The issue-41 reproducer: signature, a 4 x 4 gray IHDR, then a `type` chunk

@@ -241,13 +241,18 @@ DecodedPng decode_png(const PngChunks& png, const std::string& path, bool want16
       static_cast<std::size_t>(h.width) * decoded_channels * bytes_per_sample;
   // Deflate expands at most ~1032:1, so a header claiming more pixel data
   // than that many times the file is a lie: refuse it before allocating.
+  // Only the critical chunks count: metadata decodes into no pixel, and
+  // must not buy an interlaced image's buffer.
   const std::uint64_t claimed = static_cast<std::uint64_t>(decoded_row_bytes) * h.height;
-  if (claimed > static_cast<std::uint64_t>(kMaxPngExpansion) * png.file_bytes) {
+  if (claimed > static_cast<std::uint64_t>(kMaxPngExpansion) * bytes.size()) {
+    const std::string holder = bytes.size() == png.file_bytes
+                                   ? "a " + std::to_string(bytes.size()) + "-byte file"
+                                   : "the " + std::to_string(bytes.size()) + " bytes of its image chunks (of " +
+                                         std::to_string(png.file_bytes) + ")";
     throw Error(ErrorCode::kCorruptFile,
                 "corrupt PNG '" + path + "': the header claims " + std::to_string(h.width) + " x " +
-                    std::to_string(h.height) + " pixels (" + std::to_string(claimed) +
-                    " bytes), more than a " + std::to_string(png.file_bytes) +
-                    "-byte file can hold");
+                    std::to_string(h.height) + " pixels (" + std::to_string(claimed) + " bytes), more than " +
+                    holder + " can hold");
   }
   png_colorp plte = nullptr;
   int plte_size = 0;
@@ -267,7 +272,7 @@ DecodedPng decode_png(const PngChunks& png, const std::string& path, bool want16
     std::vector<std::uint8_t> row(decoded_row_bytes);
     // Real images compress 1.5-4x: reserve at once when the claim is plausible
     // for this file, grow geometrically (one copy of the data on average) when not.
-    if (claimed <= 16 * static_cast<std::uint64_t>(png.file_bytes)) decoded.reserve(static_cast<std::size_t>(claimed));
+    if (claimed <= 16 * static_cast<std::uint64_t>(bytes.size())) decoded.reserve(static_cast<std::size_t>(claimed));
     for (png_uint_32 y = 0; y < h.height; ++y) {
       if (!png_read_one_row(s.png, row.data())) throw_png(path, ctx);
       decoded.insert(decoded.end(), row.begin(), row.end());

@@ -24,7 +24,7 @@ bool is_png(const std::vector<std::uint8_t>& bytes);
 // they are in the file, every ancillary chunk left out.
 struct PngChunks {
   std::vector<std::uint8_t> bytes;
-  std::uint64_t file_bytes = 0;  // of the file walked, ancillary chunks included
+  std::uint64_t file_bytes = 0;  // of the file walked, ancillary chunks included (for messages)
 };
 
 // Walks the chunks of the PNG file `f` whose first bytes (the signature) are
