@@ -9,9 +9,16 @@ namespace tristereo::cli {
 
 Args::Args(int argc, char** argv, const std::set<std::string>& value_options,
            const std::set<std::string>& flag_options) {
+  bool options_ended = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
+    // "--" ends the options, as in POSIX utilities: what follows is a path
+    // even when it starts with "--".
+    if (a == "--" && !options_ended) {
+      options_ended = true;
+      continue;
+    }
+    if (!options_ended && a.size() > 2 && a.compare(0, 2, "--") == 0) {
       std::string name = a.substr(2), value;
       const auto eq = name.find('=');
       const bool inline_value = eq != std::string::npos;
@@ -23,12 +30,24 @@ Args::Args(int argc, char** argv, const std::set<std::string>& value_options,
         if (!inline_value) {
           if (i + 1 >= argc) throw UsageError("option --" + name + " needs a value");
           value = argv[++i];
+          // "--disp --stats s.json": --disp would take "--stats" as its file
+          // and leave s.json as a stray path; name the real mistake instead.
+          const std::string next_name = value.size() > 2 && value.compare(0, 2, "--") == 0
+                                            ? value.substr(2, value.find('=') == std::string::npos
+                                                                  ? std::string::npos
+                                                                  : value.find('=') - 2)
+                                            : std::string();
+          if (!next_name.empty() && (value_options.count(next_name) || flag_options.count(next_name)))
+            throw UsageError("option --" + name + " needs a value, but the option " + value +
+                             " follows it (a value that starts with -- goes as --" + name + "=VALUE)");
         }
         // Given twice, one value would silently win: say so instead.
         if (values_.count(name)) throw UsageError("option --" + name + " given twice");
         values_[name] = value;
       } else if (flag_options.count(name) && !inline_value) {
-        flags_.insert(name);
+        // Like a value given twice: a repeated flag is most likely a slip
+        // (an edited command line), and README promises it is refused.
+        if (!flags_.insert(name).second) throw UsageError("option --" + name + " given twice");
       } else if (flag_options.count(name)) {
         throw UsageError("option --" + name + " takes no value (found '" + value + "')");
       } else {
@@ -63,6 +82,22 @@ double Args::get_double(const std::string& name, double fallback) const {
   return it == values_.end() ? fallback : parse_double("--" + name, it->second);
 }
 
+void check_option_needs(const Args& args, const std::vector<OptionNeed>& table) {
+  for (const OptionNeed& n : table) {
+    if (!args.has(n.option)) continue;
+    bool met = false;
+    std::string wanted;
+    for (std::size_t i = 0; i < n.any_of.size(); ++i) {
+      const std::string other = n.any_of[i];
+      met = met || (args.has(other) && (n.value == nullptr || args.get(other, "") == n.value));
+      wanted += (i == 0 ? "" : i + 1 == n.any_of.size() ? " or " : ", ") + ("--" + other) +
+                (n.value ? std::string(" ") + n.value : std::string());
+    }
+    if (!met)
+      throw UsageError("--" + std::string(n.option) + " has no effect without " + wanted + " (" + n.effect + ")");
+  }
+}
+
 const char* exit_codes_help() {
   return R"(Exit status:
   0  success (warnings, if any, on stderr)
@@ -70,8 +105,10 @@ const char* exit_codes_help() {
      not fit together, an output that cannot be written (full disk, missing folder),
      verify finding a difference
   2  usage error: unknown option, an option given twice, missing or out-of-range value
-     (--ndisp 0), wrong number of paths, an output path that names an input or another
+     (--ndisp 0), an option that has no effect given the others (--mesh-ascii without
+     --mesh), wrong number of paths, an output path that names an input or another
      output, or whose extension is not one the option writes
+"--" ends the options: what follows is a path even if it starts with "--".
 )";
 }
 

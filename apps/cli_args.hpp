@@ -36,6 +36,19 @@ class Args {
   std::set<std::string> flags_;
 };
 
+// One row of a command's table of options that act only beside another:
+// `option` given without any of `any_of` (or, with `value`, without one of
+// them set to that value) does nothing, and silently doing nothing hides a
+// mistake, so it is a usage error: "--mesh-ascii has no effect without
+// --mesh or --points (it writes their PLY files as ASCII)".
+struct OptionNeed {
+  const char* option;
+  std::vector<const char*> any_of;
+  const char* value;   // nullptr: any value, or a flag
+  const char* effect;  // what the option does when it applies
+};
+void check_option_needs(const Args& args, const std::vector<OptionNeed>& table);
+
 // The exit status paragraph of every --help.
 const char* exit_codes_help();
 

@@ -4,6 +4,7 @@
 
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
+#include "apps/output_set.hpp"
 #include "apps/match_outputs.hpp"
 #include "tristereo/eval.hpp"
 #include "tristereo/io.hpp"
@@ -43,17 +44,22 @@ int cmd_demo(int argc, char** argv) {
   sp.seed = static_cast<std::uint32_t>(args.get_int_in("seed", 1, 0, 2147483647));
   const int threads = args.get_int_in("threads", 0, 0, 256);
   const SyntheticScene scene = make_synthetic_scene(sp);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw Error(ErrorCode::kIoError, "cannot create '" + dir.string() + "': " + ec.message());
-  write_png_u8((dir / "left.png").string(), scene.left.view());
-  write_png_u8((dir / "right.png").string(), scene.right.view());
-  write_pfm((dir / "gt_disp.pfm").string(), scene.disp_left.view());
+  OutputFolder folder(dir.string());
+  // Every file of the demo all or nothing (output_set.hpp), written once both
+  // runs are done: a failure leaves no mix of this run's files and an older one's.
+  OutputSet outputs;
+  auto add = [&](const std::string& name, std::function<void(const std::string&)> write) {
+    outputs.add("OUTDIR", (dir / name).string(), std::move(write));
+  };
+  add("left.png", [&](const std::string& p) { write_png_u8(p, scene.left.view()); });
+  add("right.png", [&](const std::string& p) { write_png_u8(p, scene.right.view()); });
+  add("gt_disp.pfm", [&](const std::string& p) { write_pfm(p, scene.disp_left.view()); });
 
   std::cout << "synthetic scene " << sp.width << "x" << sp.height << ", D = " << sp.num_disp
             << " -> " << dir.string() << "/\n";
+  MatchRun runs[2];  // sparse, dense: kept until the outputs are written
   for (bool dense : {false, true}) {
-    MatchRun run;
+    MatchRun& run = runs[dense ? 1 : 0];
     run.config.max_width = sp.width;
     run.config.max_height = sp.height;
     run.config.params.num_disp = sp.num_disp;
@@ -67,12 +73,15 @@ int cmd_demo(int argc, char** argv) {
     run.implementation = std::string("integer/") + to_string(pipeline.active_kernels());
     run.threads = pipeline.worker_count();
     const std::string tag = dense ? "dense" : "sparse";
-    write_disparity((dir / (tag + "_disp.pfm")).string(), run.output.disp_q4.view());
-    write_disparity_color((dir / (tag + "_disp_color.png")).string(), run.output.disp_q4.view(), 0,
-                          sp.num_disp);
-    write_stats_json((dir / (tag + "_stats.json")).string(), run);
-    if (!dense) write_mesh_ply((dir / "mesh.ply").string(), run.output.mesh, run.output.vertex_disp_q4,
-                               scene.left.view(), nullptr, true);
+    add(tag + "_disp.pfm", [&run](const std::string& p) { write_disparity(p, run.output.disp_q4.view()); });
+    add(tag + "_disp_color.png", [&run, &sp](const std::string& p) {
+      write_disparity_color(p, run.output.disp_q4.view(), 0, sp.num_disp);
+    });
+    add(tag + "_stats.json", [&run](const std::string& p) { write_stats_json(p, run); });
+    if (!dense)
+      add("mesh.ply", [&run, &scene](const std::string& p) {
+        write_mesh_ply(p, run.output.mesh, run.output.vertex_disp_q4, scene.left.view(), nullptr, true);
+      });
     std::cout << "\n" << tag << ": ";
     print_match_summary(std::cout, run);
     const Image<float> disp = to_float(run.output.disp_q4);
@@ -83,6 +92,8 @@ int cmd_demo(int argc, char** argv) {
                                                               run.output.vertex_disp_q4,
                                                               scene.nonocc_mask.view()));
   }
+  outputs.commit();
+  folder.keep();
   const VerifyReport report = verify_bit_exact(scene.left, scene.right, [&] {
     StereoParams p;
     p.num_disp = sp.num_disp;

@@ -10,6 +10,7 @@
 
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
+#include "apps/output_set.hpp"
 #include "apps/output_paths.hpp"
 #include "tristereo/eval.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -309,7 +310,12 @@ int cmd_eval(int argc, char** argv) {
     json += ",\n  \"samples\": " + stats_json(at);
   }
   json += "\n}\n";
-  if (args.has("json")) write_text_file(args.get("json", ""), json);  // atomic, every write checked
+  // Through the helper every command's outputs take (output_set.hpp): the
+  // same staging, and errors that name --json.
+  OutputSet outputs;
+  if (args.has("json"))
+    outputs.add("--json", args.get("json", ""), [&json](const std::string& path) { write_text_file(path, json); });
+  outputs.commit();
   return 0;
 }
 

@@ -2,8 +2,10 @@
 // memory a pipeline configured for a given maximum size and D allocates.
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 #include "apps/cli_args.hpp"
+#include "apps/option_errors.hpp"
 #include "apps/commands.hpp"
 #include "platform/cpu_features.hpp"
 #include "platform/gpio.hpp"
@@ -28,13 +30,20 @@ int cmd_info(int argc, char** argv) {
   }
   if (!args.positional().empty()) throw UsageError("info takes no paths; got '" + args.positional()[0] + "'");
   PipelineConfig config;
+  // Every value is checked here, in the words the user typed (exit 2), not
+  // left to configure(), whose errors name its fields and exit 1.
   if (args.has("max-size")) {
     const auto [w, h] = parse_size("--max-size", args.get("max-size", ""));
+    for (const auto& [side, v] : {std::pair<const char*, int>{"width", w}, {"height", h}})
+      if (v < 2 || v > kMaxImageSide)
+        throw UsageError("--max-size " + args.get("max-size", "") + ": the " + side + " " + std::to_string(v) +
+                         " is out of range [2, " + std::to_string(kMaxImageSide) + "]");
     config.max_width = w;
     config.max_height = h;
   }
   config.params.num_disp = args.get_int("ndisp", 64);
   config.params.dense = args.flag("dense");
+  as_usage_error(nullptr, [&] { validate_params(config.params); });  // "--ndisp 0 is out of range ..."
   config.threads = args.get_int("threads", 0);
   if (config.threads < 0 || config.threads > 256) throw UsageError("--threads must be 0 (one per CPU) .. 256");
   config.pin_threads = false;

@@ -29,8 +29,9 @@ mesh by default; --optimizer dp: the paper's row DP), the dense disparity map an
 2.5D mesh. LEFT/RIGHT: rectified 8-bit PNG/PGM/PPM (gray or RGB).
 
 Outputs (each checked before computing: the format follows the extension, other
-extensions are refused, no output may name an input or another output; each is written
-to a temporary file in its folder and renamed into place when complete):
+extensions are refused, no output may name an input or another output; all or nothing:
+each is written to a temporary file in its folder, and they are renamed into place
+together once every one is complete):
   --disp OUT.pfm|OUT.png    dense disparity: PFM float (Middlebury, +inf = invalid) or
                             16-bit PNG holding disparity*16 (0 = invalid)
   --disp-format q4|kitti    how a --disp PNG encodes d: q4 (default, value = 16 d) or
@@ -38,7 +39,8 @@ to a temporary file in its folder and renamed into place when complete):
   --disp-color OUT.png      colour-mapped disparity for viewing
   --mesh OUT.ply            2.5D mesh (binary PLY; --mesh-ascii for ASCII); vertices in
                             (x, y, disparity) or metric 3D with --camera
-  --camera F,B,CX,CY[,DOFFS]  focal length (px), baseline, principal point, Middlebury doffs
+  --camera F,B,CX,CY[,DOFFS]  focal length (px), baseline (m), principal point, Middlebury
+                            doffs (px), within the bounds of docs/calibration.md
   --calib FILE              the camera from a calibration file: Middlebury calib.txt, KITTI
                             (P2/P3 or P0/P1) or OpenCV YAML/XML (P1+P2 or Q); sets the metric
                             mesh, --depth, --points and the ROS fields of --stats (metres)
@@ -82,6 +84,13 @@ int cmd_match(int argc, char** argv) {
     std::cout << kMatchHelp << stereo_options_help() << exit_codes_help();
     return 0;
   }
+  // Options that act only beside another (cli_args.hpp, OptionNeed).
+  static const std::vector<OptionNeed> kNeeds = {
+      {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
+      {"calib-format", {"calib"}, nullptr, "it says how to read the calibration file"},
+      {"calib-unit", {"calib"}, nullptr, "it gives the unit of an OpenCV calibration file's translations"},
+  };
+  check_option_needs(args, kNeeds);
   const auto& pos = args.positional();
   check_two_paths("match", pos);
   // Every option is checked before any file is read: a usage error is
@@ -129,6 +138,12 @@ int cmd_match(int argc, char** argv) {
                            right.channels == 1 ? right.view() : rg.view(), p.d_min, p.num_disp);
   });
   for (const std::string& w : {range_outside_image_warning(left.width, p.d_min, p.num_disp),
+                               run.camera ? no_depth_warning(*run.camera,
+                                                             run.camera_source == "--camera"
+                                                                 ? run.camera_source
+                                                                 : "--calib " + run.camera_source,
+                                                             p.d_min, p.num_disp)
+                                          : std::string(),
                                threads_warning(config.threads,
                                                static_cast<int>(config.cpus.empty()
                                                                     ? ThreadPool::available_cpus().size()

@@ -17,14 +17,19 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "apps/cli_args.hpp"
+#include "apps/option_errors.hpp"
+#include "apps/output_paths.hpp"
+#include "apps/output_set.hpp"
 #include "apps/stereo_options.hpp"
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
@@ -74,13 +79,16 @@ Real time and markers:
                        mesh output
   --mesh-output        time writing the mesh as binary PLY (to a temp file) as a stage
 Reports:
-  --csv FILE           one row per measured frame (ms)
-  --json FILE          the summary (config, per-stage stats, fps, memory, machine)
-  --trace FILE         the last measured frames as a Chrome trace (JSON): one track
-                       per worker with its runs and work items, the frames and
-                       their stages on a pipeline track; open it in Perfetto
+  --csv FILE.csv       one row per measured frame (ms)
+  --json FILE.json     the summary (config, per-stage stats, fps, memory, machine)
+  --trace FILE.json    the last measured frames as a Chrome trace: one track per
+                       worker with its runs and work items, the frames and their
+                       stages on a pipeline track; open it in Perfetto
                        (ui.perfetto.dev) or chrome://tracing (docs/profiling.md)
   --trace-frames N     how many frames the trace keeps, 1..100 (default 3)
+                       The reports are checked before the run (never an input, a
+                       frame of --folder or each other) and written together, all
+                       or nothing.
   --quiet              no progress line and no table on stdout
 Memory: resident memory is sampled (outside the timed frames) before the first
 measured frame, every frames/100 frames and after the last; the JSON's "rss"
@@ -121,9 +129,14 @@ bool is_unsigned_number(const char* s) {
 // and --ndisp gets the profiler's default (match and verify require it).
 std::vector<std::string> normalize_args(int argc, char** argv) {
   std::vector<std::string> out;
-  bool has_ndisp = false;
+  bool has_ndisp = false, ended = false;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
+    ended = ended || a == "--";  // after it, nothing is an option (cli::Args)
+    if (ended) {
+      out.push_back(a);
+      continue;
+    }
     if (a == "--ndisp" || a.rfind("--ndisp=", 0) == 0) has_ndisp = true;
     if (a == "--realtime") {
       out.push_back(a);
@@ -136,9 +149,9 @@ std::vector<std::string> normalize_args(int argc, char** argv) {
       out.push_back(a);
     }
   }
-  if (!has_ndisp) {
-    out.push_back("--ndisp");
-    out.push_back(std::to_string(kDefaultNumDisp));
+  if (!has_ndisp) {  // right after the command's name: before any "--"
+    const std::string d[] = {"--ndisp", std::to_string(kDefaultNumDisp)};
+    out.insert(out.begin() + 1, d, d + 2);
   }
   return out;
 }
@@ -196,6 +209,7 @@ bool file_exists(const std::string& path) { return access(path.c_str(), F_OK) ==
 // (warm-up included) uses slot i % size().
 struct FrameRing {
   std::vector<ImageU8> left, right;
+  std::vector<std::string> files;  // the frames read from --folder: no output may name one
   int width = 0, height = 0;
   std::size_t size() const { return left.size(); }
 };
@@ -254,6 +268,8 @@ FrameRing folder_frames(const std::string& dir, const std::string& left_pattern,
     const ImageU8 l = read_image_u8(left_path(i));
     const ImageU8 r = read_image_u8(right_path(i));
     add_pair(ring, l, r, "frame '" + left_path(i) + "'");
+    ring.files.push_back(left_path(i));
+    ring.files.push_back(right_path(i));
     bytes += 2 * ring.left.back().pixels.size();
     if (bytes >= kFolderBudgetBytes) break;
   }
@@ -307,26 +323,15 @@ class ProgressLine {
   std::int64_t last_print_ns_ = 0;
 };
 
-// Fails before the run, not after it, when a report cannot be written, and
-// leaves an existing file untouched until the run has succeeded.
-void check_writable(const std::string& option, const std::string& path) {
+// The reports, as text files written all or nothing (output_set.hpp).
+void add_report(OutputSet& outputs, const char* option, const std::string& path,
+                const std::function<void(std::ostream&)>& write) {
   if (path.empty()) return;
-  const bool existed = access(path.c_str(), F_OK) == 0;
-  std::FILE* f = std::fopen(path.c_str(), "a");  // "a": creates, never truncates
-  if (!f)
-    throw Error(ErrorCode::kIoError,
-                option + ": cannot write '" + path + "': " + std::strerror(errno));
-  std::fclose(f);
-  if (!existed) unlink(path.c_str());
-}
-
-template <typename WriteFn>
-void write_report(const std::string& path, WriteFn write) {
-  if (path.empty()) return;
-  std::ofstream f(path);
-  if (f) write(f);
-  f.close();
-  if (!f) throw Error(ErrorCode::kIoError, "writing '" + path + "' failed");
+  outputs.add(option, path, [write](const std::string& to) {
+    std::ostringstream text;
+    write(text);
+    write_text_file(to, text.str());
+  });
 }
 
 }  // namespace
@@ -349,6 +354,13 @@ int cmd_profile(int argc, char** argv) {
   }
   if (!args.positional().empty())
     throw UsageError("profile takes no positional arguments, got '" + args.positional()[0] + "'");
+  // Options that act only beside another (cli_args.hpp, OptionNeed).
+  static const std::vector<OptionNeed> kNeeds = {
+      {"left-pattern", {"folder"}, nullptr, "it names the left frames in that folder"},
+      {"right-pattern", {"folder"}, nullptr, "it names the right frames in that folder"},
+      {"trace-frames", {"trace"}, nullptr, "it says how many frames the trace keeps"},
+  };
+  check_option_needs(args, kNeeds);
 
   // ---- options (all checked before anything is loaded or opened)
   const int frames = bounded_int(args, "frames", 100, 1, static_cast<int>(FrameLog::kMaxFrames));
@@ -375,23 +387,29 @@ int cmd_profile(int argc, char** argv) {
   if (!realtime && args.has("realtime-priority"))
     throw UsageError("--realtime-priority needs --realtime");
   const int rt_priority = args.get_int("realtime-priority", kDefaultRealtimePriority);
-  if (realtime) validate_realtime_priority(rt_priority);
+  // Named as typed: "--realtime 0", not the priority's internal name.
+  if (realtime) {
+    const std::string typed = "--realtime " + std::to_string(rt_priority);
+    as_usage_error(typed.c_str(), [&] { validate_realtime_priority(rt_priority); });
+  }
   const bool mesh_output = args.flag("mesh-output");
   const std::string trace_path = args.get("trace", "");
-  if (args.has("trace-frames") && trace_path.empty())
-    throw UsageError("--trace-frames needs --trace FILE (it says how many frames the trace keeps)");
   const int trace_frames = bounded_int(args, "trace-frames", 3, 1, 100);
   const bool quiet = args.flag("quiet");
   const std::string gpio_text = args.get("gpio", "");
   std::vector<GpioLineSpec> gpio_lines;
   if (args.has("gpio")) {
-    gpio_lines = parse_gpio_specs(gpio_text);
+    as_usage_error("--gpio", [&] { gpio_lines = parse_gpio_specs(gpio_text); });
     if (!gpio_supported())
       throw Error(ErrorCode::kPlatform,
                   "--gpio " + gpio_text +
                       ": this build has no GPIO support (libgpiod v1 was not "
                       "found at build time; install libgpiod-dev and reconfigure)");
   }
+  // Like match's: the format follows the extension, never onto an input or
+  // the other report, the folder exists (output_paths.hpp).
+  static const std::vector<OutputOption> kReports = {{"csv", {".csv"}}, {"json", {".json"}}, {"trace", {".json"}}};
+  check_output_paths(args, kReports, {{"--left", args.get("left", "")}, {"--right", args.get("right", "")}});
   // The synthetic scene's own limits (make_synthetic_scene: 16..4096 per side).
   const int synth_w = bounded_int(args, "width", 640, 16, kMaxImageSide);
   const int synth_h = bounded_int(args, "height", 480, 16, kMaxImageSide);
@@ -413,12 +431,13 @@ int cmd_profile(int argc, char** argv) {
   config.max_width = ring.width;
   config.max_height = ring.height;
 
+  // The frames of --folder are inputs too, known once read (before any computing).
+  for (const char* option : {"csv", "json", "trace"})
+    for (const std::string& frame : ring.files)
+      if (args.has(option) && same_file(args.get(option, ""), frame))
+        throw UsageError(std::string("--") + option + " " + args.get(option, "") + " is the frame '" + frame +
+                         "' of --folder; refusing to overwrite an input (choose another output name)");
   const std::string csv_path = args.get("csv", ""), json_path = args.get("json", "");
-  check_writable("--csv", csv_path);
-  check_writable("--json", json_path);
-  check_writable("--trace", trace_path);
-  if (!trace_path.empty() && (trace_path == csv_path || trace_path == json_path))
-    throw UsageError("--trace '" + trace_path + "' is also another report's path");
   std::unique_ptr<TempFile> ply;
   if (mesh_output) ply = std::make_unique<TempFile>();
 
@@ -564,14 +583,15 @@ int cmd_profile(int argc, char** argv) {
   const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
   const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss);
 
-  write_report(csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });
-  write_report(json_path, [&](std::ostream& os) { write_profile_json(os, report); });
-  if (!trace_path.empty()) {
-    write_chrome_trace(trace, trace_path);
-    if (trace.dropped() > 0)
-      std::cerr << "tristereo profile: warning: the trace's storage was full, " << trace.dropped()
-                << " spans were dropped\n";
-  }
+  OutputSet outputs;
+  add_report(outputs, "--csv", csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });
+  add_report(outputs, "--json", json_path, [&](std::ostream& os) { write_profile_json(os, report); });
+  if (!trace_path.empty())
+    outputs.add("--trace", trace_path, [&](const std::string& to) { write_chrome_trace(trace, to); });
+  outputs.commit();
+  if (trace.dropped() > 0)
+    std::cerr << "tristereo profile: warning: the trace's storage was full, " << trace.dropped()
+              << " spans were dropped\n";
   if (!quiet) write_profile_table(std::cout, report);
   return 0;
 }

@@ -4,6 +4,7 @@
 
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
+#include "apps/output_set.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
@@ -19,7 +20,14 @@ int cmd_synth(int argc, char** argv) {
                  "Middlebury PFM) and nonocc.png (255 = visible in both views).\n" << "\n" << exit_codes_help();
     return 0;
   }
-  if (args.positional().size() != 1) throw UsageError("synth needs OUTDIR (see --help)");
+  const auto& pos = args.positional();
+  if (pos.empty()) throw UsageError("synth needs OUTDIR, the folder to write the pair into; got no path (see --help)");
+  if (pos.size() > 1) {
+    std::string list;
+    for (const std::string& p : pos) list += (list.empty() ? "" : ", ") + p;
+    throw UsageError("synth takes one path, OUTDIR; got " + std::to_string(pos.size()) + " (" + list +
+                     "): is an option missing its --name? (see --help)");
+  }
   SynthParams sp;
   sp.width = args.get_int_in("width", sp.width, 16, 4096);
   sp.height = args.get_int_in("height", sp.height, 16, 4096);
@@ -30,13 +38,19 @@ int cmd_synth(int argc, char** argv) {
   sp.frame = args.get_int_in("frame", 0, 0, 100000);
   const SyntheticScene scene = make_synthetic_scene(sp);
   const std::filesystem::path dir = args.positional()[0];
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw Error(ErrorCode::kIoError, "cannot create '" + dir.string() + "': " + ec.message());
-  write_png_u8((dir / "left.png").string(), scene.left.view());
-  write_png_u8((dir / "right.png").string(), scene.right.view());
-  write_pfm((dir / "disp_left.pfm").string(), scene.disp_left.view());
-  write_png_u8((dir / "nonocc.png").string(), scene.nonocc_mask.view());
+  OutputFolder folder(dir);
+  // The four files all or nothing (output_set.hpp): a failed run leaves no
+  // new left image beside an old ground truth.
+  OutputSet outputs;
+  outputs.add("OUTDIR", (dir / "left.png").string(), [&](const std::string& p) { write_png_u8(p, scene.left.view()); });
+  outputs.add("OUTDIR", (dir / "right.png").string(),
+              [&](const std::string& p) { write_png_u8(p, scene.right.view()); });
+  outputs.add("OUTDIR", (dir / "disp_left.pfm").string(),
+              [&](const std::string& p) { write_pfm(p, scene.disp_left.view()); });
+  outputs.add("OUTDIR", (dir / "nonocc.png").string(),
+              [&](const std::string& p) { write_png_u8(p, scene.nonocc_mask.view()); });
+  outputs.commit();
+  folder.keep();
   std::cout << "wrote " << dir.string() << "/{left.png,right.png,disp_left.pfm,nonocc.png} ("
             << sp.width << "x" << sp.height << ", ndisp " << sp.num_disp << ")\n";
   return 0;

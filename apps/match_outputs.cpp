@@ -9,6 +9,7 @@
 
 #include "apps/option_errors.hpp"
 #include "apps/output_paths.hpp"
+#include "apps/output_set.hpp"
 #include "tristereo/calib.hpp"
 #include "tristereo/depth.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -19,16 +20,6 @@ namespace tristereo::cli {
 
 namespace {
 double ms(std::int64_t ns) { return static_cast<double>(ns) / 1e6; }
-
-// Runs one output's writer; its errors name the option as typed.
-template <typename Fn>
-void write_output(const char* option, const Fn& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    throw Error(e.code(), std::string("--") + option + ": " + without_function_prefix(e.what()));
-  }
-}
 
 CameraParams parse_camera(const std::string& text) {
   CameraParams c{};
@@ -41,16 +32,6 @@ CameraParams parse_camera(const std::string& text) {
     v[n++] = parse_double("--camera", item);
   }
   if (n < 4) throw UsageError("--camera needs F,B,CX,CY[,DOFFS]");
-  if (!(v[0] > 0) || !(v[1] > 0)) throw UsageError("--camera: focal length and baseline must be > 0");
-  // Far beyond any real camera, and refused now rather than after computing; a
-  // combination that still overflows (a doffs cancelling a disparity to 1e-300)
-  // is refused by the writers, which never write inf/nan.
-  for (int i = 0; i < 5; ++i)
-    if (!(std::fabs(v[i]) <= 1e6)) {
-      char num[32];
-      std::snprintf(num, sizeof num, "%g", v[i]);
-      throw UsageError(std::string("--camera: ") + num + " is out of range; each of F,B,CX,CY,DOFFS must be within +-1e6");
-    }
   c.focal_px = v[0];
   c.baseline = v[1];
   c.cx = v[2];
@@ -90,8 +71,6 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
                                              std::string* source) {
   const bool calib = args.has("calib"), camera = args.has("camera");
   if (calib && camera) throw UsageError("--calib and --camera both set the camera: give one of them");
-  if (!calib && (args.has("calib-format") || args.has("calib-unit")))
-    throw UsageError("--calib-format and --calib-unit apply to --calib FILE, which is missing");
   for (const char* opt : {"depth", "points"})
     if (args.has(opt) && !calib && !camera)
       throw UsageError(std::string("--") + opt + " needs a camera: --calib FILE (or --camera F,B,CX,CY[,DOFFS])");
@@ -109,7 +88,12 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
     throw UsageError("--points " + args.get("points", "") + ": the file must end in .ply");
   if (camera) {
     *source = "--camera";
-    return parse_camera(args.get("camera", ""));
+    const CameraParams c = parse_camera(args.get("camera", ""));
+    // The bounds every calibration file is held to (calib.hpp), for this
+    // input's size; refused now rather than after computing.
+    if (const CameraBoundsCheck check = check_camera_bounds(c, width, height))
+      throw UsageError("--camera: " + check.message + " (F,B,CX,CY,DOFFS: B in metres)");
+    return c;
   }
   if (!calib) return std::nullopt;
   CalibFormat format = CalibFormat::kAuto;
@@ -125,7 +109,18 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
   else if (unit == "mm") unit_m = 0.001;
   else throw UsageError("--calib-unit " + unit + ": expected m, cm or mm");
   const StereoCalibration c = read_calibration(args.get("calib", ""), format, unit_m);
+  // Middlebury and KITTI files state their unit; --calib-unit would silently
+  // do nothing there, which hides a wrong belief about the file.
+  if (args.has("calib-unit") && c.format != CalibFormat::kOpenCv)
+    throw UsageError("--calib-unit " + unit + " has no effect: --calib " + c.path + " is a " + to_string(c.format) +
+                     " calibration, whose unit is fixed (" +
+                     (c.format == CalibFormat::kMiddlebury ? "baseline in millimetres" : "metres") +
+                     "); --calib-unit applies to OpenCV files, which state none");
   check_calibration_size(c, width, height);
+  // The file's bounds were checked for the size it states, if any; the
+  // principal point must also make sense for the image it is used with.
+  if (const CameraBoundsCheck check = check_camera_bounds(c.camera(), width, height))
+    throw Error(ErrorCode::kInvalidArgument, "calibration file '" + c.path + "': " + check.message);
   if (c.format == CalibFormat::kOpenCv && !args.has("calib-unit") && c.baseline_m > 5)
     std::cerr << "warning: --calib " << c.path << ": the baseline comes out as " << c.baseline_m
               << " m; OpenCV files carry no unit: if the calibration target was measured in "
@@ -229,53 +224,55 @@ const std::vector<OutputOption>& match_output_options() {
 
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run) {
   const StereoOutput& o = run.out();
+  // All or nothing (output_set.hpp): staged in this order, renamed together.
+  OutputSet outputs;
   if (args.has("disp"))
-    write_output("disp", [&] {
-      write_disparity(args.get("disp", ""), o.disp_q4.view(),
+    outputs.add("--disp", args.get("disp", ""), [&](const std::string& path) {
+      write_disparity(path, o.disp_q4.view(),
                       args.get("disp-format", "q4") == "kitti" ? DispPngScale::kKitti : DispPngScale::kQ4);
     });
   if (args.has("disp-color"))
-    write_output("disp-color", [&] {
-      write_disparity_color(args.get("disp-color", ""), o.disp_q4.view(), run.config.params.d_min,
-                            run.config.params.num_disp);
+    outputs.add("--disp-color", args.get("disp-color", ""), [&](const std::string& path) {
+      write_disparity_color(path, o.disp_q4.view(), run.config.params.d_min, run.config.params.num_disp);
     });
   const CameraParams* cam = run.camera ? &*run.camera : nullptr;
-  if (args.has("mesh")) {
-    MeshWriteReport r;
-    write_output("mesh", [&] {
-      r = write_mesh_ply(args.get("mesh", ""), o.mesh, o.vertex_disp_q4, left.view(), cam,
-                         !args.flag("mesh-ascii"));
+  MeshWriteReport mesh_report;
+  if (args.has("mesh"))
+    outputs.add("--mesh", args.get("mesh", ""), [&](const std::string& path) {
+      mesh_report = write_mesh_ply(path, o.mesh, o.vertex_disp_q4, left.view(), cam, !args.flag("mesh-ascii"));
     });
-    const std::size_t dropped = r.faces_without_disparity + r.faces_behind_camera;
-    if (dropped > 0) {
-      std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
-                << o.mesh.triangles.size() << " faces left out";
-      if (r.faces_without_disparity > 0)
-        std::cerr << "; " << r.faces_without_disparity
-                  << " touch a vertex without a valid disparity";
-      if (r.faces_behind_camera > 0)
-        std::cerr << "; " << r.faces_behind_camera
-                  << " touch a vertex at or beyond infinity (disparity + doffs <= 0: check the "
-                     "camera's doffs and --dmin)";
-      std::cerr << " (their vertices are still written, so indices match the mesh)\n";
-    }
-  }
-  if (args.has("depth") && cam) {
-    DepthWriteReport r;
-    write_output("depth", [&] {
-      r = write_depth(args.get("depth", ""), depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
+  DepthWriteReport depth_report;
+  if (args.has("depth") && cam)
+    outputs.add("--depth", args.get("depth", ""), [&](const std::string& path) {
+      depth_report = write_depth(path, depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
     });
-    if (r.out_of_range > 0)
-      std::cerr << "warning: --depth " << args.get("depth", "") << ": " << r.out_of_range
-                << " pixels are 65.535 m or farther and were written as 0 (invalid); use a .pfm file "
-                   "to keep them\n";
-  }
   if (args.has("points") && cam)
-    write_output("points", [&] {
-      write_points_ply(args.get("points", ""), o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
+    outputs.add("--points", args.get("points", ""), [&](const std::string& path) {
+      write_points_ply(path, o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
     });
-  if (args.has("samples")) write_output("samples", [&] { write_samples_csv(args.get("samples", ""), o); });
-  if (args.has("stats")) write_output("stats", [&] { write_stats_json(args.get("stats", ""), run); });
+  if (args.has("samples"))
+    outputs.add("--samples", args.get("samples", ""), [&](const std::string& path) { write_samples_csv(path, o); });
+  if (args.has("stats"))
+    outputs.add("--stats", args.get("stats", ""), [&](const std::string& path) { write_stats_json(path, run); });
+  outputs.commit();
+
+  // What the writers reported, once every output is in place.
+  const std::size_t dropped = mesh_report.faces_without_disparity + mesh_report.faces_behind_camera;
+  if (dropped > 0) {
+    std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
+              << o.mesh.triangles.size() << " faces left out";
+    if (mesh_report.faces_without_disparity > 0)
+      std::cerr << "; " << mesh_report.faces_without_disparity << " touch a vertex without a valid disparity";
+    if (mesh_report.faces_behind_camera > 0)
+      std::cerr << "; " << mesh_report.faces_behind_camera
+                << " touch a vertex at or beyond infinity (disparity + doffs <= 0: check the "
+                   "camera's doffs and --dmin)";
+    std::cerr << " (their vertices are still written, so indices match the mesh)\n";
+  }
+  if (depth_report.out_of_range > 0)
+    std::cerr << "warning: --depth " << args.get("depth", "") << ": " << depth_report.out_of_range
+              << " pixels are 65.535 m or farther and were written as 0 (invalid); use a .pfm file "
+                 "to keep them\n";
 }
 
 void print_match_summary(std::ostream& os, const MatchRun& run) {

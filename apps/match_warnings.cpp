@@ -22,6 +22,20 @@ std::string range_outside_image_warning(int width, int d_min, int num_disp) {
          "check --dmin and --ndisp";
 }
 
+std::string no_depth_warning(const CameraParams& camera, const std::string& source, int d_min, int num_disp) {
+  const int d_max = d_min + num_disp - 1;
+  // Z = f B / (d + doffs) is finite and positive only for d + doffs > 0; the
+  // largest disparity searched is the best chance.
+  if (d_max + camera.doffs > 0) return "";
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "warning: %s: with doffs %.6g px, no disparity searched (%d..%d) gives a finite positive depth "
+                "(that needs disparity + doffs > 0): every depth, point and metric mesh vertex will be invalid; "
+                "check the sign of doffs and --dmin",
+                source.c_str(), camera.doffs, d_min, d_max);
+  return text;
+}
+
 std::string threads_warning(int threads, int allowed_cpus, bool cpus_given) {
   if (threads <= allowed_cpus || allowed_cpus < 1) return "";
   return "warning: --threads " + std::to_string(threads) + " with only " + std::to_string(allowed_cpus) +

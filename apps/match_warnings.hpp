@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "tristereo/image.hpp"
+#include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
 
 namespace tristereo::cli {
@@ -14,6 +15,13 @@ namespace tristereo::cli {
 // A search range d_min .. d_min + num_disp - 1 that leaves every left pixel x
 // without a right pixel x - d inside a width-pixel image.
 std::string range_outside_image_warning(int width, int d_min, int num_disp);
+
+// A camera with which no disparity of the searched range gives a finite,
+// positive depth (d + doffs <= 0 for every d in d_min .. d_min + num_disp - 1,
+// e.g. a doffs of the wrong sign): every depth, point and metric mesh vertex
+// would come out invalid. `source` names the camera ("--camera", or the
+// calibration file).
+std::string no_depth_warning(const CameraParams& camera, const std::string& source, int d_min, int num_disp);
 
 // More worker threads than CPUs the process may run on (`allowed`, or the
 // --cpus list when given).

@@ -23,6 +23,12 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   c.max_height = height;
   StereoParams& p = c.params;
   if (!a.has("ndisp")) throw UsageError("--ndisp D is required (number of disparities, 1..256)");
+  // The adaptive weights' scales do nothing with box weights.
+  static const std::vector<OptionNeed> kNeeds = {
+      {"gamma-color", {"weights"}, "adaptive", "it scales the adaptive weights' colour term"},
+      {"gamma-proximity", {"weights"}, "adaptive", "it scales the adaptive weights' distance term"},
+  };
+  check_option_needs(a, kNeeds);
   if (a.has("mode")) {
     const std::string mode = a.get("mode", "");
     if (mode == "paper") p = paper_params();

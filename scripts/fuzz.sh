@@ -3,6 +3,7 @@
 #
 #   scripts/fuzz.sh HARNESS MINUTES [libFuzzer options...]
 #   scripts/fuzz.sh --list
+#   scripts/fuzz.sh --limits HARNESS    (the per-input limits, as libFuzzer options)
 #
 # HARNESS: png, pnm, pfm, disp_png, calib, cli or pipeline. MINUTES may be a
 # decimal (0.5 = 30 s). Builds the harnesses first (clang, ASan + UBSan,
@@ -10,9 +11,11 @@
 # committed seeds (tests/fuzz/corpus/HARNESS) and regression inputs
 # (tests/fuzz/regressions/HARNESS). What it finds that adds coverage goes to
 # the working corpus $TRISTEREO_FUZZ_CORPUS (default BUILD/corpus/HARNESS),
-# never into the repository; a crashing, leaking, slow (> 10 s wall time, or
-# $TRISTEREO_FUZZ_TIMEOUT s: a run under nice on a busy machine waits for
-# the CPU) or memory-hungry (> 2 GiB) input is saved under
+# never into the repository; a crashing, leaking, slow or memory-hungry input
+# (beyond the per-input limits that `scripts/fuzz.sh --limits HARNESS`
+# prints: 2 s wall time for the file readers, 5 s for cli and pipeline, and
+# 256 MB, both for the RSS and for any one allocation; $TRISTEREO_FUZZ_TIMEOUT
+# and $TRISTEREO_FUZZ_RSS_MB override them) is saved under
 # BUILD/artifacts/HARNESS/ and fails the run. Ends with one line:
 #   fuzz HARNESS: passed|FAILED, N executions in S s, cov C, ft F, corpus K,
 #   slowest input T s, peak RSS M MB
@@ -30,13 +33,32 @@ if [[ $# -lt 2 ]]; then
   echo "usage: scripts/fuzz.sh HARNESS MINUTES [libFuzzer options...]   (HARNESS: ${harnesses})" >&2
   exit 2
 fi
-harness=$1
-minutes=$2
-shift 2
+harness=$2
+[[ "$1" != "--limits" ]] && harness=$1
 if [[ " ${harnesses} " != *" ${harness} "* ]]; then
   echo "fuzz: unknown harness '${harness}' (expected one of: ${harnesses})" >&2
   exit 2
 fi
+# Per-input limits, the same for this script's runs and the test command's
+# replay (scripts/fuzz-test.sh): small enough that a reader that allocates or
+# works beyond what its few-KiB input holds fails, as issue 41's 52-byte PNG
+# would have (2.1 GB, 8-15 s). The slowest input of a 30-minute run stays
+# under 1 s (docs/fuzzing.md); cli and pipeline run whole frames, hence 5 s.
+case "${harness}" in
+  cli|pipeline) timeout_s=5 ;;
+  *) timeout_s=2 ;;
+esac
+timeout_s="${TRISTEREO_FUZZ_TIMEOUT:-${timeout_s}}"
+rss_mb="${TRISTEREO_FUZZ_RSS_MB:-256}"
+# -malloc_limit_mb: one allocation above the limit fails at once, before it is
+# touched (the RSS check samples once a second and would miss a short spike).
+limits=(-timeout="${timeout_s}" -rss_limit_mb="${rss_mb}" -malloc_limit_mb="${rss_mb}")
+if [[ "$1" == "--limits" ]]; then
+  echo "${limits[*]}"
+  exit 0
+fi
+minutes=$2
+shift 2
 if ! seconds=$(awk -v m="${minutes}" 'BEGIN { if (m !~ /^[0-9]+(\.[0-9]+)?$/ || m <= 0) exit 1; s = int(m * 60 + 0.5); print (s < 1 ? 1 : s) }'); then
   echo "fuzz: MINUTES must be a positive number, got '${minutes}'" >&2
   exit 2
@@ -72,11 +94,13 @@ artifacts="${build}/artifacts/${harness}"
 mkdir -p "${corpus}" "${artifacts}"
 inputs=("${corpus}" "${repo}/tests/fuzz/corpus/${harness}")
 [[ -d "${repo}/tests/fuzz/regressions/${harness}" ]] && inputs+=("${repo}/tests/fuzz/regressions/${harness}")
-options=(-max_total_time="${seconds}" -timeout="${TRISTEREO_FUZZ_TIMEOUT:-10}" -rss_limit_mb=2048 -max_len="${max_len}"
+options=(-max_total_time="${seconds}" "${limits[@]}" -max_len="${max_len}"
          -print_final_stats=1 -artifact_prefix="${artifacts}/")
 [[ -f "${repo}/tests/fuzz/${harness}.dict" ]] && options+=(-dict="${repo}/tests/fuzz/${harness}.dict")
 
-export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:allocator_may_return_null=0}"
+# ASan keeps freed blocks in a quarantine (256 MB by default) to catch uses
+# after free; counted in the RSS, it alone would reach the RSS limit above.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:allocator_may_return_null=0:quarantine_size_mb=64}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 symbolizer="$(command -v llvm-symbolizer-14 || command -v llvm-symbolizer || true)"
 [[ -n "${symbolizer}" ]] && export ASAN_SYMBOLIZER_PATH="${symbolizer}"

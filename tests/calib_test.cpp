@@ -253,6 +253,72 @@ TEST_F(Calib, BadFilesNameFileLineAndKey) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
 }
 
+TEST_F(Calib, ValuesOutsideWhatARigCanHaveAreRefusedInEveryFormat) {
+  // Issue 41: f = B = 1e300 wrote +inf everywhere, B = 1e-300 wrote 0 m.
+  struct Case {
+    const char* name;
+    std::string text;
+    const char* where;  // line and key the message must name
+    const char* what;   // the bound, numbers in %g
+  };
+  const std::vector<Case> cases = {
+      {"m_f.txt", "cam0=[1e300 0 48; 0 1e300 32; 0 0 1]\ndoffs=2\nbaseline=120\n", "line 1, key 'focal length'",
+       "focal length 1e+300 px is outside [1, 1e+06] px"},
+      {"m_b.txt", "cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=1e-297\n", "line 3, key 'baseline'",
+       "baseline 1e-300 m is outside [0.0001, 1000] m"},
+      {"m_b2.txt", "cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=2e6\n", "line 3, key 'baseline'",
+       "baseline 2000 m is outside [0.0001, 1000] m"},
+      {"m_cx.txt", "cam0=[200 0 500; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\nwidth=96\nheight=64\n",
+       "line 1, key 'principal point'", "principal point cx 500 px is outside [-96, 192] px (for a 96x64 image)"},
+      {"m_doffs.txt", "cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=-400\nbaseline=120\nwidth=96\nheight=64\n",
+       "key 'doffs'", "doffs -400 px is outside [-288, 288] px (for a 96x64 image)"},
+      {"k_f.txt",
+       "P2: 1e7 0 600 0 0 1e7 170 0 0 0 1 0\nP3: 1e7 0 600 -5e6 0 1e7 170 0 0 0 1 0\n", "line 1, key 'focal length'",
+       "focal length 1e+07 px is outside [1, 1e+06] px"},
+      {"o_b.yml", std::string(kOpenCvYaml), "key 'baseline'", ""},  // replaced below: a 1e-7 m baseline
+  };
+  for (Case c : cases) {
+    if (std::string(c.name) == "o_b.yml") {
+      // P2(0,3) = -Tx f: Tx = 1e-7 units (metres by default).
+      const std::size_t at = c.text.find("-84000.");
+      c.text.replace(at, 7, "-7e-5");
+      c.what = "baseline 1e-07 m is outside [0.0001, 1000] m";
+    }
+    ErrorCode code{};
+    const std::string m = message_of([&] { read_calibration(write(c.name, c.text)); }, &code);
+    EXPECT_EQ(code, ErrorCode::kInvalidArgument) << c.name;
+    EXPECT_NE(m.find(c.where), std::string::npos) << c.name << ": " << m;
+    EXPECT_NE(m.find(c.what), std::string::npos) << c.name << ": " << m;
+    EXPECT_LT(m.size(), 260u) << c.name << ": no 300-digit numbers: " << m;
+  }
+  // The bounds themselves, as --camera is held to them.
+  CameraParams cam{200, 0.1, 48, 32, 2};
+  EXPECT_FALSE(check_camera_bounds(cam, 96, 64));
+  cam.baseline = kMinBaselineM;
+  EXPECT_FALSE(check_camera_bounds(cam, 96, 64));
+  cam.baseline = std::nan("");
+  EXPECT_EQ(check_camera_bounds(cam, 96, 64).field, CameraField::kBaseline);
+  cam.baseline = 0.1;
+  cam.cy = -65;
+  EXPECT_EQ(check_camera_bounds(cam, 96, 64).field, CameraField::kPrincipalPoint);
+  EXPECT_FALSE(check_camera_bounds(cam, 0, 0)) << "no size known: the largest readable image's bounds";
+}
+
+TEST_F(Calib, AUtf8ByteOrderMarkIsNotPartOfTheFirstKey) {
+  // Windows editors start a saved text file with EF BB BF; before issue 41
+  // it made "cam0" unrecognisable.
+  const std::string text = "cam0=[700 0 320; 0 700 240; 0 0 1]\ndoffs=2\nbaseline=120\n";
+  const StereoCalibration plain = read_calibration(write("plain.txt", text));
+  const StereoCalibration bom = read_calibration(write("bom.txt", "\xEF\xBB\xBF" + text));
+  EXPECT_EQ(bom.format, CalibFormat::kMiddlebury);
+  EXPECT_EQ(bom.focal_px, plain.focal_px);
+  EXPECT_EQ(bom.baseline_m, plain.baseline_m);
+  EXPECT_EQ(bom.doffs_px, plain.doffs_px);
+  const StereoCalibration yaml = read_calibration(write("bom.yml", std::string("\xEF\xBB\xBF") + kOpenCvYaml));
+  EXPECT_EQ(yaml.format, CalibFormat::kOpenCv);
+  EXPECT_EQ(yaml.focal_px, 700);
+}
+
 // A stream has no size to check and no end: the reader stops one byte past its limit.
 TEST_F(Calib, StreamsFoldersAndBinaryFilesAreNotCalibrations) {
   ErrorCode code{};

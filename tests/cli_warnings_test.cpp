@@ -1,9 +1,11 @@
 // The command line's rules, without a terminal: warnings for suspicious
 // input (apps/match_warnings.cpp), library errors in option names
-// (apps/option_errors.cpp) and integer parsing (apps/cli_args.cpp).
+// (apps/option_errors.cpp), integer parsing (apps/cli_args.cpp) and
+// all-or-nothing outputs (apps/output_set.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -14,10 +16,12 @@
 #include "apps/cli_args.hpp"
 #include "apps/match_warnings.hpp"
 #include "apps/option_errors.hpp"
+#include "apps/output_set.hpp"
 #include "support/data.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/params.hpp"
+#include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
 
 namespace tristereo::cli {
@@ -176,6 +180,21 @@ TEST(CliWarnings, ThreadsBeyondCpus) {
 }
 
 // Each parameter validate_params can refuse comes back under its option name.
+TEST(CliWarnings, NoDepthWhenEveryDisparityPlusDoffsIsAtMostZero) {
+  // Without --mesh too (issue 41): all-invalid depth must not pass silently.
+  CameraParams cam{200, 0.1, 48, 32, -20};
+  EXPECT_EQ(no_depth_warning(cam, "--camera", 0, 16),
+            "warning: --camera: with doffs -20 px, no disparity searched (0..15) gives a finite positive depth "
+            "(that needs disparity + doffs > 0): every depth, point and metric mesh vertex will be invalid; check "
+            "the sign of doffs and --dmin");
+  cam.doffs = -15;  // 15 + (-15) = 0: still no depth
+  EXPECT_NE(no_depth_warning(cam, "--camera", 0, 16), "");
+  cam.doffs = -14;  // the largest disparity gets one
+  EXPECT_EQ(no_depth_warning(cam, "--camera", 0, 16), "");
+  cam.doffs = 0;
+  EXPECT_NE(no_depth_warning(cam, "--calib c.txt", -20, 16).find("--calib c.txt: with doffs 0 px"), std::string::npos);
+}
+
 TEST(CliOptionErrors, EveryRefusedFieldIsNamedAsAnOption) {
   struct Case {
     void (*set)(StereoParams&);
@@ -225,6 +244,175 @@ TEST(CliArgs, IntegersOutOfRangeAreNotCalledNonIntegers) {
 TEST(CliArgs, AnOptionGivenTwiceIsAUsageError) {
   const char* argv[] = {"match", "--ndisp", "16", "--ndisp=32"};
   EXPECT_EQ(usage_message([&] { Args(4, const_cast<char**>(argv), {"ndisp"}, {}); }), "option --ndisp given twice");
+  // A flag too (README: "option given twice" is a usage error).
+  const char* flags[] = {"match", "--dense", "a", "--dense"};
+  EXPECT_EQ(usage_message([&] { Args(4, const_cast<char**>(flags), {}, {"dense"}); }), "option --dense given twice");
+}
+
+TEST(CliArgs, DoubleDashEndsTheOptions) {
+  const char* argv[] = {"match", "--dense", "--", "--odd-name.png", "--", "b.png"};
+  const Args a(6, const_cast<char**>(argv), {"ndisp"}, {"dense"});
+  EXPECT_TRUE(a.flag("dense"));
+  EXPECT_EQ(a.positional(), (std::vector<std::string>{"--odd-name.png", "--", "b.png"}));
+}
+
+TEST(CliArgs, AnOptionWhereAValueBelongsIsNamed) {
+  // "--disp --stats s.json" once read --stats as the disparity file and
+  // complained about three paths.
+  const char* argv[] = {"match", "l.png", "r.png", "--disp", "--stats", "s.json"};
+  EXPECT_EQ(usage_message([&] { Args(6, const_cast<char**>(argv), {"disp", "stats"}, {}); }),
+            "option --disp needs a value, but the option --stats follows it (a value that starts with -- goes as "
+            "--disp=VALUE)");
+  const char* inline_value[] = {"match", "--disp=--stats"};
+  EXPECT_EQ(Args(2, const_cast<char**>(inline_value), {"disp", "stats"}, {}).get("disp", ""), "--stats");
+  // A value that merely starts with -- but names no option is a value.
+  const char* odd[] = {"match", "--disp", "--x.pfm"};
+  EXPECT_EQ(Args(3, const_cast<char**>(odd), {"disp", "stats"}, {}).get("disp", ""), "--x.pfm");
+}
+
+TEST(CliArgs, OptionsWithoutEffectAreRefusedByTheTable) {
+  const std::vector<OptionNeed> table = {
+      {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
+      {"gamma-color", {"weights"}, "adaptive", "it scales the adaptive weights' colour term"},
+  };
+  const char* alone[] = {"match", "--mesh-ascii"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(2, const_cast<char**>(alone), {"mesh", "points"}, {"mesh-ascii"}), table);
+            }),
+            "--mesh-ascii has no effect without --mesh or --points (it writes their PLY files as ASCII)");
+  const char* with_points[] = {"match", "--mesh-ascii", "--points", "p.ply"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(4, const_cast<char**>(with_points), {"mesh", "points"}, {"mesh-ascii"}), table);
+            }),
+            "(no UsageError)");
+  const char* box[] = {"match", "--gamma-color", "5", "--weights", "box"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(5, const_cast<char**>(box), {"gamma-color", "weights"}, {}), table);
+            }),
+            "--gamma-color has no effect without --weights adaptive (it scales the adaptive weights' colour term)");
+  const char* adaptive[] = {"match", "--gamma-color", "5", "--weights", "adaptive"};
+  EXPECT_EQ(usage_message([&] {
+              check_option_needs(Args(5, const_cast<char**>(adaptive), {"gamma-color", "weights"}, {}), table);
+            }),
+            "(no UsageError)");
+}
+
+// ---------------------------------------------------------------- outputs
+
+namespace fs = std::filesystem;
+
+class OutputSetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("tristereo_outset_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+            "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  static std::string slurp(const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  }
+  std::vector<std::string> listing() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  fs::path dir_;
+};
+
+// A writer as the library's are: the bytes to `p`, atomically.
+std::function<void(const std::string&)> writes(const std::string& text) {
+  return [text](const std::string& p) { write_text_file(p, text); };
+}
+
+TEST_F(OutputSetTest, EveryOutputInPlaceAndNothingElseLeft) {
+  std::ofstream(path("a.csv")) << "old a";
+  OutputSet set;
+  set.add("--a", path("a.csv"), writes("new a"));
+  set.add("--b", path("b.json"), writes("new b"));
+  set.commit();
+  EXPECT_EQ(slurp(path("a.csv")), "new a");
+  EXPECT_EQ(slurp(path("b.json")), "new b");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.csv", "b.json"}));
+}
+
+TEST_F(OutputSetTest, ALastOutputThatFailsChangesNoTarget) {
+  std::ofstream(path("a.csv")) << "old a";
+  std::ofstream(path("b.ply")) << "old b";
+  std::string seen_path;
+  OutputSet set;
+  set.add("--a", path("a.csv"), writes("new a"));
+  set.add("--b", path("b.ply"), [&](const std::string& p) {
+    seen_path = p;
+    write_text_file(p, "new b");
+  });
+  set.add("--c", path("c.json"), [](const std::string& p) {
+    throw Error(ErrorCode::kIoError, "write_text_file: cannot write '" + p + "': No space left on device");
+  });
+  try {
+    set.commit();
+    ADD_FAILURE() << "committed";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kIoError);
+    // The target, not the temporary; the option as typed.
+    EXPECT_EQ(std::string(e.what()), "--c: cannot write '" + path("c.json") + "': No space left on device");
+  }
+  // Written beside its target, with its extension (which picks the format).
+  EXPECT_EQ(fs::path(seen_path).parent_path(), dir_);
+  EXPECT_EQ(fs::path(seen_path).extension(), ".ply");
+  EXPECT_EQ(slurp(path("a.csv")), "old a");
+  EXPECT_EQ(slurp(path("b.ply")), "old b");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.csv", "b.ply"}));  // no c.json, no temporaries
+}
+
+TEST_F(OutputSetTest, ARenameThatFailsHalfWayPutsBackWhatItReplaced) {
+  // A folder at the last target: staging succeeds, its rename fails after the
+  // first two targets were replaced, which must then be put back.
+  std::ofstream(path("a.csv")) << "old a";
+  fs::create_directories(path("c.json"));
+  std::ofstream(path("c.json") + "/inside") << "x";
+  OutputSet set;
+  set.add("--a", path("a.csv"), writes("new a"));
+  set.add("--b", path("b.csv"), writes("new b"));
+  set.add("--c", path("c.json"), writes("new c"));
+  EXPECT_THROW(set.commit(), Error);
+  EXPECT_EQ(slurp(path("a.csv")), "old a");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.csv", "c.json"}));  // b.csv was new: gone again
+}
+
+TEST_F(OutputSetTest, ALinkKeepsPointingAtTheFileItNames) {
+  std::ofstream(path("real.csv")) << "old";
+  fs::create_symlink(path("real.csv"), path("link.csv"));
+  OutputSet set;
+  set.add("--a", path("link.csv"), writes("new"));
+  set.commit();
+  EXPECT_TRUE(fs::is_symlink(path("link.csv")));
+  EXPECT_EQ(slurp(path("real.csv")), "new");
+}
+
+TEST_F(OutputSetTest, AFolderCreatedForAFailedRunIsRemoved) {
+  {
+    OutputFolder folder(path("x/y"));
+    EXPECT_TRUE(fs::is_directory(path("x/y")));
+  }
+  EXPECT_FALSE(fs::exists(path("x")));
+  {
+    OutputFolder folder(path("x/y"));
+    folder.keep();
+  }
+  EXPECT_TRUE(fs::is_directory(path("x/y")));
+  std::ofstream(path("file")) << "x";
+  try {
+    OutputFolder folder(path("file"));
+    ADD_FAILURE() << "a file as a folder";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("Not a directory"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

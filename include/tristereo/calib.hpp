@@ -37,8 +37,9 @@ struct TRISTEREO_API StereoCalibration {
 };
 
 // Throws Error (kIoError, kCorruptFile, kUnsupportedFormat, kInvalidArgument)
-// naming the file, line and key on missing keys, non-numeric values, a zero or
-// negative focal length or baseline. kAuto recognises the format from the
+// naming the file, line and key on missing keys, non-numeric values, and
+// values outside the bounds below (check_camera_bounds, with the size the file
+// states, if any). kAuto recognises the format from the
 // contents ("cam0=" lines, "P2:"/"P0:" lines, "%YAML" or "<opencv_storage>").
 // opencv_unit_m: the length of one unit of an OpenCV file's translations in
 // metres (OpenCV stores no unit: 1 when the target was measured in metres,
@@ -46,6 +47,28 @@ struct TRISTEREO_API StereoCalibration {
 TRISTEREO_API StereoCalibration read_calibration(const std::string& path,
                                                  CalibFormat format = CalibFormat::kAuto,
                                                  double opencv_unit_m = 1.0);
+
+// The bounds a real rectified rig stays within (docs/calibration.md,
+// "Bounds"), the same for every calibration format (read_calibration checks
+// them) and for the command line's --camera: a value outside them is a typo or
+// a wrong unit, and would make every depth 0, infinite or meaningless.
+constexpr double kMinFocalPx = 1;       // 1 px is already a 179.6-degree view of a 640-px image
+constexpr double kMaxFocalPx = 1e6;     // a 1000 mm lens on 1 um pixels is 1e6 px
+constexpr double kMinBaselineM = 1e-4;  // 0.1 mm (stereo endoscopes: a few mm)
+constexpr double kMaxBaselineM = 1e3;   // 1 km (aerial stereo)
+// The principal point lies within [-W, 2W] x [-H, 2H] and |doffs| <= 3 W,
+// for the image size W x H (the input's, or the file's; kMaxReadSide when
+// neither is known): rectification moves it, but not that far.
+
+enum class CameraField { kNone, kFocal, kBaseline, kPrincipalPoint, kDoffs };
+struct CameraBoundsCheck {
+  CameraField field = CameraField::kNone;  // the first value outside its bounds
+  std::string message;  // e.g. "focal length 1e+300 px is outside [1, 1e+06] px"
+  explicit operator bool() const { return field != CameraField::kNone; }
+};
+// camera.baseline in metres; width/height 0 = unknown. Numbers in the message
+// have at most 6 significant digits.
+TRISTEREO_API CameraBoundsCheck check_camera_bounds(const CameraParams& camera, int width, int height);
 
 // Throws Error(kSizeMismatch) when the calibration states an image size and
 // width x height is not it.

@@ -34,7 +34,12 @@ namespace tristereo {
 //    the format asked for, so /dev/zero or a large file of another kind
 //    costs one 64 KiB chunk;
 //  - PNM and PFM: the header's size must fit in the bytes that follow it;
-//  - PNG: the header's pixel data must fit in kMaxPngExpansion times the
+//  - PNG: every chunk's length is checked before the chunk is read: at most
+//    kMaxPngChunkBytes, at most kMaxPngAncillaryChunkBytes for an ancillary
+//    chunk (text, ICC profile, EXIF, unknown), and never beyond the end of
+//    the file (kCorruptFile naming the chunk). Ancillary chunks are skipped
+//    by seeking, never read into memory: none of them changes the pixels
+//    returned. The header's pixel data must fit in kMaxPngExpansion times the
 //    file's size (deflate cannot expand more), and rows are stored as they
 //    decode, so a file claiming more pixels than it holds fails after
 //    costing about what it really decoded.
@@ -45,6 +50,12 @@ constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;  // width * heigh
 // The largest image the limits allow (RGB, 16-bit would be 2x) plus headers.
 constexpr std::uint64_t kMaxReadFileBytes = (std::uint64_t{1} << 28) * 4 * 3 + (1 << 20);
 constexpr std::int64_t kMaxPngExpansion = 1032;
+// The PNG specification's own limit on a chunk's length (2^31 - 1).
+constexpr std::uint32_t kMaxPngChunkBytes = 0x7fffffffu;
+// Ancillary chunks are skipped unread, but one claiming more than this is not
+// metadata a camera or an image editor writes (ICC profiles and EXIF blocks
+// are well under 1 MiB): the file is refused rather than walked on trust.
+constexpr std::uint32_t kMaxPngAncillaryChunkBytes = 16u << 20;
 
 // `contents` as the whole file at `path`, written atomically as above (for
 // text outputs such as CSV and JSON).

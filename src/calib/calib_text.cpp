@@ -28,6 +28,9 @@ std::vector<Line> read_lines(const std::string& path) {
   if (all.find('\0') != std::string::npos)
     throw Error(ErrorCode::kUnsupportedFormat,
                 "calibration file '" + path + "': holds NUL bytes, not a text calibration file");
+  // A UTF-8 byte-order mark, which Windows editors put at the start of a
+  // text file, is not part of the first key.
+  if (all.compare(0, 3, "\xEF\xBB\xBF") == 0) all.erase(0, 3);
   std::vector<Line> lines;
   std::istringstream in(all);
   std::string text;
@@ -79,17 +82,19 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& pa
 }
 
 void validate(const StereoCalibration& c, int line_of_focal, int line_of_baseline) {
-  if (!(c.focal_px > 0) || !std::isfinite(c.focal_px))
-    fail(ErrorCode::kInvalidArgument, c.path, line_of_focal, "focal length",
-         "must be > 0 pixels, got " + std::to_string(c.focal_px));
-  if (!(c.baseline_m > 0) || !std::isfinite(c.baseline_m))
-    fail(ErrorCode::kInvalidArgument, c.path, line_of_baseline, "baseline",
-         "must be > 0, got " + std::to_string(c.baseline_m) + " m");
-  if (!std::isfinite(c.cx_px) || !std::isfinite(c.cy_px) || !std::isfinite(c.doffs_px))
-    fail(ErrorCode::kInvalidArgument, c.path, 0, "principal point",
-         "cx, cy and doffs must be finite");
   if (c.width < 0 || c.height < 0)
     fail(ErrorCode::kInvalidArgument, c.path, 0, "width/height", "image size must be >= 0");
+  // The same bounds as --camera (calib.hpp): a focal length or a baseline in
+  // the wrong unit, or a typo, gives depths of 0 or infinity everywhere.
+  const CameraBoundsCheck check = check_camera_bounds(c.camera(), c.width, c.height);
+  switch (check.field) {
+    case CameraField::kNone: return;
+    case CameraField::kFocal: fail(ErrorCode::kInvalidArgument, c.path, line_of_focal, "focal length", check.message);
+    case CameraField::kBaseline: fail(ErrorCode::kInvalidArgument, c.path, line_of_baseline, "baseline", check.message);
+    case CameraField::kPrincipalPoint:
+      fail(ErrorCode::kInvalidArgument, c.path, line_of_focal, "principal point", check.message);
+    case CameraField::kDoffs: fail(ErrorCode::kInvalidArgument, c.path, 0, "doffs", check.message);
+  }
 }
 
 }  // namespace tristereo::calib_detail

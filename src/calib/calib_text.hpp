@@ -34,8 +34,9 @@ std::string trim(const std::string& s);
 std::vector<double> parse_numbers(const std::string& text, const std::string& path, int line,
                                   const std::string& key);
 
-// Fills the derived fields' checks shared by every format: focal length and
-// baseline finite and > 0, principal point and doffs finite, size >= 0.
+// The checks shared by every format: size >= 0, and every value within the
+// physical bounds of check_camera_bounds (calib.hpp) for the size the file
+// states, failing with the line of the focal length (cx, cy too) or the baseline.
 void validate(const StereoCalibration& c, int line_of_focal, int line_of_baseline);
 
 StereoCalibration read_middlebury(const std::string& path, const std::vector<Line>& lines);

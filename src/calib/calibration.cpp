@@ -1,5 +1,6 @@
 // read_calibration(): recognise the format, hand the lines to its reader.
 #include <cmath>
+#include <cstdio>
 
 #include "src/calib/calib_text.hpp"
 
@@ -49,6 +50,30 @@ StereoCalibration read_calibration(const std::string& path, CalibFormat format, 
     case CalibFormat::kAuto: break;
   }
   throw Error(ErrorCode::kInvalidArgument, "unknown calibration format");
+}
+
+CameraBoundsCheck check_camera_bounds(const CameraParams& c, int width, int height) {
+  const double w = width > 0 ? width : kMaxReadSide, h = height > 0 ? height : kMaxReadSide;
+  CameraBoundsCheck out;
+  // %g: a typo such as 1e300 must not print as 300 digits.
+  auto outside = [&](CameraField field, const char* what, double v, double lo, double hi, const char* unit) {
+    if (out || (v >= lo && v <= hi)) return;  // NaN fails both comparisons
+    char text[160];
+    std::snprintf(text, sizeof text, "%s %.6g%s is outside [%.6g, %.6g]%s", what, v, unit, lo, hi, unit);
+    out.field = field;
+    out.message = text;
+  };
+  outside(CameraField::kFocal, "focal length", c.focal_px, kMinFocalPx, kMaxFocalPx, " px");
+  outside(CameraField::kBaseline, "baseline", c.baseline, kMinBaselineM, kMaxBaselineM, " m");
+  outside(CameraField::kPrincipalPoint, "principal point cx", c.cx, -w, 2 * w, " px");
+  outside(CameraField::kPrincipalPoint, "principal point cy", c.cy, -h, 2 * h, " px");
+  outside(CameraField::kDoffs, "doffs", c.doffs, -3 * w, 3 * w, " px");
+  if (out && (out.field == CameraField::kPrincipalPoint || out.field == CameraField::kDoffs)) {
+    char size[96];
+    std::snprintf(size, sizeof size, " (for %s %.0fx%.0f image)", width > 0 ? "a" : "the largest readable,", w, h);
+    out.message += size;
+  }
+  return out;
 }
 
 void check_calibration_size(const StereoCalibration& calib, int width, int height) {

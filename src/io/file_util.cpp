@@ -6,6 +6,7 @@
 #include <cstring>
 #include <atomic>
 #include <climits>
+#include <algorithm>
 #include <memory>
 
 #include <fcntl.h>
@@ -30,47 +31,100 @@ struct FileCloser {
 
 }  // namespace
 
-std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head) {
-  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
-  if (!f) throw Error(ErrorCode::kIoError, os_error("cannot open", path, errno));
+InputFile::InputFile(const std::string& path) : path_(path) {
+  file_ = std::fopen(path.c_str(), "rb");
+  if (!file_) throw Error(ErrorCode::kIoError, os_error("cannot open", path, errno));
   struct stat st {};
-  if (::fstat(::fileno(f.get()), &st) != 0) throw Error(ErrorCode::kIoError, os_error("cannot read", path, errno));
-  if (S_ISDIR(st.st_mode)) throw Error(ErrorCode::kIoError, "cannot read '" + path + "': it is a directory");
-  const bool regular = S_ISREG(st.st_mode);
-  if (regular && static_cast<std::uint64_t>(st.st_size) > kMaxReadFileBytes) {
-    throw Error(ErrorCode::kUnsupportedFormat,
-                "'" + path + "' is " + std::to_string(st.st_size) + " bytes, larger than the reader limit of " +
-                    std::to_string(kMaxReadFileBytes) + " bytes");
+  if (::fstat(::fileno(file_), &st) != 0) {
+    const int err = errno;
+    std::fclose(file_);
+    throw Error(ErrorCode::kIoError, os_error("cannot read", path, err));
   }
+  std::string refusal;
+  ErrorCode code = ErrorCode::kIoError;
+  if (S_ISDIR(st.st_mode)) {
+    refusal = "cannot read '" + path + "': it is a directory";
+  } else if (S_ISREG(st.st_mode) && static_cast<std::uint64_t>(st.st_size) > kMaxReadFileBytes) {
+    code = ErrorCode::kUnsupportedFormat;
+    refusal = "'" + path + "' is " + std::to_string(st.st_size) + " bytes, larger than the reader limit of " +
+              std::to_string(kMaxReadFileBytes) + " bytes";
+  }
+  if (!refusal.empty()) {
+    std::fclose(file_);
+    throw Error(code, refusal);
+  }
+  regular_ = S_ISREG(st.st_mode);
+  size_ = regular_ ? static_cast<std::uint64_t>(st.st_size) : 0;
+}
+
+InputFile::~InputFile() { std::fclose(file_); }
+
+std::size_t InputFile::read(std::vector<std::uint8_t>& out, std::size_t n) {
+  const std::size_t old = out.size();
+  out.resize(old + n);
+  const std::size_t got = std::fread(out.data() + old, 1, n, file_);
+  out.resize(old + got);
+  position_ += got;
+  if (got < n && std::ferror(file_)) throw Error(ErrorCode::kIoError, os_error("cannot read", path_, errno));
+  return got;
+}
+
+bool InputFile::skip(std::uint64_t n) {
+  if (regular_) {
+    // A seek past the end succeeds silently; the size says whether the bytes
+    // are there (a file that shrank since fstat shows up as a short read later).
+    if (n > size_ - std::min(size_, position_)) return false;
+    if (::fseeko(file_, static_cast<off_t>(n), SEEK_CUR) != 0)
+      throw Error(ErrorCode::kIoError, os_error("cannot read", path_, errno));
+    position_ += n;
+    return true;
+  }
+  // A stream cannot seek: read through it in small pieces, kept nowhere.
+  std::uint8_t buffer[4096];
+  while (n > 0) {
+    const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(n, sizeof buffer));
+    const std::size_t got = std::fread(buffer, 1, want, file_);
+    position_ += got;
+    n -= got;
+    if (got < want) {
+      if (std::ferror(file_)) throw Error(ErrorCode::kIoError, os_error("cannot read", path_, errno));
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<std::uint8_t> InputFile::read_rest(std::vector<std::uint8_t> bytes, HeadCheck check_head) {
   // The first chunk alone decides whether this is a format the caller reads:
   // a stream such as /dev/zero or a large file of another kind costs one chunk.
   constexpr std::size_t kChunk = std::size_t{1} << 16;
-  std::vector<std::uint8_t> bytes;
   bool head_checked = false;
   for (;;) {
-    const std::size_t old = bytes.size();
-    if (head_checked && old >= kMaxReadFileBytes) {
+    if (head_checked && bytes.size() >= kMaxReadFileBytes) {
       throw Error(ErrorCode::kUnsupportedFormat,
-                  "'" + path + "' is larger than the reader limit of " + std::to_string(kMaxReadFileBytes) + " bytes");
+                  "'" + path_ + "' is larger than the reader limit of " + std::to_string(kMaxReadFileBytes) + " bytes");
     }
-    if (head_checked && regular && bytes.capacity() < static_cast<std::size_t>(st.st_size) + kChunk) {
+    if (head_checked && regular_ && bytes.capacity() < size_ + kChunk) {
       // The size is known and bounded: one allocation, with room for the last
       // (short) chunk's read and for a file that grew since fstat.
-      bytes.reserve(static_cast<std::size_t>(st.st_size) + kChunk);
+      bytes.reserve(static_cast<std::size_t>(size_) + kChunk);
     }
-    bytes.resize(old + kChunk);
-    const std::size_t got = std::fread(bytes.data() + old, 1, kChunk, f.get());
-    bytes.resize(old + got);
-    const bool at_end = got < kChunk;
-    if (at_end && std::ferror(f.get())) throw Error(ErrorCode::kIoError, os_error("cannot read", path, errno));
+    // The first read tops up to one chunk, counting what the caller already read.
+    const std::size_t want = head_checked ? kChunk : kChunk - std::min(kChunk, bytes.size());
+    const bool at_end = read(bytes, want) < want;
     if (!head_checked) {
-      if (bytes.empty()) throw Error(ErrorCode::kCorruptFile, "'" + path + "' is empty");
-      if (check_head) check_head(bytes, path);
+      if (bytes.empty()) throw Error(ErrorCode::kCorruptFile, "'" + path_ + "' is empty");
+      if (check_head) check_head(bytes, path_);
       head_checked = true;
     }
     if (at_end) break;
   }
   return bytes;
+}
+
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head) {
+  InputFile f(path);
+  return f.read_rest({}, check_head);
 }
 
 std::vector<std::uint8_t> read_file_head(const std::string& path, std::size_t n) {

@@ -27,6 +27,40 @@ using HeadCheck = void (*)(const std::vector<std::uint8_t>& head, const std::str
 std::vector<std::uint8_t> read_file_head(const std::string& path, std::size_t n);
 std::vector<std::uint8_t> read_file_bytes(const std::string& path, HeadCheck check_head);
 
+// A file opened for reading with read_file_bytes' checks done (kIoError if it
+// cannot be opened or is a directory, kUnsupportedFormat if a regular file is
+// larger than kMaxReadFileBytes). For readers that look at the first bytes
+// before deciding how to read the rest (a PNG's chunks are walked, not slurped).
+class InputFile {
+ public:
+  explicit InputFile(const std::string& path);
+  ~InputFile();
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  bool regular() const { return regular_; }
+  std::uint64_t size() const { return size_; }  // of a regular file, else 0
+  std::uint64_t position() const { return position_; }
+  // Up to n more bytes appended to `out`; fewer only at the end of the file.
+  // kIoError on a read error.
+  std::size_t read(std::vector<std::uint8_t>& out, std::size_t n);
+  // Moves n bytes forward without keeping them: a seek on a regular file, a
+  // bounded read into a small buffer on a stream. Returns false if the file
+  // ends first.
+  bool skip(std::uint64_t n);
+  // read_file_bytes from here: the rest of the file appended to `bytes`
+  // (which holds what was read so far), check_head run on the first chunk.
+  std::vector<std::uint8_t> read_rest(std::vector<std::uint8_t> bytes, HeadCheck check_head);
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  bool regular_ = false;
+  std::uint64_t size_ = 0;
+  std::uint64_t position_ = 0;
+};
+
 [[noreturn]] void throw_out_of_memory(const std::string& path);
 
 // Runs a public reader's body: std::bad_alloc (a valid file too large for the

@@ -52,9 +52,11 @@ ImageU8 read_image_u8(const std::string& path) {
 }
 
 ImageU8 read_image_u8_unguarded(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = read_file_bytes(path, check_image_head);
-  if (is_png(bytes)) {
-    DecodedPng png = decode_png(bytes, path, /*want16=*/false);
+  InputFile f(path);
+  std::vector<std::uint8_t> head;
+  f.read(head, 8);  // a PNG's signature: its chunks are then walked, not read whole
+  if (is_png(head)) {
+    DecodedPng png = decode_png(read_png_chunks(f, std::move(head)), path, /*want16=*/false);
     ImageU8 img;
     img.width = png.width;
     img.height = png.height;
@@ -62,7 +64,7 @@ ImageU8 read_image_u8_unguarded(const std::string& path) {
     img.pixels = std::move(png.pixels);
     return img;
   }
-  return decode_pnm(bytes, path);
+  return decode_pnm(f.read_rest(std::move(head), check_image_head), path);
 }
 
 static Image<std::uint16_t> read_png_u16_unguarded(const std::string& path);
@@ -73,8 +75,12 @@ Image<std::uint16_t> read_png_u16(const std::string& path) {
 }
 
 Image<std::uint16_t> read_png_u16_unguarded(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = read_file_bytes(path, check_png_head);
-  DecodedPng png = decode_png(bytes, path, /*want16=*/true);
+  InputFile f(path);
+  std::vector<std::uint8_t> head;
+  f.read(head, 8);
+  // Not a PNG: read_rest's head check throws ("is empty", or what the file starts with).
+  if (!is_png(head)) head = f.read_rest(std::move(head), check_png_head);
+  DecodedPng png = decode_png(read_png_chunks(f, std::move(head)), path, /*want16=*/true);
   Image<std::uint16_t> img(png.width, png.height, 1);
   std::memcpy(img.pixels.data(), png.pixels.data(), png.pixels.size());
   return img;

@@ -1,6 +1,7 @@
 // The 2.5D mesh as a PLY file (ASCII or binary little endian).
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -15,6 +16,14 @@ namespace tristereo {
 using namespace io_detail;
 
 namespace {
+
+// A number for a message: 6 significant digits, never the 300 digits that
+// std::to_string gives 1e300.
+std::string short_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
 
 [[noreturn]] void bad(ErrorCode code, const std::string& why) {
   throw Error(code, "write_mesh_ply: " + why);
@@ -56,11 +65,11 @@ void check_inputs(const Mesh& mesh, const std::vector<std::int16_t>& disp,
   if (camera) {
     const CameraParams& c = *camera;
     if (!(std::isfinite(c.focal_px) && c.focal_px > 0)) {
-      bad(ErrorCode::kInvalidArgument, "camera focal_px " + std::to_string(c.focal_px) +
+      bad(ErrorCode::kInvalidArgument, "camera focal_px " + short_number(c.focal_px) +
                                            " must be finite and > 0");
     }
     if (!(std::isfinite(c.baseline) && c.baseline > 0)) {
-      bad(ErrorCode::kInvalidArgument, "camera baseline " + std::to_string(c.baseline) +
+      bad(ErrorCode::kInvalidArgument, "camera baseline " + short_number(c.baseline) +
                                            " must be finite and > 0");
     }
     if (!std::isfinite(c.cx) || !std::isfinite(c.cy) || !std::isfinite(c.doffs)) {
@@ -121,10 +130,10 @@ MeshWriteReport write_mesh_ply(const std::string& path, const Mesh& mesh,
     // than write inf/nan vertices that viewers choke on.
     if (!std::isfinite(xyz[3 * i]) || !std::isfinite(xyz[3 * i + 1]) || !std::isfinite(xyz[3 * i + 2])) {
       bad(ErrorCode::kInvalidArgument,
-          "the camera (focal length " + std::to_string(camera->focal_px) + " px, baseline " +
-              std::to_string(camera->baseline) + ") puts vertex " + std::to_string(i) + " (" +
+          "the camera (focal length " + short_number(camera->focal_px) + " px, baseline " +
+              short_number(camera->baseline) + ") puts vertex " + std::to_string(i) + " (" +
               std::to_string(v.x) + ", " + std::to_string(v.y) + ", disparity " +
-              std::to_string(d) + ") at a point beyond float range; check the camera's values and units");
+              short_number(d) + ") at a point beyond float range; check the camera's values and units");
     }
   }
   MeshWriteReport report;

@@ -9,6 +9,7 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
@@ -83,10 +84,9 @@ bool png_setup_transforms(png_structp png, png_infop info, const Header& h, bool
   // a warning, and such a file is corrupt. Their tRNS (transparency) is ignored.
   if (h.color_type == PNG_COLOR_TYPE_PALETTE) png_set_packing(png);
   if (h.color_type == PNG_COLOR_TYPE_GRAY && h.bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-  // Alpha and tRNS transparency are dropped (no compositing).
-  if (h.color_type != PNG_COLOR_TYPE_PALETTE &&
-      ((h.color_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS)))
-    png_set_strip_alpha(png);
+  // Alpha is dropped (no compositing). tRNS, like every ancillary chunk, never
+  // reaches libpng (read_png_chunks), so transparency is ignored there too.
+  if (h.color_type & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(png);
   if (keep16 && h.bit_depth == 16 && host_is_little_endian()) png_set_swap(png);
   *passes = png_set_interlace_handling(png);
   png_read_update_info(png, info);
@@ -123,8 +123,91 @@ bool is_png(const std::vector<std::uint8_t>& bytes) {
   return bytes.size() >= 8 && png_sig_cmp(bytes.data(), 0, 8) == 0;
 }
 
-DecodedPng decode_png(const std::vector<std::uint8_t>& bytes, const std::string& path,
-                      bool want16) {
+namespace {
+
+std::uint32_t be32(const std::uint8_t* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+
+// The chunk's type as text for a message: its four letters, or hex escapes.
+std::string chunk_type_text(const std::uint8_t* t) {
+  std::string s;
+  for (int i = 0; i < 4; ++i) {
+    if (t[i] >= 0x20 && t[i] < 0x7f) {
+      s += static_cast<char>(t[i]);
+    } else {
+      static const char* hex = "0123456789abcdef";
+      s += "\\x";
+      s += hex[t[i] >> 4];
+      s += hex[t[i] & 15];
+    }
+  }
+  return s;
+}
+
+bool is_letter(std::uint8_t c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
+
+}  // namespace
+
+PngChunks read_png_chunks(InputFile& f, std::vector<std::uint8_t> signature) {
+  PngChunks out;
+  out.bytes = std::move(signature);
+  const std::string& path = f.path();
+  auto corrupt = [&](const std::string& what) {
+    throw Error(ErrorCode::kCorruptFile, "corrupt PNG '" + path + "': " + what);
+  };
+  for (;;) {
+    const std::uint64_t at = f.position();
+    const std::size_t start = out.bytes.size();
+    if (f.read(out.bytes, 8) < 8) break;  // cut inside a chunk header: libpng says "truncated"
+    const std::uint32_t length = be32(&out.bytes[start]);
+    std::uint8_t type[4];
+    std::memcpy(type, &out.bytes[start + 4], 4);
+    const std::string name = "chunk '" + chunk_type_text(type) + "' at byte " + std::to_string(at);
+    if (!is_letter(type[0]) || !is_letter(type[1]) || !is_letter(type[2]) || !is_letter(type[3]))
+      corrupt(name + " has an invalid type (a chunk type is four ASCII letters)");
+    // Data and CRC must be in the file: on a regular file that is a size
+    // comparison, made before a single byte of the chunk is read.
+    const std::uint64_t need = std::uint64_t{length} + 4;
+    if (f.regular() && need > f.size() - std::min(f.size(), f.position())) {
+      corrupt(name + " claims " + std::to_string(length) + " bytes, but the " + std::to_string(f.size()) +
+              "-byte file ends " + std::to_string(f.size() - std::min(f.size(), f.position())) +
+              " bytes after its header");
+    }
+    // The caps hold for streams too, whose size is unknown.
+    // Bit 5 of the first letter (lower case) marks a chunk a decoder may ignore.
+    const bool ancillary = (type[0] & 0x20) != 0;
+    const std::uint32_t cap = ancillary ? kMaxPngAncillaryChunkBytes : kMaxPngChunkBytes;
+    if (length > cap) {
+      corrupt(name + " claims " + std::to_string(length) + " bytes, more than the " +
+              std::to_string(cap) + "-byte limit on " +
+              (ancillary ? "an ancillary chunk" : "a chunk") + " (include/tristereo/io.hpp)");
+    }
+    if (ancillary) {
+      out.bytes.resize(start);
+      if (!f.skip(need)) break;  // a stream that ends inside it: truncated
+      continue;
+    }
+    // In pieces, so that memory follows what a stream really delivers.
+    std::uint64_t left = need;
+    while (left > 0) {
+      if (out.bytes.size() >= kMaxReadFileBytes) {
+        throw Error(ErrorCode::kUnsupportedFormat, "'" + path + "' is larger than the reader limit of " +
+                                                       std::to_string(kMaxReadFileBytes) + " bytes");
+      }
+      const std::size_t piece = static_cast<std::size_t>(std::min<std::uint64_t>(left, std::uint64_t{1} << 16));
+      const std::size_t got = f.read(out.bytes, piece);
+      left -= got;
+      if (got < piece) break;
+    }
+    if (left > 0 || std::memcmp(type, "IEND", 4) == 0) break;  // libpng ends at IEND too
+  }
+  out.file_bytes = f.position();
+  return out;
+}
+
+DecodedPng decode_png(const PngChunks& png, const std::string& path, bool want16) {
+  const std::vector<std::uint8_t>& bytes = png.bytes;
   PngContext ctx;
   ctx.data = bytes.data();
   ctx.size = bytes.size();
@@ -158,13 +241,18 @@ DecodedPng decode_png(const std::vector<std::uint8_t>& bytes, const std::string&
       static_cast<std::size_t>(h.width) * decoded_channels * bytes_per_sample;
   // Deflate expands at most ~1032:1, so a header claiming more pixel data
   // than that many times the file is a lie: refuse it before allocating.
+  // Only the critical chunks count: metadata decodes into no pixel, and
+  // must not buy an interlaced image's buffer.
   const std::uint64_t claimed = static_cast<std::uint64_t>(decoded_row_bytes) * h.height;
   if (claimed > static_cast<std::uint64_t>(kMaxPngExpansion) * bytes.size()) {
+    const std::string holder = bytes.size() == png.file_bytes
+                                   ? "a " + std::to_string(bytes.size()) + "-byte file"
+                                   : "the " + std::to_string(bytes.size()) + " bytes of its image chunks (of " +
+                                         std::to_string(png.file_bytes) + ")";
     throw Error(ErrorCode::kCorruptFile,
                 "corrupt PNG '" + path + "': the header claims " + std::to_string(h.width) + " x " +
-                    std::to_string(h.height) + " pixels (" + std::to_string(claimed) +
-                    " bytes), more than a " + std::to_string(bytes.size()) +
-                    "-byte file can hold");
+                    std::to_string(h.height) + " pixels (" + std::to_string(claimed) + " bytes), more than " +
+                    holder + " can hold");
   }
   png_colorp plte = nullptr;
   int plte_size = 0;

@@ -31,6 +31,24 @@ echo "previous results" > "$W/old.pfm"
 # /dev/full under an output name: a device node where root may create one
 # (the issue's reproducer), else a symbolic link to it.
 mknod "$W/full.ply" c 1 7 2> /dev/null || ln -s /dev/full "$W/full.ply"
+# All or nothing (issue 41): earlier outputs that existed must stay byte for
+# byte what they were when the last output fails on a full device.
+full() { mknod "$1" c 1 7 2> /dev/null || ln -s /dev/full "$1"; }
+full "$W/full.json"
+echo "previous disparities" > "$W/prev.pfm"; echo "previous mesh" > "$W/prev.ply"; echo "previous csv" > "$W/prev.csv"
+cp "$W/prev.pfm" "$W/prev.pfm.orig"; cp "$W/prev.ply" "$W/prev.ply.orig"; cp "$W/prev.csv" "$W/prev.csv.orig"
+mkdir -p "$W/sy" "$W/de" "$W/frames"
+echo "previous left" > "$W/sy/left.png"; full "$W/sy/nonocc.png"
+echo "previous left" > "$W/de/left.png"; full "$W/de/dense_stats.json"
+# Frames of a --folder named like reports (the reader goes by content), and
+# an image named like a report.
+cp "$W/p/left.png" "$W/frames/left_0000.csv"; cp "$W/p/right.png" "$W/frames/right_0000.csv"
+cp "$W/p/left.png" "$W/image.json"
+# A Middlebury calibration for the 96x64 pair; one of absurd values (issue
+# 41), one whose principal point is valid for a large image but not this one.
+printf 'cam0=[200 0 48; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\nwidth=96\nheight=64\n' > "$W/calib.txt"
+printf 'cam0=[1e300 0 48; 0 1e300 32; 0 0 1]\ndoffs=2\nbaseline=1e300\n' > "$W/huge_f.txt"
+printf 'cam0=[200 0 5000; 0 200 32; 0 0 1]\ndoffs=2\nbaseline=120\n' > "$W/far_cx.txt"
 L=p/left.png
 R=p/right.png
 M="$T match $L $R"
@@ -76,10 +94,17 @@ run error 2 '--width 5 is out of range \[16, 4096\]' "synthetic scene too small"
 run error 2 '--ndisp 4 is out of range \[8, 256\]' "synthetic scene with D = 4" "$T synth s --ndisp 4"
 run error 2 '--frame -1 is out of range \[0, 100000\]' "negative frame number" "$T synth s --frame -1"
 run error 2 'synth needs OUTDIR' "synth without a folder" "$T synth"
+run error 2 'synth takes one path, OUTDIR; got 2 \(a, b\)' "synth with two folders" "$T synth a b" \
+  "test ! -e a && test ! -e b" "nothing written"
 run error 1 "cannot create 'p/left.png': Not a directory" "synth into a file" "$T synth p/left.png"
 run error 2 '--threads -1 is out of range \[0, 256\]' "demo with -1 threads" "$T demo d --threads -1" "test ! -e d" "nothing written"
 run error 2 'demo takes at most one path, OUTDIR; got 2' "demo with two folders" "$T demo d e"
 run error 2 "info takes no paths; got 'x'" "info with a path" "$T info x"
+run error 2 '--max-size 0x0: the width 0 is out of range \[2, 4096\]' "info with an empty size" "$T info --max-size 0x0"
+run error 2 '--ndisp 0 is out of range \[1, 256\]' "info with D = 0" "$T info --ndisp 0"
+run error 2 '--realtime 0: real-time priority 0 is outside 1\.\.' "profile with real-time priority 0" \
+  "$T profile --realtime 0 --frames 1"
+run error 2 "--gpio: invalid GPIO line 'x'" "profile with a GPIO line that is no line" "$T profile --gpio x --frames 1"
 run error 2 "--mesh m.obj: extension '.obj' is not written; the file must end in .ply" \
   "mesh in a format not written" "$M --ndisp 16 --mesh m.obj" "test ! -e m.obj" "no m.obj"
 run error 2 "--disp-color c.jpg: extension '.jpg' is not written; the file must end in .png" \
@@ -95,11 +120,29 @@ run error 2 '--disp-color ./p/../p/right.png is the RIGHT input' "output over RI
 run error 2 '--points a.ply is also the --mesh output' "two outputs, one file" \
   "$M --ndisp 16 --camera 200,0.1,48,32 --mesh a.ply --points a.ply" "test ! -e a.ply" "nothing written"
 run error 2 'option --stats given twice' "an option given twice" "$M --ndisp 16 --stats x.json --stats y.json"
+run error 2 'option --dense given twice' "a flag given twice" "$M --ndisp 16 --dense --dense"
+run error 2 'option --disp needs a value, but the option --stats follows it' "an output option missing its file" \
+  "$M --ndisp 16 --disp --stats s.json" "test ! -e s.json" "nothing written"
+run error 2 '--mesh-ascii has no effect without --mesh or --points' "ASCII without a PLY output" "$M --ndisp 16 --mesh-ascii"
+run error 2 '--gamma-color has no effect without --weights adaptive' "adaptive weight scale with box weights" \
+  "$M --ndisp 16 --gamma-color 5"
+run error 2 '--calib-unit mm has no effect: --calib calib.txt is a middlebury calibration' \
+  "a unit for a Middlebury file (whose unit is fixed)" "$M --ndisp 16 --calib calib.txt --calib-unit mm --depth z.pfm" \
+  "test ! -e z.pfm" "no z.pfm"
+run error 2 '--calib-unit has no effect without --calib' "a calibration unit without a calibration" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --calib-unit mm --depth z.pfm"
+run error 2 '--left-pattern has no effect without --folder' "profile's frame pattern without a folder" \
+  "$T profile --left-pattern l%d.png --frames 1"
+run error 1 "cannot open '--left.png'" "after --, a path that starts with --" "$T match --ndisp 16 -- --left.png $R"
 run error 2 '--disp d.png: a PNG cannot hold the negative disparities of --dmin -4' \
   "negative disparities into a PNG" "$M --ndisp 16 --dmin -4 --disp d.png"
-run error 2 '--camera: 1e\+308 is out of range' "camera values that overflow" \
+run error 2 '--camera: focal length 1e\+308 px is outside \[1, 1e\+06\] px' "camera values that overflow" \
   "$M --ndisp 16 --camera 1e308,1e308,0,0 --mesh m.ply" "test ! -e m.ply" "no m.ply"
-run error 2 '--camera: focal length and baseline must be > 0' "zero focal length" "$M --ndisp 16 --camera 0,1,0,0 --mesh m.ply"
+run error 2 '--camera: focal length 0 px is outside \[1, 1e\+06\] px' "zero focal length" "$M --ndisp 16 --camera 0,1,0,0 --mesh m.ply"
+run error 2 '--camera: baseline 1e-300 m is outside \[0.0001, 1000\] m' "a baseline of 1e-300 (depth 0 m everywhere)" \
+  "$M --ndisp 16 --camera 200,1e-300,48,32 --depth z.pfm" "test ! -e z.pfm" "no z.pfm"
+run error 2 '--camera: principal point cy 1000 px is outside \[-64, 128\] px \(for a 96x64 image\)' \
+  "principal point far outside the image" "$M --ndisp 16 --camera 200,0.1,48,1000 --depth z.pfm"
 run error 2 '--camera needs F,B,CX,CY' "camera with 3 numbers" "$M --ndisp 16 --camera 1,2,3 --mesh m.ply"
 run error 2 '--calib and --camera both set the camera' "two cameras" "$M --ndisp 16 --camera 1,1,0,0 --calib x.txt"
 run error 2 '--depth needs a camera' "depth without a camera" "$M --ndisp 16 --depth z.pfm"
@@ -116,6 +159,13 @@ run error 1 "huge_claim.png': the header claims 16384 x 16384 pixels .* more tha
 run error 1 "palette_oob.png': pixel \(4, 0\) has palette index 5 but the palette has 2 entries" \
   "palette index beyond the palette" "$T match palette_oob.png $R --ndisp 16"
 run error 1 "corrupt PNG 'truncated.png'" "PNG cut after 300 bytes" "$T match truncated.png $R --ndisp 16"
+# Issue 41: libpng alone took 2.1 GB and 8-15 s on these 52 bytes; 2 s is plenty.
+run error 1 "text_claim.png': chunk 'tEXt' at byte 33 claims 2147483632 bytes, but the 52-byte file ends 11 bytes" \
+  "52-byte PNG whose tEXt claims 2^31-16 bytes (memory limit 100 MB, 2 s)" \
+  "vmem_limit_100mb; timeout 2 $T match text_claim.png $R --ndisp 16"
+run error 1 "iccp_claim.png': chunk 'iCCP' at byte 33 claims 2147483632 bytes" \
+  "the same with an ICC profile, as a disparity file (memory limit 100 MB, 2 s)" \
+  "vmem_limit_100mb; timeout 2 $T eval iccp_claim.png disp16.png"
 run error 1 "corrupt PNM 'claims_256M.pgm': truncated: header promises 256000000 bytes of pixels, file has 10" \
   "PGM claiming 16000x16000 (memory limit 100 MB)" "vmem_limit_100mb; $T match claims_256M.pgm $R --ndisp 16"
 run error 1 "PNM 'claims_3600M.pgm': image size 60000 x 60000 exceeds the reader limit of 268435456 pixels" \
@@ -137,6 +187,10 @@ run error 1 "calibration file 'missing.txt': cannot open it: No such file or dir
 run error 1 "calibration file '/dev/zero': more than 1048576 bytes, not a calibration file" \
   "endless stream as calibration (memory limit 100 MB)" "vmem_limit_100mb; $M --ndisp 16 --calib /dev/zero --depth z.pfm"
 run error 1 "calibration file 'p': cannot read it" "a folder as calibration" "$M --ndisp 16 --calib p --depth z.pfm"
+run error 1 "calibration file 'huge_f.txt', line 1, key 'focal length': focal length 1e\+300 px is outside \[1, 1e\+06\] px" \
+  "calibration with f = B = 1e300 (+inf everywhere)" "$M --ndisp 16 --calib huge_f.txt --mesh m.ply" "test ! -e m.ply" "no m.ply"
+run error 1 "calibration file 'far_cx.txt': principal point cx 5000 px is outside \[-96, 192\] px \(for a 96x64 image\)" \
+  "calibration whose principal point is far outside the input" "$M --ndisp 16 --calib far_cx.txt --depth z.pfm"
 run error 1 "--stats nodir/s.json: folder 'nodir': No such file or directory \(create it first\)" \
   "stats into a missing folder" "$M --ndisp 16 --disp d.pfm --stats nodir/s.json" "test ! -e d.pfm" "no d.pfm written"
 run error 1 "--stats folder.json is a folder" "stats onto a folder" "$M --ndisp 16 --stats folder.json"
@@ -152,6 +206,34 @@ run error 1 "--disp: cannot write 'old.pfm': File too large" "disparity onto a f
   "ulimit -f 8; trap '' XFSZ; $M --ndisp 16 --disp old.pfm" \
   "test \"\$(cat old.pfm)\" = 'previous results' && test -z \"\$(ls -A | grep tmp-)\"" "old.pfm intact, no temporary left"
 
+# ---- all or nothing: a failing output leaves every target as it was
+nothing_new="cmp prev.pfm prev.pfm.orig && cmp prev.ply prev.ply.orig && cmp prev.csv prev.csv.orig && test -z \"\$(ls -A | grep -E 'tmp-|bak-')\""
+run error 1 "--stats: cannot write 'full.json': No space left on device" \
+  "match's last output onto /dev/full (mknod full.json c 1 7)" \
+  "$M --ndisp 16 --disp prev.pfm --mesh prev.ply --samples prev.csv --disp-color new.png --stats full.json" \
+  "$nothing_new && test ! -e new.png" "every earlier target byte-identical, no new file, no temporary"
+run error 1 "OUTDIR: cannot write 'sy/nonocc.png': No space left on device" "synth whose last file is /dev/full" \
+  "$T synth sy --width 32 --height 24 --ndisp 8" \
+  "test \"\$(cat sy/left.png)\" = 'previous left' && test \"\$(ls -A sy | tr '\n' ' ')\" = 'left.png nonocc.png '" \
+  "sy/left.png as it was, nothing else written"
+run error 1 "OUTDIR: cannot write 'de/dense_stats.json': No space left on device" "demo whose last file is /dev/full" \
+  "$T demo de --width 32 --height 24 --ndisp 8" \
+  "test \"\$(cat de/left.png)\" = 'previous left' && test \"\$(ls -A de | tr '\n' ' ')\" = 'dense_stats.json left.png '" \
+  "de/left.png as it was, nothing else written"
+run error 1 "--json: cannot write 'full.json': No space left on device" "profile's --json onto /dev/full" \
+  "$T profile --width 32 --height 24 --ndisp 8 --frames 2 --warmup 0 --csv prev.csv --json full.json" \
+  "$nothing_new" "prev.csv as it was, no temporary"
+run error 1 "--json: cannot write 'full.json': No space left on device" "eval's --json onto /dev/full" \
+  "$T eval disp16.png disp16.png --disp-format q4 --gt-format q4 --json full.json" "test -c full.json || test -L full.json" "full.json still the device"
+run error 2 "--csv frames/left_0000.csv is the frame 'frames/left_0000.csv' of --folder; refusing to overwrite an input" \
+  "profile's report onto a frame of --folder" \
+  "$T profile --folder frames --left-pattern left_%04d.csv --right-pattern right_%04d.csv --frames 1 --warmup 0 --csv frames/left_0000.csv" \
+  "cmp frames/left_0000.csv p/left.png" "the frame unchanged"
+run error 2 "--json image.json is the --left input; refusing to overwrite an input" "profile's report onto its input" \
+  "$T profile --left image.json --right $R --frames 1 --json image.json" "cmp image.json p/left.png" "the input unchanged"
+run error 2 "--json r.csv: extension '.csv' is not written; the file must end in .json" "profile's reports into one file" \
+  "$T profile --frames 1 --csv r.csv --json r.csv" "test ! -e r.csv" "nothing written"
+
 # ---- valid but suspicious: exit 0, a warning that says what to check
 run warning 0 "warning: LEFT and RIGHT look swapped: .* check the order of the paths" "LEFT and RIGHT swapped" \
   "$T match $R $L --ndisp 16"
@@ -162,5 +244,10 @@ run warning 0 "warning: --threads [0-9]+ with only [0-9]+ CPUs allowed" "more th
 run warning 0 "warning: --threads 2 with only 1 CPUs in --cpus" "more threads than --cpus" "$M --ndisp 16 --threads 2 --cpus 0"
 run warning 0 "warning: --mesh m.ply: [0-9]+ of [0-9]+ faces left out; [0-9]+ touch a vertex at or beyond infinity" \
   "metric mesh with vertices behind the camera" "$M --ndisp 16 --camera 100,1,48,32,-3 --mesh m.ply" "test -s m.ply" "m.ply written"
+run warning 0 "warning: --camera: with doffs -20 px, no disparity searched \(0\.\.15\) gives a finite positive depth" \
+  "a doffs that leaves no pixel a depth (without --mesh)" "$M --ndisp 16 --camera 200,0.1,48,32,-20 --depth z.pfm" \
+  "test -s z.pfm" "z.pfm written"
+run warning 0 "warning: --calib calib.txt: with doffs 2 px, no disparity searched \(-20\.\.-5\) gives" \
+  "a disparity range with no depth, from a calibration file" "$M --ndisp 16 --dmin -20 --calib calib.txt --depth z.pfm"
 run warning 0 "warning: LEFT p/left.png is gray but RIGHT rgb.ppm is RGB" "gray LEFT, RGB RIGHT" "$T match $L rgb.ppm --ndisp 16"
 run warning 0 "warning: RIGHT p/right.png is gray but LEFT rgb.ppm is RGB" "RGB LEFT, gray RIGHT" "$T match rgb.ppm $R --ndisp 16"

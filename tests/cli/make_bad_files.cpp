@@ -5,6 +5,9 @@
 //   make_bad_files DIR
 //     DIR/huge_claim.png   67 bytes whose header claims 16384 x 16384 RGB
 //     DIR/palette_oob.png  8 x 8 palette image, 2 colours, pixels using index 5
+//     DIR/text_claim.png   52 bytes: a 4 x 4 header, then a tEXt chunk whose
+//                          length field claims 2^31 - 16 bytes (issue 41)
+//     DIR/iccp_claim.png   the same with an iCCP chunk
 #include <zlib.h>
 
 #include <cstdint>
@@ -55,6 +58,21 @@ Bytes png_file(std::uint32_t w, std::uint32_t h, std::uint8_t depth, std::uint8_
   return png;
 }
 
+// The signature, a 4 x 4 gray IHDR, then the header of a `type` chunk whose
+// length field claims 2^31 - 16 bytes, and the first 11 of them: 52 bytes.
+Bytes claiming_chunk(const char* type) {
+  Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  Bytes ihdr;
+  put32(ihdr, 4);
+  put32(ihdr, 4);
+  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});  // 8-bit gray, no interlace
+  chunk(png, "IHDR", ihdr);
+  put32(png, 0x7ffffff0u);
+  png.insert(png.end(), type, type + 4);
+  for (char c : std::string("Comment\0abc", 11)) png.push_back(static_cast<std::uint8_t>(c));
+  return png;
+}
+
 bool save(const std::string& path, const Bytes& b) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return false;
@@ -78,7 +96,9 @@ int main(int argc, char** argv) {
     for (int x = 0; x < 8; ++x) rows.push_back(x < 4 ? 1 : 5);  // 5: beyond the 2 colours
   }
   const Bytes oob = png_file(8, 8, 8, 3, {255, 0, 0, 0, 0, 255}, rows);
-  if (!save(dir + "/huge_claim.png", huge) || !save(dir + "/palette_oob.png", oob)) {
+  if (!save(dir + "/huge_claim.png", huge) || !save(dir + "/palette_oob.png", oob) ||
+      !save(dir + "/text_claim.png", claiming_chunk("tEXt")) ||
+      !save(dir + "/iccp_claim.png", claiming_chunk("iCCP"))) {
     std::fprintf(stderr, "make_bad_files: cannot write into %s\n", dir.c_str());
     return 1;
   }

@@ -27,8 +27,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   StereoCalibration c;
   if (!library_call("read_calibration", [&] { c = read_calibration(path, format, unit_m); }))
     return 0;
-  TRISTEREO_FUZZ_CHECK(std::isfinite(c.focal_px) && c.focal_px > 0, "focal length");
-  TRISTEREO_FUZZ_CHECK(std::isfinite(c.baseline_m) && c.baseline_m > 0, "baseline");
+  TRISTEREO_FUZZ_CHECK(c.focal_px >= kMinFocalPx && c.focal_px <= kMaxFocalPx, "focal length within its bounds");
+  TRISTEREO_FUZZ_CHECK(c.baseline_m >= kMinBaselineM && c.baseline_m <= kMaxBaselineM, "baseline within its bounds");
+  TRISTEREO_FUZZ_CHECK(!check_camera_bounds(c.camera(), c.width, c.height), "every value within its bounds");
   TRISTEREO_FUZZ_CHECK(std::isfinite(c.cx_px) && std::isfinite(c.cy_px) && std::isfinite(c.doffs_px),
                        "principal point and doffs");
   TRISTEREO_FUZZ_CHECK(c.width >= 0 && c.height >= 0, "image size");
