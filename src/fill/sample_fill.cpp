@@ -151,15 +151,22 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   const auto walk_round = [&](bool listed, int n, int chunk) {
     const int chunks = (n + chunk - 1) / chunk;
     if (workers < 2 || chunks < 2) {
-      // By the same chunks as a pool (one trace item each), kept in one run.
       int kept = 0;
+      if (trace_ == nullptr) {
+        for (int j = 0; j < n; ++j) {
+          const std::int32_t t = listed ? live[j] : j;
+          if (walk(t, offer_alone)) live[kept++] = t;
+        }
+        return kept;
+      }
+      // Traced: by the same chunks as a pool, one item each (the same result).
       for (int c = 0; c < chunks; ++c) {
-        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+        const std::int64_t t0 = monotonic_ns();
         for (int j = c * chunk, j1 = std::min(n, j + chunk); j < j1; ++j) {
           const std::int32_t t = listed ? live[j] : j;
           if (walk(t, offer_alone)) live[kept++] = t;
         }
-        if (trace_ != nullptr) trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), c * chunk, n);
+        trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), c * chunk, n);
       }
       return kept;
     }
