@@ -1,13 +1,16 @@
 """tristereo: fixed-point stereo on a tritree mesh (Python bindings).
 
     import numpy as np, tristereo
-    p = tristereo.Pipeline(640, 480, ndisp=64)
-    out = p.process(left, right)      # uint8 arrays, (H, W) gray or (H, W, 3) RGB
+    p = tristereo.Pipeline(640, 480, ndisp=64)   # keywords: the CLI's model options
+    out = p.process(left, right)      # uint8 arrays, (H, W) gray
+    out = p.process(l, r, order="bgr")  # (H, W, 3): say the order (OpenCV: "bgr")
     out.disparity                     # float32 pixels, NaN = invalid
     out.disp_q4                       # int16, disparity * 16, -32768 = invalid
     out.vertices, out.triangles, out.vertex_disp_q4, out.timings_ms
+    out.uniqueness_rejected, out.lr_rejected, out.filled
 
-Errors of the library arrive as ValueError (bad input) or RuntimeError.
+Errors arrive as ValueError (bad values), TypeError (values of the wrong type,
+unknown keywords), OSError (unreadable files) or RuntimeError.
 """
 from ._tristereo import (  # noqa: F401
     INVALID_DISP_Q4,
@@ -16,6 +19,7 @@ from ._tristereo import (  # noqa: F401
     Pipeline,
     VerifyReport,
     __version__,
+    model_options,
     read_calibration,
     read_image,
     verify,
