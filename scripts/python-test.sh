@@ -25,6 +25,9 @@ site="$prefix/lib/python3/dist-packages"
 if (cd "$prefix" && PYTHONPATH="$site" /usr/bin/python3 -c '
 import numpy as np, sys, tristereo
 assert tristereo.__file__.startswith(sys.argv[1]), tristereo.__file__
+import os
+pkg = os.path.dirname(tristereo.__file__)
+assert os.path.isfile(os.path.join(pkg, "_tristereo.pyi")) and os.path.isfile(os.path.join(pkg, "py.typed")), "no type stub"
 img = (np.arange(48 * 32) % 251).astype(np.uint8).reshape(32, 48)
 out = tristereo.Pipeline(48, 32, ndisp=8).process(img, img)
 assert out.disparity.shape == (32, 48)
