@@ -294,21 +294,11 @@ InputImage as_image(const py::array& a, const char* name, Order order) {
   return in;
 }
 
-// A BGR view as gray in `gray` (w * h bytes), by the library's own BT.601
-// conversion of each row with its blue and red swapped into `rgb_row`, so a
-// BGR array gives exactly the gray of the same picture read as RGB.
-ImageView<const std::uint8_t> bgr_to_gray(ImageView<const std::uint8_t> bgr, std::uint8_t* gray,
-                                          std::uint8_t* rgb_row) {
-  for (int y = 0; y < bgr.height; ++y) {
-    const std::uint8_t* src = bgr.row(y);
-    for (int x = 0; x < bgr.width; ++x) {
-      rgb_row[3 * x] = src[3 * x + 2];
-      rgb_row[3 * x + 1] = src[3 * x + 1];
-      rgb_row[3 * x + 2] = src[3 * x];
-    }
-    rgb_to_gray_bt601({rgb_row, bgr.width, 1, 3, static_cast<std::ptrdiff_t>(3) * bgr.width},
-                      {gray + static_cast<std::size_t>(y) * bgr.width, bgr.width, 1, 1, bgr.width});
-  }
+// A BGR view as gray in `gray` (w * h bytes), by the library's BT.601
+// conversion of BGR rows: exactly the gray of the same picture read as RGB.
+ImageView<const std::uint8_t> bgr_to_gray(ImageView<const std::uint8_t> bgr, std::uint8_t* gray) {
+  for (int y = 0; y < bgr.height; ++y)
+    bgr_to_gray_row_scalar(bgr.row(y), bgr.width, gray + static_cast<std::size_t>(y) * bgr.width);
   return {gray, bgr.width, bgr.height, 1, bgr.width};
 }
 
@@ -316,8 +306,7 @@ ImageU8 owned_image(const py::array& a, const char* name, Order order) {
   const InputImage in = as_image(a, name, order);
   if (order == Order::kBgr) {
     ImageU8 gray(in.view.width, in.view.height, 1);
-    std::vector<std::uint8_t> row(static_cast<std::size_t>(in.view.width) * 3);
-    bgr_to_gray(in.view, gray.pixels.data(), row.data());
+    bgr_to_gray(in.view, gray.pixels.data());
     return gray;
   }
   ImageU8 img(in.view.width, in.view.height, in.view.channels);
@@ -454,8 +443,8 @@ class PyPipeline {
                                                        std::to_string(cfg.max_width) + "x" +
                                                        std::to_string(cfg.max_height));
         reserve_bgr_buffers();
-        lv = bgr_to_gray(l.view, gray_left_.data(), rgb_row_.data());
-        rv = bgr_to_gray(r.view, gray_right_.data(), rgb_row_.data());
+        lv = bgr_to_gray(l.view, gray_left_.data());
+        rv = bgr_to_gray(r.view, gray_right_.data());
       }
       out = &pipeline_.process(lv, rv);
       timings = pipeline_.last_timings();
@@ -479,13 +468,12 @@ class PyPipeline {
     if (gray_left_.size() < n) {
       gray_left_.resize(n);
       gray_right_.resize(n);
-      rgb_row_.resize(static_cast<std::size_t>(cfg.max_width) * 3);
     }
   }
 
   Pipeline pipeline_;
   std::mutex mutex_;
-  std::vector<std::uint8_t> gray_left_, gray_right_, rgb_row_;
+  std::vector<std::uint8_t> gray_left_, gray_right_;
 };
 
 void translate_errors(std::exception_ptr p) {

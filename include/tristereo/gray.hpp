@@ -19,6 +19,10 @@ namespace tristereo {
 // One row: `width` RGB triplets in, `width` gray samples out. No checks (a
 // kernel): the caller guarantees both pointers cover `width` pixels.
 TRISTEREO_API void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray);
+// The same for BGR triplets (OpenCV's channel order): exactly
+// rgb_to_gray_row_scalar of each triplet reversed, without reversing them
+// first. Used by the Python module for order='bgr'.
+TRISTEREO_API void bgr_to_gray_row_scalar(const std::uint8_t* bgr, int width, std::uint8_t* gray);
 
 // Converts a 3-channel view into a 1-channel view of the same size (any
 // strides), with the row kernel of the kernel set this machine runs

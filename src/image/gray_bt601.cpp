@@ -8,12 +8,19 @@
 
 namespace tristereo {
 
+namespace {
+// BT.601 in Q8 with rounding. Max is (256 * 255 + 128) >> 8 = 255: no clamp needed.
+inline std::uint8_t luma_bt601(unsigned r, unsigned g, unsigned b) {
+  return static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
+}
+}  // namespace
+
 void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray) {
-  for (int x = 0; x < width; ++x) {
-    const unsigned r = rgb[3 * x], g = rgb[3 * x + 1], b = rgb[3 * x + 2];
-    // Max is (256 * 255 + 128) >> 8 = 255: no clamp needed.
-    gray[x] = static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
-  }
+  for (int x = 0; x < width; ++x) gray[x] = luma_bt601(rgb[3 * x], rgb[3 * x + 1], rgb[3 * x + 2]);
+}
+
+void bgr_to_gray_row_scalar(const std::uint8_t* bgr, int width, std::uint8_t* gray) {
+  for (int x = 0; x < width; ++x) gray[x] = luma_bt601(bgr[3 * x + 2], bgr[3 * x + 1], bgr[3 * x]);
 }
 
 namespace {
