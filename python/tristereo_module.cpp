@@ -414,14 +414,31 @@ class PyPipeline {
   // threads (and other Pipelines) run meanwhile; it is taken back, lock still
   // held, only to create the mesh's arrays (their size is known only then).
   // No deadlock: a thread waiting for the lock never holds the GIL.
-  Output process(const py::array& left, const py::array& right, const py::object& order_arg) {
+  //
+  // out=: an earlier Output of the same size whose dense arrays are filled
+  // again in place (the mesh's arrays are new: their sizes change), so a
+  // loop allocates no megabyte-sized arrays per frame. Fresh arrays can cost
+  // the first touch of their pages (measured in the binding: the dense copy
+  // took 0.22 ms into reused pages, 0.88 ms on every second call into fresh
+  // ones, Teddy's size); python/bench_overhead.py times both ways.
+  py::object process(const py::array& left, const py::array& right, const py::object& order_arg,
+                     const py::object& out_arg) {
     const Order order = parse_order(order_arg);
     const InputImage l = as_image(left, "left", order);
     const InputImage r = as_image(right, "right", order);
     const int w = l.view.width, h = l.view.height;
-    Output res;
-    res.disp_q4 = py::array_t<std::int16_t>({h, w});
-    res.disparity = py::array_t<float>({h, w});
+    if (!out_arg.is_none() && !py::isinstance<Output>(out_arg)) wrong_type("out", "an Output or None", out_arg);
+    py::object result = out_arg.is_none() ? py::cast(Output{}) : out_arg;
+    Output& res = result.cast<Output&>();
+    const auto fits = [&](const py::array& a) {
+      return a.ndim() == 2 && a.shape(0) == h && a.shape(1) == w && a.writeable() &&
+             (a.flags() & py::array::c_style) != 0;
+    };
+    if (!fits(res.disp_q4) || !fits(res.disparity)) {
+      res.disp_q4 = py::array_t<std::int16_t>({h, w});
+      res.disparity = py::array_t<float>({h, w});
+    }
+    res.digest.clear();
     std::int16_t* q = res.disp_q4.mutable_data();
     float* f = res.disparity.mutable_data();
     std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
@@ -451,7 +468,7 @@ class PyPipeline {
       copy_dense(out->disp_q4, q, f);
     }
     copy_mesh(*out, timings, res);
-    return res;
+    return result;
   }
 
   std::string kernels() const { return to_string(pipeline_.active_kernels()); }
@@ -536,7 +553,9 @@ PYBIND11_MODULE(_tristereo, m) {
       .def(py::init<int, int, const py::object&, const py::kwargs&>(), py::arg("max_width"), py::arg("max_height"),
            py::arg("ndisp") = py::none())
       .def("process", &PyPipeline::process, py::arg("left"), py::arg("right"), py::arg("order") = py::none(),
+           py::arg("out") = py::none(),
            "left, right: uint8 arrays (H, W) gray, or (H, W, 3) with order='bgr' or 'rgb'; equal sizes. "
+           "out: an earlier Output to fill again (its dense arrays are reused when the size matches). "
            "Releases the GIL while it runs; one frame at a time per Pipeline (other threads wait).")
       .def_property_readonly("kernels", &PyPipeline::kernels)
       .def_property_readonly("threads", &PyPipeline::threads)

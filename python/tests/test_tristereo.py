@@ -247,3 +247,27 @@ def test_no_leak_over_1000_calls(tmp_path):
     # Measured: a few KiB of Python objects either way, RSS flat within 1 MiB.
     assert grown < 64 * 1024, grown
     assert rss1 - rss0 < 4096, (rss0, rss1)
+
+
+def test_out_fills_an_earlier_output_again(tmp_path):
+    a = scene_arrays(tmp_path / "a")
+    b = [np.ascontiguousarray(x[:, ::-1]) for x in a]  # another frame of the same size
+    p = tristereo.Pipeline(96, 64, ndisp=16, threads=1)
+    fresh_a, fresh_b = p.process(*a), p.process(*b)
+    assert fresh_a.digest != fresh_b.digest
+    out = p.process(*a)
+    assert out.digest == fresh_a.digest  # computed, and cached, before the refill
+    disparity, disp_q4 = out.disparity, out.disp_q4
+    again = p.process(*b, out=out)
+    assert again is out
+    assert again.disparity is disparity and again.disp_q4 is disp_q4  # the same arrays, refilled
+    assert again.digest == fresh_b.digest
+    assert np.array_equal(again.disp_q4, fresh_b.disp_q4)
+    assert np.array_equal(again.vertices, fresh_b.vertices)
+    assert np.array_equal(again.disparity, fresh_b.disparity, equal_nan=True)
+    # Another size: new arrays of that size.
+    small = scene_arrays(tmp_path / "s", 48, 32, 16)
+    resized = p.process(*small, out=out)
+    assert resized.disparity.shape == (32, 48) and resized.disparity is not disparity
+    with pytest.raises(TypeError, match="out must be an Output or None"):
+        p.process(*a, out=np.zeros((64, 96), np.float32))

@@ -73,7 +73,13 @@ class Pipeline:
         cpus: Union[Sequence[int], str] = ...,
         pin: bool = ...,
     ) -> None: ...
-    def process(self, left: npt.NDArray[np.uint8], right: npt.NDArray[np.uint8], order: _Order = None) -> Output: ...
+    def process(
+        self,
+        left: npt.NDArray[np.uint8],
+        right: npt.NDArray[np.uint8],
+        order: _Order = None,
+        out: Optional[Output] = None,
+    ) -> Output: ...
     @property
     def kernels(self) -> str: ...
     @property
