@@ -14,7 +14,8 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 CLI = os.environ.get("TRISTEREO_CLI", os.path.join(REPO, "build", "tristereo"))
 
 # Sizes chosen so that a frame of one size can never pass for another's:
-# every output array's shape differs between them.
+# every output array's shape differs between them; pairs of the same size
+# differ in content (and in the BGR path: gray or colour arrays).
 SIZES = [(96, 64, 1), (64, 48, 2), (128, 96, 3), (40, 30, 4)]
 
 
@@ -33,6 +34,15 @@ def scenes(tmp_path):
     return pairs
 
 
+def colour_pairs(pairs):
+    """BGR versions of two pairs (their channels differ), through the
+    Pipeline's own gray buffers: those must not be shared between callers either."""
+    out = []
+    for l, r in pairs[1:3]:
+        out.append(tuple(np.ascontiguousarray(np.dstack([x, np.roll(x, 2, axis=1), x[::-1]])) for x in (l, r)))
+    return out
+
+
 def snapshot(out):
     return (out.digest, out.disp_q4.copy(), out.vertices.copy(), out.triangles.copy(), out.vertex_disp_q4.copy())
 
@@ -46,9 +56,10 @@ def test_one_pipeline_shared_by_8_threads_gives_each_its_own_result(tmp_path):
     w = max(p[0].shape[1] for p in pairs)
     h = max(p[0].shape[0] for p in pairs)
     p = tristereo.Pipeline(w, h, ndisp=16, threads=2)
-    expected = [snapshot(p.process(l, r)) for l, r in pairs]
-    # The six results are all different, so a swapped one cannot go unseen.
-    assert len({e[0] for e in expected}) == len(pairs)
+    calls_of = [(l, r, None) for l, r in pairs] + [(l, r, "bgr") for l, r in colour_pairs(pairs)]
+    expected = [snapshot(p.process(*c)) for c in calls_of]
+    # The eight results are all different, so a swapped one cannot go unseen.
+    assert len({e[0] for e in expected}) == len(calls_of)
 
     calls, threads = 200, 8
     errors = []
@@ -58,8 +69,8 @@ def test_one_pipeline_shared_by_8_threads_gives_each_its_own_result(tmp_path):
         barrier.wait()  # start together, to overlap as much as possible
         rng = np.random.default_rng(t)
         for i in range(calls):
-            k = int(rng.integers(len(pairs)))
-            got = snapshot(p.process(*pairs[k]))
+            k = int(rng.integers(len(calls_of)))
+            got = snapshot(p.process(*calls_of[k]))
             if not same(got, expected[k]):
                 errors.append((t, i, k, got[0], expected[k][0]))
 
