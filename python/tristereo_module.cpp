@@ -522,7 +522,9 @@ PYBIND11_MODULE(_tristereo, m) {
   m.attr("__version__") = kVersionString;
   m.attr("INVALID_DISP_Q4") = kInvalidDispQ4;
 
-  py::class_<Output>(m, "Output", "What one frame produced: the caller's own arrays, unchanged by later frames.")
+  py::class_<Output>(m, "Output",
+                     "What one frame produced: the caller's own arrays, unchanged by later frames (unless "
+                     "passed back as process(..., out=...), which refills them).")
       .def_readonly("disparity", &Output::disparity, "float32 (H, W), pixels, NaN = invalid")
       .def_readonly("disp_q4", &Output::disp_q4, "int16 (H, W), disparity * 16, INVALID_DISP_Q4 = invalid")
       .def_readonly("vertices", &Output::vertices, "int32 (N, 2): x, y of the mesh vertices (the samples)")

@@ -18,7 +18,8 @@ _Order = Optional[Literal["bgr", "rgb", "gray"]]
 _Gap = Literal["inv_sq", "inv", "const"]
 
 class Output:
-    """What one frame produced: the caller's own arrays, unchanged by later frames."""
+    """What one frame produced: the caller's own arrays, unchanged by later frames
+    (unless passed back as process(..., out=...), which refills them)."""
     disparity: npt.NDArray[np.float32]
     disp_q4: npt.NDArray[np.int16]
     vertices: npt.NDArray[np.int32]
