@@ -18,6 +18,7 @@
 #include "platform/cpu_features.hpp"
 #include "src/model/model_options.hpp"
 #include "tristereo/calib.hpp"
+#include "tristereo/depth.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
@@ -336,21 +337,26 @@ struct Output {
   int mesh_width = 0, mesh_height = 0;
   std::string digest;  // computed on first use: hashing every pixel costs a millisecond per frame
 
+  // The frame's StereoOutput again, from the arrays (for the digest and the
+  // mesh writer, which take the library's types).
+  StereoOutput stereo_output() const {
+    StereoOutput o;
+    o.mesh.width = mesh_width;
+    o.mesh.height = mesh_height;
+    const auto vv = vertices.unchecked<2>();
+    const auto tt = triangles.unchecked<2>();
+    for (py::ssize_t i = 0; i < vv.shape(0); ++i) o.mesh.vertices.push_back({vv(i, 0), vv(i, 1)});
+    for (py::ssize_t i = 0; i < tt.shape(0); ++i) o.mesh.triangles.push_back({tt(i, 0), tt(i, 1), tt(i, 2)});
+    o.vertex_disp_q4.assign(vertex_disp_q4.data(), vertex_disp_q4.data() + vertex_disp_q4.size());
+    o.disp_q4 = ImageS16(static_cast<int>(disp_q4.shape(1)), static_cast<int>(disp_q4.shape(0)));
+    std::memcpy(o.disp_q4.pixels.data(), disp_q4.data(), o.disp_q4.pixels.size() * sizeof(std::int16_t));
+    o.validity = validity;
+    return o;
+  }
+
   // The digest of the arrays, as digest_hex() gives it for the frame's StereoOutput.
   const std::string& get_digest() {
-    if (digest.empty()) {
-      StereoOutput o;
-      o.mesh.width = mesh_width;
-      o.mesh.height = mesh_height;
-      const auto vv = vertices.unchecked<2>();
-      const auto tt = triangles.unchecked<2>();
-      for (py::ssize_t i = 0; i < vv.shape(0); ++i) o.mesh.vertices.push_back({vv(i, 0), vv(i, 1)});
-      for (py::ssize_t i = 0; i < tt.shape(0); ++i) o.mesh.triangles.push_back({tt(i, 0), tt(i, 1), tt(i, 2)});
-      o.vertex_disp_q4.assign(vertex_disp_q4.data(), vertex_disp_q4.data() + vertex_disp_q4.size());
-      o.disp_q4 = ImageS16(static_cast<int>(disp_q4.shape(1)), static_cast<int>(disp_q4.shape(0)));
-      std::memcpy(o.disp_q4.pixels.data(), disp_q4.data(), o.disp_q4.pixels.size() * sizeof(std::int16_t));
-      digest = digest_hex(o);
-    }
+    if (digest.empty()) digest = digest_hex(stereo_output());
     return digest;
   }
 };
@@ -389,6 +395,83 @@ void copy_mesh(const StereoOutput& o, const FrameTimings& t, Output& r) {
   r.validity = o.validity;
   r.mesh_width = o.mesh.width;
   r.mesh_height = o.mesh.height;
+}
+
+// ---------------------------------------------------------------- depth and files
+
+// A Calibration, or the command line's --camera numbers as a tuple
+// (focal_px, baseline_m, cx_px, cy_px[, doffs_px]).
+CameraParams camera_of(const py::object& c) {
+  if (py::isinstance<StereoCalibration>(c)) return c.cast<const StereoCalibration&>().camera();
+  const char* expected = "a Calibration or a (focal_px, baseline_m, cx_px, cy_px[, doffs_px]) tuple";
+  if (!py::isinstance<py::tuple>(c) && !py::isinstance<py::list>(c)) wrong_type("camera", expected, c);
+  const py::sequence seq = py::reinterpret_borrow<py::sequence>(c);
+  if (seq.size() < 4 || seq.size() > 5) wrong_type("camera", expected, c);
+  double v[5] = {0, 0, 0, 0, 0};
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    if (!is_int(seq[i]) && !py::isinstance<py::float_>(seq[i])) wrong_type("camera", expected, c);
+    v[i] = seq[i].cast<double>();
+    // The command line's bounds (--camera): far beyond any real camera.
+    if (!std::isfinite(v[i]) || std::fabs(v[i]) > 1e6)
+      throw py::value_error("camera: " + std::string(py::repr(seq[i])) + " is out of range; each number must be within +-1e6");
+  }
+  if (!(v[0] > 0) || !(v[1] > 0)) throw py::value_error("camera: focal length and baseline must be > 0");
+  return {v[0], v[1], v[2], v[3], v[4]};
+}
+
+// A disparity map the caller passes: int16 (H, W), as Output.disp_q4 is.
+ImageView<const std::int16_t> disp_view(const py::array& a, py::array_t<std::int16_t>* keep) {
+  if (a.dtype().kind() != 'i' || a.itemsize() != 2 || a.ndim() != 2)
+    throw py::value_error("disp_q4 must be an int16 (H, W) array (Output.disp_q4), got " +
+                          std::string(py::str(a.dtype())) + " with ndim " + std::to_string(a.ndim()));
+  *keep = py::array_t<std::int16_t, py::array::c_style>::ensure(a);  // a copy only if not C-contiguous
+  return {keep->data(), static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), 1,
+          static_cast<std::ptrdiff_t>(a.shape(1)) * 2};
+}
+
+// The left image for colours: gray, or RGB (a BGR array reordered).
+ImageU8 colour_image(const py::array& a, Order order) {
+  const InputImage in = as_image(a, "left", order);
+  ImageU8 img(in.view.width, in.view.height, in.view.channels);
+  for (int y = 0; y < img.height; ++y) {
+    const std::uint8_t* src = in.view.row(y);
+    std::uint8_t* dst = img.row(y);
+    if (order != Order::kBgr) {
+      std::memcpy(dst, src, static_cast<std::size_t>(img.width) * img.channels);
+      continue;
+    }
+    for (int x = 0; x < img.width; ++x) {
+      dst[3 * x] = src[3 * x + 2];
+      dst[3 * x + 1] = src[3 * x + 1];
+      dst[3 * x + 2] = src[3 * x];
+    }
+  }
+  return img;
+}
+
+py::array_t<float> depth_array(const py::array& disp_q4, const py::object& camera) {
+  py::array_t<std::int16_t> keep;
+  const ImageView<const std::int16_t> d = disp_view(disp_q4, &keep);
+  const Image<float> z = depth_m_from_disp_q4(d, camera_of(camera));
+  py::array_t<float> out({z.height, z.width});
+  float* dst = out.mutable_data();
+  // NaN marks invalid pixels, as in Output.disparity (the library's +inf).
+  for (std::size_t i = 0; i < z.pixels.size(); ++i)
+    dst[i] = std::isinf(z.pixels[i]) ? std::numeric_limits<float>::quiet_NaN() : z.pixels[i];
+  return out;
+}
+
+py::dict write_depth_file(const py::object& path, const py::array& depth_m) {
+  if (depth_m.dtype().kind() != 'f' || depth_m.ndim() != 2)
+    throw py::value_error("depth_m must be a float (H, W) array of metres (tristereo.depth())");
+  const auto z = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(depth_m);
+  Image<float> img(static_cast<int>(z.shape(1)), static_cast<int>(z.shape(0)));
+  // NaN (this module's invalid) becomes the library's +inf.
+  for (std::size_t i = 0; i < img.pixels.size(); ++i)
+    img.pixels[i] = std::isnan(z.data()[i]) ? std::numeric_limits<float>::infinity() : z.data()[i];
+  const DepthWriteReport r = write_depth(path_of(path), img.view());
+  return py::dict(py::arg("valid") = r.valid, py::arg("invalid") = r.invalid,
+                  py::arg("out_of_range") = r.out_of_range);
 }
 
 // ---------------------------------------------------------------- pipeline
@@ -607,6 +690,64 @@ PYBIND11_MODULE(_tristereo, m) {
         return a;
       },
       py::arg("path"), "An 8-bit PNG/PGM/PPM as uint8 (H, W), or (H, W, 3) in RGB order (pass order='rgb').");
+
+  m.def("depth", &depth_array, py::arg("disp_q4"), py::arg("camera"),
+        "Depth in metres along the optical axis, float32 (H, W), NaN where the disparity is invalid or "
+        "d + doffs <= 0: Z = focal_px * baseline_m / (d + doffs_px). camera: a Calibration or "
+        "(focal_px, baseline_m, cx_px, cy_px[, doffs_px]).");
+  m.def(
+      "write_disparity",
+      [](const py::object& path, const py::array& disp_q4, const std::string& png_scale) {
+        py::array_t<std::int16_t> keep;
+        const auto d = disp_view(disp_q4, &keep);
+        if (png_scale != "q4" && png_scale != "kitti")
+          throw py::value_error("png_scale must be 'q4' or 'kitti', not '" + png_scale + "'");
+        write_disparity(path_of(path), d, png_scale == "q4" ? DispPngScale::kQ4 : DispPngScale::kKitti);
+      },
+      py::arg("path"), py::arg("disp_q4"), py::arg("png_scale") = "q4",
+      "As match --disp: .pfm float pixels (+inf invalid) or .png uint16 (16 d, or 256 d with "
+      "png_scale='kitti'; 0 invalid).");
+  m.def(
+      "write_disparity_color",
+      [](const py::object& path, const py::array& disp_q4, int dmin, int ndisp) {
+        py::array_t<std::int16_t> keep;
+        write_disparity_color(path_of(path), disp_view(disp_q4, &keep), dmin, ndisp);
+      },
+      py::arg("path"), py::arg("disp_q4"), py::arg("dmin"), py::arg("ndisp"),
+      "As match --disp-color: an RGB PNG of disparities dmin .. dmin + ndisp - 1, invalid black.");
+  m.def("write_depth", &write_depth_file, py::arg("path"), py::arg("depth_m"),
+        "As match --depth: .pfm float metres (+inf invalid) or .png uint16 millimetres (0 invalid). "
+        "NaN counts as invalid. Returns the counts written.");
+  m.def(
+      "write_mesh_ply",
+      [](const py::object& path, const Output& out, const py::array& left, const py::object& camera, bool binary,
+         const py::object& order_arg) {
+        const ImageU8 colours = colour_image(left, parse_order(order_arg));
+        const StereoOutput o = out.stereo_output();
+        CameraParams cam{};
+        if (!camera.is_none()) cam = camera_of(camera);
+        const MeshWriteReport r = write_mesh_ply(path_of(path), o.mesh, o.vertex_disp_q4, colours.view(),
+                                                 camera.is_none() ? nullptr : &cam, binary);
+        return py::dict(py::arg("faces_written") = r.faces_written,
+                        py::arg("faces_without_disparity") = r.faces_without_disparity,
+                        py::arg("faces_behind_camera") = r.faces_behind_camera);
+      },
+      py::arg("path"), py::arg("out"), py::arg("left"), py::arg("camera") = py::none(), py::arg("binary") = true,
+      py::arg("order") = py::none(),
+      "As match --mesh: the 2.5D mesh as PLY, coloured by the left image; (x, y, d) in pixels without a "
+      "camera, metres with one. Returns the face counts.");
+  m.def(
+      "write_points_ply",
+      [](const py::object& path, const py::array& disp_q4, const py::array& left, const py::object& camera,
+         bool binary, const py::object& order_arg) {
+        py::array_t<std::int16_t> keep;
+        const auto d = disp_view(disp_q4, &keep);
+        const ImageU8 colours = colour_image(left, parse_order(order_arg));
+        return write_points_ply(path_of(path), d, colours.view(), camera_of(camera), binary);
+      },
+      py::arg("path"), py::arg("disp_q4"), py::arg("left"), py::arg("camera"), py::arg("binary") = true,
+      py::arg("order") = py::none(),
+      "As match --points: one coloured PLY vertex (metres) per valid pixel. Returns the number of points.");
 
   py::class_<StereoCalibration>(m, "Calibration")
       .def_readonly("focal_px", &StereoCalibration::focal_px)

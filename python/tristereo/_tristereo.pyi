@@ -132,7 +132,29 @@ def verify(
     dense: bool = ...,
 ) -> VerifyReport: ...
 
+_Camera = Union["Calibration", Tuple[float, float, float, float], Tuple[float, float, float, float, float]]
+
 def model_options() -> List[Dict[str, Any]]: ...
+def depth(disp_q4: npt.NDArray[np.int16], camera: _Camera) -> npt.NDArray[np.float32]: ...
+def write_disparity(path: _Path, disp_q4: npt.NDArray[np.int16], png_scale: Literal["q4", "kitti"] = "q4") -> None: ...
+def write_disparity_color(path: _Path, disp_q4: npt.NDArray[np.int16], dmin: int, ndisp: int) -> None: ...
+def write_depth(path: _Path, depth_m: npt.NDArray[np.floating[Any]]) -> Dict[str, int]: ...
+def write_mesh_ply(
+    path: _Path,
+    out: Output,
+    left: npt.NDArray[np.uint8],
+    camera: Optional[_Camera] = None,
+    binary: bool = True,
+    order: _Order = None,
+) -> Dict[str, int]: ...
+def write_points_ply(
+    path: _Path,
+    disp_q4: npt.NDArray[np.int16],
+    left: npt.NDArray[np.uint8],
+    camera: _Camera,
+    binary: bool = True,
+    order: _Order = None,
+) -> int: ...
 def read_image(path: _Path) -> npt.NDArray[np.uint8]: ...
 
 class Calibration:
