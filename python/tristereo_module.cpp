@@ -296,10 +296,10 @@ InputImage as_image(const py::array& a, const char* name, Order order) {
 }
 
 // A BGR view as gray in `gray` (w * h bytes), by the library's BT.601
-// conversion of BGR rows: exactly the gray of the same picture read as RGB.
+// conversion of BGR rows (the SIMD set this machine runs): exactly the gray
+// of the same picture read as RGB.
 ImageView<const std::uint8_t> bgr_to_gray(ImageView<const std::uint8_t> bgr, std::uint8_t* gray) {
-  for (int y = 0; y < bgr.height; ++y)
-    bgr_to_gray_row_scalar(bgr.row(y), bgr.width, gray + static_cast<std::size_t>(y) * bgr.width);
+  bgr_to_gray_bt601(bgr, {gray, bgr.width, bgr.height, 1, bgr.width});
   return {gray, bgr.width, bgr.height, 1, bgr.width};
 }
 

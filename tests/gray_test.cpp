@@ -52,6 +52,11 @@ TEST(Gray, BgrRowIsTheRgbRowOfTheReversedTriplets) {
   EXPECT_EQ(from_bgr, from_rgb);
   EXPECT_EQ(from_bgr[kWidth], 0xEE);  // nothing written past the row
   EXPECT_EQ(from_bgr[0], gray_of(0, 5, 200));
+  // The whole-image function, with the row kernel of the set this machine runs.
+  std::vector<std::uint8_t> image(kWidth + 1, 0xEE);
+  bgr_to_gray_bt601({bgr.data(), kWidth, 1, 3, 3 * kWidth}, {image.data(), kWidth, 1, 1, kWidth});
+  EXPECT_EQ(image, from_rgb);
+  EXPECT_THROW(bgr_to_gray_bt601({bgr.data(), kWidth, 1, 1, kWidth}, {image.data(), kWidth, 1, 1, kWidth}), Error);
 }
 
 // The conversion takes the kernel set that TRISTEREO_KERNELS forces, so a

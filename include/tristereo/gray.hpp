@@ -32,6 +32,9 @@ TRISTEREO_API void bgr_to_gray_row_scalar(const std::uint8_t* bgr, int width, st
 // stride shorter than a row, or a TRISTEREO_KERNELS this machine cannot run.
 // `gray` is untouched when it throws.
 TRISTEREO_API void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray);
+// The same for a BGR view (OpenCV's channel order), with the BGR row kernel:
+// the gray of the same picture stored as RGB, byte for byte.
+TRISTEREO_API void bgr_to_gray_bt601(ImageView<const std::uint8_t> bgr, ImageView<std::uint8_t> gray);
 
 // 1 channel: a copy; 3 channels: BT.601 as above; anything else throws
 // Error(kUnsupportedFormat).
