@@ -49,7 +49,13 @@ std::string type_name(py::handle v) { return py::str(py::type::of(v).attr("__nam
                        std::string(py::repr(v)));
 }
 
-bool is_int(py::handle v) { return py::isinstance<py::int_>(v) && !py::isinstance<py::bool_>(v); }
+// An integer: Python's int or anything that is one (__index__: NumPy's
+// integer scalars, e.g. a size read from an array's header), but not a bool.
+bool is_int(py::handle v) {
+  return PyIndex_Check(v.ptr()) && !py::isinstance<py::bool_>(v) && !py::isinstance<py::float_>(v);
+}
+
+std::string int_text(py::handle v) { return py::str(py::int_(py::reinterpret_borrow<py::object>(v))); }
 
 // A Python value as the text the command line would take for the option, so
 // that both go through the same parser (src/model/model_options.cpp) and give
@@ -61,23 +67,23 @@ std::string option_text(const ModelOption& o, py::handle v) {
   switch (o.kind) {
     case ModelOptionKind::kInt:
       if (!is_int(v)) wrong_type(kw, "an int", v);
-      return py::str(v);
+      return int_text(v);
     case ModelOptionKind::kDecimal:
-      if (!is_int(v) && !py::isinstance<py::float_>(v)) wrong_type(kw, "a number", v);
+      if (!is_int(v) && !py::isinstance<py::float_>(v) && !py::isinstance(v, py::module_::import("numpy").attr("floating")))
+        wrong_type(kw, "a number", v);
       return py::repr(py::float_(py::reinterpret_borrow<py::object>(v)));
     case ModelOptionKind::kSize:
-      if (is_int(v)) return py::str(v);
+      if (is_int(v)) return int_text(v);
       if (py::isinstance<py::str>(v)) return v.cast<std::string>();
       if (py::isinstance<py::tuple>(v) || py::isinstance<py::list>(v)) {
         const py::sequence seq = py::reinterpret_borrow<py::sequence>(v);
-        if (seq.size() == 2 && is_int(seq[0]) && is_int(seq[1]))
-          return std::string(py::str(seq[0])) + "x" + std::string(py::str(seq[1]));
+        if (seq.size() == 2 && is_int(seq[0]) && is_int(seq[1])) return int_text(seq[0]) + "x" + int_text(seq[1]);
       }
       wrong_type(kw, "an int, a (width, height) pair of ints or a 'WxH' string", v);
     case ModelOptionKind::kChoice: {
       const std::string choices = o.choices;
       const bool numbers = std::isdigit(static_cast<unsigned char>(choices[0])) != 0;
-      if (numbers && is_int(v)) return py::str(v);
+      if (numbers && is_int(v)) return int_text(v);
       if (!numbers && py::isinstance<py::str>(v)) return v.cast<std::string>();
       std::string expected = numbers ? "one of the ints " : "one of the strings ";
       for (char c : choices) expected += c == '|' ? std::string(", ") : std::string(1, c);
@@ -107,10 +113,11 @@ std::string known_keywords(bool with_run) {
 
 int threads_from(py::handle v) {
   if (!is_int(v)) wrong_type("threads", "an int", v);
+  const py::int_ i(py::reinterpret_borrow<py::object>(v));
   int overflow = 0;
-  const long long n = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+  const long long n = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
   if (overflow != 0 || n < 0 || n > 256)
-    throw py::value_error("threads must be 0 (one per CPU) .. 256, got " + std::string(py::str(v)));
+    throw py::value_error("threads must be 0 (one per CPU) .. 256, got " + int_text(i));
   return static_cast<int>(n);
 }
 
@@ -140,7 +147,7 @@ StereoParams params_from_kwargs(py::handle ndisp, const py::kwargs& kw, RunOptio
       } else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
         for (py::handle c : py::reinterpret_borrow<py::sequence>(v)) {
           if (!is_int(c)) wrong_type("cpus", "a list of ints or a string such as '0-3'", v);
-          text += (text.empty() ? "" : ",") + std::string(py::str(c));
+          text += (text.empty() ? "" : ",") + int_text(c);
         }
       } else {
         wrong_type("cpus", "a list of ints or a string such as '0-3'", v);

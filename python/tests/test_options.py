@@ -228,6 +228,12 @@ def test_values_of_the_wrong_kind_name_the_keyword():
             tristereo.Pipeline(64, 48, ndisp=16, **kw)
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'asw_gamma_color' \(known: .*gamma_color"):
         tristereo.Pipeline(64, 48, ndisp=16, asw_gamma_color=10)
+    # NumPy's scalars are numbers too (sizes and settings often come from arrays).
+    p = tristereo.Pipeline(64, 48, ndisp=np.int64(16), window=(np.int32(5), np.uint8(3)), psnr=np.float32(41.5),
+                           paths=np.int16(8), threads=np.int64(1), cpus=[np.int64(0)])
+    assert (p.params["ndisp"], p.params["window"], p.params["psnr"], p.params["paths"]) == (16, (5, 3), 41.5, 8)
+    with pytest.raises(TypeError, match="dense must be True or False"):
+        tristereo.Pipeline(64, 48, ndisp=16, dense=np.int64(1))
     # A float psnr in tenths is kept; the keyword's value reads back.
     assert tristereo.Pipeline(64, 48, ndisp=16, psnr=41.5).params["psnr"] == 41.5
     assert tristereo.Pipeline(64, 48, ndisp=16, window="5x3").params["window"] == (5, 3)
