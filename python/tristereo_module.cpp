@@ -524,13 +524,14 @@ class PyPipeline {
       return a.ndim() == 2 && a.shape(0) == h && a.shape(1) == w && a.writeable() &&
              (a.flags() & py::array::c_style) != 0;
     };
-    if (!fits(res.disp_q4) || !fits(res.disparity)) {
-      res.disp_q4 = py::array_t<std::int16_t>({h, w});
-      res.disparity = py::array_t<float>({h, w});
-    }
-    res.digest.clear();
-    std::int16_t* q = res.disp_q4.mutable_data();
-    float* f = res.disparity.mutable_data();
+    // New arrays, if needed, join `res` only when the frame succeeded: a
+    // failed call leaves the caller's output as it was (refilled arrays are
+    // written only after the frame, the last step that can fail).
+    const bool reuse = fits(res.disp_q4) && fits(res.disparity);
+    py::array_t<std::int16_t> q_array = reuse ? res.disp_q4 : py::array_t<std::int16_t>({h, w});
+    py::array_t<float> f_array = reuse ? res.disparity : py::array_t<float>({h, w});
+    std::int16_t* q = q_array.mutable_data();
+    float* f = f_array.mutable_data();
     std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
     const StereoOutput* out = nullptr;
     FrameTimings timings;
@@ -557,6 +558,9 @@ class PyPipeline {
       timings = pipeline_.last_timings();
       copy_dense(out->disp_q4, q, f);
     }
+    res.disp_q4 = q_array;
+    res.disparity = f_array;
+    res.digest.clear();
     copy_mesh(*out, timings, res);
     return result;
   }

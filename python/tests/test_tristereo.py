@@ -269,5 +269,12 @@ def test_out_fills_an_earlier_output_again(tmp_path):
     small = scene_arrays(tmp_path / "s", 48, 32, 16)
     resized = p.process(*small, out=out)
     assert resized.disparity.shape == (32, 48) and resized.disparity is not disparity
+    # A failed call leaves the output as it was.
+    kept = (resized.digest, resized.disparity, resized.vertices.copy())
+    with pytest.raises(ValueError):
+        p.process(*a, out=resized, order="rgb")  # gray arrays with order='rgb'
+    with pytest.raises(ValueError):
+        p.process(np.zeros((65, 96), np.uint8), np.zeros((65, 96), np.uint8), out=resized)  # above the maximum
+    assert resized.digest == kept[0] and resized.disparity is kept[1] and np.array_equal(resized.vertices, kept[2])
     with pytest.raises(TypeError, match="out must be an Output or None"):
         p.process(*a, out=np.zeros((64, 96), np.float32))
