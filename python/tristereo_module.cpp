@@ -476,7 +476,12 @@ py::dict write_depth_file(const py::object& path, const py::array& depth_m) {
   // NaN (this module's invalid) becomes the library's +inf.
   for (std::size_t i = 0; i < img.pixels.size(); ++i)
     img.pixels[i] = std::isnan(z.data()[i]) ? std::numeric_limits<float>::infinity() : z.data()[i];
-  const DepthWriteReport r = write_depth(path_of(path), img.view());
+  const std::string file = path_of(path);
+  DepthWriteReport r;
+  {
+    py::gil_scoped_release nogil;  // the file is written from the copy above
+    r = write_depth(file, img.view());
+  }
   return py::dict(py::arg("valid") = r.valid, py::arg("invalid") = r.invalid,
                   py::arg("out_of_range") = r.out_of_range);
 }
@@ -713,7 +718,9 @@ PYBIND11_MODULE(_tristereo, m) {
         const auto d = disp_view(disp_q4, &keep);
         if (png_scale != "q4" && png_scale != "kitti")
           throw py::value_error("png_scale must be 'q4' or 'kitti', not '" + png_scale + "'");
-        write_disparity(path_of(path), d, png_scale == "q4" ? DispPngScale::kQ4 : DispPngScale::kKitti);
+        const std::string file = path_of(path);
+        py::gil_scoped_release nogil;  // `keep` holds the array while it is written
+        write_disparity(file, d, png_scale == "q4" ? DispPngScale::kQ4 : DispPngScale::kKitti);
       },
       py::arg("path"), py::arg("disp_q4"), py::arg("png_scale") = "q4",
       "As match --disp: .pfm float pixels (+inf invalid) or .png uint16 (16 d, or 256 d with "
@@ -722,7 +729,10 @@ PYBIND11_MODULE(_tristereo, m) {
       "write_disparity_color",
       [](const py::object& path, const py::array& disp_q4, int dmin, int ndisp) {
         py::array_t<std::int16_t> keep;
-        write_disparity_color(path_of(path), disp_view(disp_q4, &keep), dmin, ndisp);
+        const auto d = disp_view(disp_q4, &keep);
+        const std::string file = path_of(path);
+        py::gil_scoped_release nogil;
+        write_disparity_color(file, d, dmin, ndisp);
       },
       py::arg("path"), py::arg("disp_q4"), py::arg("dmin"), py::arg("ndisp"),
       "As match --disp-color: an RGB PNG of disparities dmin .. dmin + ndisp - 1, invalid black.");
@@ -737,8 +747,13 @@ PYBIND11_MODULE(_tristereo, m) {
         const StereoOutput o = out.stereo_output();
         CameraParams cam{};
         if (!camera.is_none()) cam = camera_of(camera);
-        const MeshWriteReport r = write_mesh_ply(path_of(path), o.mesh, o.vertex_disp_q4, colours.view(),
-                                                 camera.is_none() ? nullptr : &cam, binary);
+        const std::string file = path_of(path);
+        MeshWriteReport r;
+        {
+          py::gil_scoped_release nogil;  // from the copies above
+          r = write_mesh_ply(file, o.mesh, o.vertex_disp_q4, colours.view(), camera.is_none() ? nullptr : &cam,
+                             binary);
+        }
         return py::dict(py::arg("faces_written") = r.faces_written,
                         py::arg("faces_without_disparity") = r.faces_without_disparity,
                         py::arg("faces_behind_camera") = r.faces_behind_camera);
@@ -754,7 +769,10 @@ PYBIND11_MODULE(_tristereo, m) {
         py::array_t<std::int16_t> keep;
         const auto d = disp_view(disp_q4, &keep);
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
-        return write_points_ply(path_of(path), d, colours.view(), camera_of(camera), binary);
+        const CameraParams cam = camera_of(camera);
+        const std::string file = path_of(path);
+        py::gil_scoped_release nogil;
+        return write_points_ply(file, d, colours.view(), cam, binary);
       },
       py::arg("path"), py::arg("disp_q4"), py::arg("left"), py::arg("camera"), py::arg("binary") = true,
       py::arg("order") = py::none(),
