@@ -8,6 +8,11 @@
     out.disp_q4                       # int16, disparity * 16, -32768 = invalid
     out.vertices, out.triangles, out.vertex_disp_q4, out.timings_ms
     out.uniqueness_rejected, out.lr_rejected, out.filled
+    tristereo.depth(out.disp_q4, calib)          # metres, NaN = invalid
+    tristereo.write_disparity("d.pfm", out.disp_q4)   # and the other files `match` writes
+
+One Pipeline may be shared by threads (frames run one at a time, each caller
+gets its own output); process() releases the GIL.
 
 Errors arrive as ValueError (bad values), TypeError (values of the wrong type,
 unknown keywords), OSError (unreadable files) or RuntimeError.
