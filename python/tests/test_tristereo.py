@@ -278,3 +278,24 @@ def test_out_fills_an_earlier_output_again(tmp_path):
     assert resized.digest == kept[0] and resized.disparity is kept[1] and np.array_equal(resized.vertices, kept[2])
     with pytest.raises(TypeError, match="out must be an Output or None"):
         p.process(*a, out=np.zeros((64, 96), np.float32))
+
+
+def test_out_allocates_no_dense_arrays(tmp_path):
+    # NumPy reports its arrays' memory to tracemalloc: with out= a call's peak
+    # lacks the two dense arrays a fresh output allocates.
+    left, right = scene_arrays(tmp_path, 320, 240, 32)
+    p = tristereo.Pipeline(320, 240, ndisp=32, threads=1)
+    out = p.process(left, right)
+    dense = out.disp_q4.nbytes + out.disparity.nbytes
+
+    def peak(reuse):
+        nonlocal out
+        tracemalloc.start()
+        for _ in range(10):
+            out = p.process(left, right, out=out if reuse else None)
+        _, top = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        return top
+
+    fresh, refilled = peak(False), peak(True)
+    assert fresh - refilled >= 0.9 * dense, (fresh, refilled, dense)
