@@ -10,6 +10,8 @@
 #   test   main + what scripts/test.sh builds and runs: GoogleTest, Google
 #          Benchmark (the benchmarks are built so they cannot rot), shellcheck,
 #          pybind11, NumPy and pytest (the Python bindings and their tests),
+#          OpenCV's Python module (the tests feed it cv2.imread's BGR arrays;
+#          python/bench_overhead.py times cv2's matchers beside the module),
 #          and everything of the profile fuzz
 #   fuzz   main + clang 14 with its sanitizer and libFuzzer runtimes
 #          (libclang-rt-14-dev) and llvm-symbolizer: the clang, asan and fuzz
@@ -20,7 +22,7 @@
 #          plots of scripts/results.py)
 #   peers  main + Google Benchmark and OpenCV (libopencv-dev): the StereoBM and
 #          StereoSGBM rows of bench/bench_peers (scripts/perf_report.py). Only
-#          that benchmark uses OpenCV; nothing else needs it
+#          that benchmark links OpenCV; the library never does
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 deps_name="install-deps"
@@ -37,7 +39,7 @@ for arg in "$@"; do
     cross|--cross) main=1 test=1 fuzz=1 cross=1 ;;
     plot) plot=1 ;;
     peers) main=1 peers=1 ;;
-    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "install-deps: unknown profile '$arg' (expected main, test, fuzz, cross, plot or peers)" >&2; exit 2 ;;
   esac
 done
@@ -52,7 +54,7 @@ if [ "$test" -eq 1 ]; then
   # googletest: the sources the suite builds for every target (/usr/src/googletest).
   pkgs="$pkgs googletest libgtest-dev libgmock-dev libbenchmark-dev shellcheck"
   # The Python bindings and their tests (Debian's Python only).
-  pkgs="$pkgs python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest"
+  pkgs="$pkgs python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-opencv"
   profiles="$profiles test"
 fi
 if [ "$fuzz" -eq 1 ]; then
@@ -92,8 +94,8 @@ if [ "$test" -eq 1 ]; then
   deps_need_file /usr/include/benchmark/benchmark.h "Google Benchmark headers"
   deps_need_cmd shellcheck "script linter"
   deps_need_file /usr/lib/cmake/pybind11/pybind11Config.cmake "pybind11's CMake package"
-  if ! /usr/bin/python3 -c 'import numpy, pytest, pybind11' 2>/dev/null; then
-    deps_problem "python3 modules numpy, pytest and pybind11 for /usr/bin/python3"
+  if ! /usr/bin/python3 -c 'import numpy, pytest, pybind11, cv2' 2>/dev/null; then
+    deps_problem "python3 modules numpy, pytest, pybind11 and cv2 for /usr/bin/python3"
   fi
 fi
 if [ "$fuzz" -eq 1 ]; then

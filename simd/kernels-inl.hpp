@@ -1099,6 +1099,16 @@ void RgbToGrayRowU8<Arch>::call(const std::uint8_t* rgb, int n, std::uint8_t* gr
   }
 }
 
+// The same for BGR triplets (twin: bgr_to_gray_row_scalar), vectorised the same way.
+template <class Arch>
+void BgrToGrayRowU8<Arch>::call(const std::uint8_t* bgr, int n, std::uint8_t* gray) {
+  const auto count = static_cast<std::size_t>(n > 0 ? n : 0);
+  for (std::size_t x = 0; x < count; ++x) {
+    const unsigned b = bgr[3 * x], g = bgr[3 * x + 1], r = bgr[3 * x + 2];
+    gray[x] = static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
+  }
+}
+
 // One pass over the sums for their minimum and the right view's winners
 // (total < best is min(total, best) == total and total != best: equality
 // compares, which every target has for u16 lanes, SSE2 has no unsigned u16

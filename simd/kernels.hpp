@@ -128,6 +128,11 @@ struct RgbToGrayRowU8 {
 };
 
 template <class Arch>
+struct BgrToGrayRowU8 {
+  static void call(const std::uint8_t* bgr, int n, std::uint8_t* gray);
+};
+
+template <class Arch>
 struct Side4TestsU8 {
   static void call(const std::uint8_t* const* rows, int n, int first_backslash, const std::int32_t* sse_limit,
                    std::uint32_t* wants, std::int32_t* sums, std::size_t sums_stride);
@@ -167,6 +172,7 @@ struct MidpointsRowQ4 {
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \
+  KEYWORD template struct BgrToGrayRowU8<ARCH>;                \
   KEYWORD template struct Side4TestsU8<ARCH>;                  \
   KEYWORD template struct Side8TestsS32<ARCH>;                 \
   KEYWORD template struct MidpointsRowQ4<ARCH>;

@@ -30,6 +30,35 @@ TEST(Gray, HandComputedValues) {
   EXPECT_EQ(gray_of(2, 0, 0), 1);      // 282 >> 8
 }
 
+// BGR rows (the Python module's order='bgr') give exactly the RGB conversion
+// of the reversed triplets, for every value of each channel.
+TEST(Gray, BgrRowIsTheRgbRowOfTheReversedTriplets) {
+  constexpr int kWidth = 256 * 3;
+  std::vector<std::uint8_t> rgb(3 * kWidth), bgr(3 * kWidth);
+  for (int x = 0; x < kWidth; ++x) {
+    // Each channel sweeps 0..255 while the others take unrelated values.
+    const int c = x / 256, v = x % 256;
+    const std::uint8_t px[3] = {static_cast<std::uint8_t>(c == 0 ? v : (v * 37 + 11) & 255),
+                                static_cast<std::uint8_t>(c == 1 ? v : (v * 91 + 5) & 255),
+                                static_cast<std::uint8_t>(c == 2 ? v : (v * 13 + 200) & 255)};
+    for (int k = 0; k < 3; ++k) {
+      rgb[3 * x + k] = px[k];
+      bgr[3 * x + 2 - k] = px[k];
+    }
+  }
+  std::vector<std::uint8_t> from_rgb(kWidth + 1, 0xEE), from_bgr(kWidth + 1, 0xEE);
+  rgb_to_gray_row_scalar(rgb.data(), kWidth, from_rgb.data());
+  bgr_to_gray_row_scalar(bgr.data(), kWidth, from_bgr.data());
+  EXPECT_EQ(from_bgr, from_rgb);
+  EXPECT_EQ(from_bgr[kWidth], 0xEE);  // nothing written past the row
+  EXPECT_EQ(from_bgr[0], gray_of(0, 5, 200));
+  // The whole-image function, with the row kernel of the set this machine runs.
+  std::vector<std::uint8_t> image(kWidth + 1, 0xEE);
+  bgr_to_gray_bt601({bgr.data(), kWidth, 1, 3, 3 * kWidth}, {image.data(), kWidth, 1, 1, kWidth});
+  EXPECT_EQ(image, from_rgb);
+  EXPECT_THROW(bgr_to_gray_bt601({bgr.data(), kWidth, 1, 1, kWidth}, {image.data(), kWidth, 1, 1, kWidth}), Error);
+}
+
 // The conversion takes the kernel set that TRISTEREO_KERNELS forces, so a
 // value no machine can run is refused before anything is written.
 TEST(Gray, KernelOverrideIsHonouredOrRefused) {

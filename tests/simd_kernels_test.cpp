@@ -361,6 +361,31 @@ TEST_P(SimdKernels, RgbToGrayRowU8) {
   }
 }
 
+TEST_P(SimdKernels, BgrToGrayRowU8) {
+  for_each_case(23, [&](int n, int offset, int c, std::mt19937& rng) {
+    const Input<std::uint8_t> bgr(pattern<std::uint8_t>(rng, 3 * n, c, 0, 255), offset);
+    Guarded<std::uint8_t> a(std::vector<std::uint8_t>(n, 0x5A), 0x5A);
+    Guarded<std::uint8_t> b = a;
+    simd().bgr_to_gray_row_u8(bgr.data(), n, a.data());
+    scalar().bgr_to_gray_row_u8(bgr.data(), n, b.data());
+    ASSERT_EQ(diff(a, b), "") << "n=" << n << " offset=" << offset;
+  });
+  // Every value of each channel with the others at random: the BGR row is the
+  // RGB row of the reversed triplets, in this set and in the scalar one.
+  std::mt19937 rng(24);
+  std::vector<std::uint8_t> rgb(3 * 256 * 3), bgr(rgb.size());
+  for (int ch = 0; ch < 3; ++ch)
+    for (int v = 0; v < 256; ++v)
+      for (int k = 0; k < 3; ++k)
+        rgb[static_cast<std::size_t>(3 * (256 * ch + v) + k)] = k == ch ? static_cast<std::uint8_t>(v) : static_cast<std::uint8_t>(rng());
+  for (std::size_t i = 0; i < rgb.size(); i += 3)
+    for (int k = 0; k < 3; ++k) bgr[i + 2 - k] = rgb[i + k];
+  std::vector<std::uint8_t> a(768), b(768);
+  simd().bgr_to_gray_row_u8(bgr.data(), 768, a.data());
+  scalar().rgb_to_gray_row_u8(rgb.data(), 768, b.data());
+  EXPECT_EQ(a, b);
+}
+
 TEST_P(SimdKernels, NormalizeCostsU16) {
   for_each_case(3, [&](int n, int offset, int c, std::mt19937& rng) {
     const Input<std::uint16_t> sum(pattern<std::uint16_t>(rng, n, c, 0, 0xffff), offset);

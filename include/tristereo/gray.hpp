@@ -19,6 +19,10 @@ namespace tristereo {
 // One row: `width` RGB triplets in, `width` gray samples out. No checks (a
 // kernel): the caller guarantees both pointers cover `width` pixels.
 TRISTEREO_API void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray);
+// The same for BGR triplets (OpenCV's channel order): exactly
+// rgb_to_gray_row_scalar of each triplet reversed, without reversing them
+// first. Used by the Python module for order='bgr'.
+TRISTEREO_API void bgr_to_gray_row_scalar(const std::uint8_t* bgr, int width, std::uint8_t* gray);
 
 // Converts a 3-channel view into a 1-channel view of the same size (any
 // strides), with the row kernel of the kernel set this machine runs
@@ -28,6 +32,9 @@ TRISTEREO_API void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, st
 // stride shorter than a row, or a TRISTEREO_KERNELS this machine cannot run.
 // `gray` is untouched when it throws.
 TRISTEREO_API void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray);
+// The same for a BGR view (OpenCV's channel order), with the BGR row kernel:
+// the gray of the same picture stored as RGB, byte for byte.
+TRISTEREO_API void bgr_to_gray_bt601(ImageView<const std::uint8_t> bgr, ImageView<std::uint8_t> gray);
 
 // 1 channel: a copy; 3 channels: BT.601 as above; anything else throws
 // Error(kUnsupportedFormat).

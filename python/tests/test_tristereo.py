@@ -62,7 +62,7 @@ def check_equals_cpp(left_path, right_path, ndisp, tmp_path):
     """Module output == the C++ program's, on the same files with the defaults."""
     left, right = tristereo.read_image(left_path), tristereo.read_image(right_path)
     h, w = left.shape[:2]
-    out = tristereo.Pipeline(w, h, ndisp=ndisp).process(left, right)
+    out = tristereo.Pipeline(w, h, ndisp=ndisp).process(left, right, order="rgb" if left.ndim == 3 else None)
     # The whole output (mesh, sample disparities, dense map): its digest is the
     # float reference's, as `tristereo verify` prints it.
     text = cli("verify", left_path, right_path, "--ndisp", ndisp, "--thread-counts", "1")
@@ -128,7 +128,10 @@ def test_strides_and_colour_give_the_same_frame(tmp_path):
     assert p.process(wide_l[:, ::2], wide_r[:, ::2]).digest == ref
     # RGB with three equal channels is the same gray image (BT.601 weights sum to 256).
     rgb_l, rgb_r = np.dstack([left] * 3), np.dstack([right] * 3)
-    assert p.process(rgb_l, rgb_r).digest == ref
+    assert p.process(rgb_l, rgb_r, order="rgb").digest == ref
+    assert p.process(rgb_l, rgb_r, order="bgr").digest == ref
+    # (H, W, 1) is gray too.
+    assert p.process(left[:, :, None], right[:, :, None]).digest == ref
     # A Fortran-ordered array.
     assert p.process(np.asfortranarray(left), np.asfortranarray(right)).digest == ref
 
@@ -146,7 +149,7 @@ def test_tritree_keywords_are_the_programs(tmp_path):
         assert f'"vertices": {out.vertices.shape[0]},' in stats.read_text()
         counts.append(out.vertices.shape[0])
     assert counts[0] > counts[1] > counts[2]  # a larger minimum area keeps fewer samples
-    with pytest.raises(ValueError, match="min_area_px2 = 33 is out of range"):
+    with pytest.raises(ValueError, match=r"^min_area = 33 is out of range \[1, 32\]"):
         tristereo.Pipeline(96, 64, ndisp=16, min_area=33)
 
 
@@ -162,7 +165,7 @@ def test_bad_input_raises_with_the_library_message(tmp_path):
         p.process(left, right[:, :-1])  # sizes differ
     with pytest.raises(ValueError):
         p.process(np.zeros((h + 1, w), np.uint8), np.zeros((h + 1, w), np.uint8))  # above the maximum
-    with pytest.raises(ValueError, match="num_disp"):
+    with pytest.raises(ValueError, match=r"^ndisp = 0 is out of range \[1, 256\]"):
         tristereo.Pipeline(w, h, ndisp=0)
     with pytest.raises(ValueError, match="window"):
         tristereo.Pipeline(w, h, ndisp=16, window=4)
@@ -244,3 +247,55 @@ def test_no_leak_over_1000_calls(tmp_path):
     # Measured: a few KiB of Python objects either way, RSS flat within 1 MiB.
     assert grown < 64 * 1024, grown
     assert rss1 - rss0 < 4096, (rss0, rss1)
+
+
+def test_out_fills_an_earlier_output_again(tmp_path):
+    a = scene_arrays(tmp_path / "a")
+    b = [np.ascontiguousarray(x[:, ::-1]) for x in a]  # another frame of the same size
+    p = tristereo.Pipeline(96, 64, ndisp=16, threads=1)
+    fresh_a, fresh_b = p.process(*a), p.process(*b)
+    assert fresh_a.digest != fresh_b.digest
+    out = p.process(*a)
+    assert out.digest == fresh_a.digest  # computed, and cached, before the refill
+    disparity, disp_q4 = out.disparity, out.disp_q4
+    again = p.process(*b, out=out)
+    assert again is out
+    assert again.disparity is disparity and again.disp_q4 is disp_q4  # the same arrays, refilled
+    assert again.digest == fresh_b.digest
+    assert np.array_equal(again.disp_q4, fresh_b.disp_q4)
+    assert np.array_equal(again.vertices, fresh_b.vertices)
+    assert np.array_equal(again.disparity, fresh_b.disparity, equal_nan=True)
+    # Another size: new arrays of that size.
+    small = scene_arrays(tmp_path / "s", 48, 32, 16)
+    resized = p.process(*small, out=out)
+    assert resized.disparity.shape == (32, 48) and resized.disparity is not disparity
+    # A failed call leaves the output as it was.
+    kept = (resized.digest, resized.disparity, resized.vertices.copy())
+    with pytest.raises(ValueError):
+        p.process(*a, out=resized, order="rgb")  # gray arrays with order='rgb'
+    with pytest.raises(ValueError):
+        p.process(np.zeros((65, 96), np.uint8), np.zeros((65, 96), np.uint8), out=resized)  # above the maximum
+    assert resized.digest == kept[0] and resized.disparity is kept[1] and np.array_equal(resized.vertices, kept[2])
+    with pytest.raises(TypeError, match="out must be an Output or None"):
+        p.process(*a, out=np.zeros((64, 96), np.float32))
+
+
+def test_out_allocates_no_dense_arrays(tmp_path):
+    # NumPy reports its arrays' memory to tracemalloc: with out= a call's peak
+    # lacks the two dense arrays a fresh output allocates.
+    left, right = scene_arrays(tmp_path, 320, 240, 32)
+    p = tristereo.Pipeline(320, 240, ndisp=32, threads=1)
+    out = p.process(left, right)
+    dense = out.disp_q4.nbytes + out.disparity.nbytes
+
+    def peak(reuse):
+        nonlocal out
+        tracemalloc.start()
+        for _ in range(10):
+            out = p.process(left, right, out=out if reuse else None)
+        _, top = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        return top
+
+    fresh, refilled = peak(False), peak(True)
+    assert fresh - refilled >= 0.9 * dense, (fresh, refilled, dense)

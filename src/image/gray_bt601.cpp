@@ -8,12 +8,19 @@
 
 namespace tristereo {
 
+namespace {
+// BT.601 in Q8 with rounding. Max is (256 * 255 + 128) >> 8 = 255: no clamp needed.
+inline std::uint8_t luma_bt601(unsigned r, unsigned g, unsigned b) {
+  return static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
+}
+}  // namespace
+
 void rgb_to_gray_row_scalar(const std::uint8_t* rgb, int width, std::uint8_t* gray) {
-  for (int x = 0; x < width; ++x) {
-    const unsigned r = rgb[3 * x], g = rgb[3 * x + 1], b = rgb[3 * x + 2];
-    // Max is (256 * 255 + 128) >> 8 = 255: no clamp needed.
-    gray[x] = static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
-  }
+  for (int x = 0; x < width; ++x) gray[x] = luma_bt601(rgb[3 * x], rgb[3 * x + 1], rgb[3 * x + 2]);
+}
+
+void bgr_to_gray_row_scalar(const std::uint8_t* bgr, int width, std::uint8_t* gray) {
+  for (int x = 0; x < width; ++x) gray[x] = luma_bt601(bgr[3 * x + 2], bgr[3 * x + 1], bgr[3 * x]);
 }
 
 namespace {
@@ -36,29 +43,37 @@ void check_view(const ImageView<T>& v, const char* what) {
 
 }  // namespace
 
-void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray) {
-  if (rgb.channels != 3) {
+namespace {
+// Checks both views, then converts row by row with `row` (named `fn` in messages).
+void colour_to_gray(ImageView<const std::uint8_t> in, ImageView<std::uint8_t> gray, const char* fn,
+                    void (*row)(const std::uint8_t*, int, std::uint8_t*)) {
+  if (in.channels != 3) {
     throw Error(ErrorCode::kUnsupportedFormat,
-                "rgb_to_gray_bt601: input has " + std::to_string(rgb.channels) +
-                    " channels, expected 3");
+                std::string(fn) + ": input has " + std::to_string(in.channels) + " channels, expected 3");
   }
   if (gray.channels != 1) {
     throw Error(ErrorCode::kUnsupportedFormat,
-                "rgb_to_gray_bt601: output has " + std::to_string(gray.channels) +
-                    " channels, expected 1");
+                std::string(fn) + ": output has " + std::to_string(gray.channels) + " channels, expected 1");
   }
-  check_view(rgb, "rgb_to_gray_bt601 input");
-  check_view(gray, "rgb_to_gray_bt601 output");
-  if (rgb.width != gray.width || rgb.height != gray.height) {
+  check_view(in, (std::string(fn) + " input").c_str());
+  check_view(gray, (std::string(fn) + " output").c_str());
+  if (in.width != gray.width || in.height != gray.height) {
     throw Error(ErrorCode::kSizeMismatch,
-                "rgb_to_gray_bt601: input is " + std::to_string(rgb.width) + " x " +
-                    std::to_string(rgb.height) + ", output is " + std::to_string(gray.width) +
-                    " x " + std::to_string(gray.height));
+                std::string(fn) + ": input is " + std::to_string(in.width) + " x " + std::to_string(in.height) +
+                    ", output is " + std::to_string(gray.width) + " x " + std::to_string(gray.height));
   }
-  // The row kernel of the set this machine runs (TRISTEREO_KERNELS can force
-  // one); every set gives the scalar twin's bytes (tests/simd_kernels_test.cpp).
-  const auto row = kernel_set_for(KernelChoice::kAuto).rgb_to_gray_row_u8;
-  for (int y = 0; y < rgb.height; ++y) row(rgb.row(y), rgb.width, gray.row(y));
+  for (int y = 0; y < in.height; ++y) row(in.row(y), in.width, gray.row(y));
+}
+}  // namespace
+
+// The row kernels of the set this machine runs (TRISTEREO_KERNELS can force
+// one); every set gives the scalar twin's bytes (tests/simd_kernels_test.cpp).
+void rgb_to_gray_bt601(ImageView<const std::uint8_t> rgb, ImageView<std::uint8_t> gray) {
+  colour_to_gray(rgb, gray, "rgb_to_gray_bt601", kernel_set_for(KernelChoice::kAuto).rgb_to_gray_row_u8);
+}
+
+void bgr_to_gray_bt601(ImageView<const std::uint8_t> bgr, ImageView<std::uint8_t> gray) {
+  colour_to_gray(bgr, gray, "bgr_to_gray_bt601", kernel_set_for(KernelChoice::kAuto).bgr_to_gray_row_u8);
 }
 
 ImageU8 to_gray(ImageView<const std::uint8_t> img) {

@@ -210,6 +210,8 @@ struct KernelSet {
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
   // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).
   void (*rgb_to_gray_row_u8)(const std::uint8_t* rgb, int n, std::uint8_t* gray) = nullptr;
+  // The same for BGR triplets (the Python module's order='bgr').
+  void (*bgr_to_gray_row_u8)(const std::uint8_t* bgr, int n, std::uint8_t* gray) = nullptr;
 };
 
 // The portable reference set (always available).

@@ -27,6 +27,7 @@ const KernelSet& scalar_kernel_set() {
     s.sum_rows_u16 = sum_rows_u16_scalar;
     s.winner_u16 = winner_u16_scalar;
     s.rgb_to_gray_row_u8 = rgb_to_gray_row_scalar;
+    s.bgr_to_gray_row_u8 = bgr_to_gray_row_scalar;
     s.side4_tests_u8 = side4_tests_u8_scalar;
     s.side8_tests_s32 = side8_tests_s32_scalar;
     s.midpoints_row_q4 = midpoints_row_q4_scalar;

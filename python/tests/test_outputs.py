@@ -1,0 +1,88 @@
+"""The module's depth and file writers against `tristereo match`'s files, byte
+for byte, from the same frame."""
+import filecmp
+import os
+
+import numpy as np
+import pytest
+
+import tristereo
+
+from test_tristereo import cli, read_pfm, require_data
+
+CAMERA = (200.0, 0.1, 80.0, 60.0, 1.5)  # focal px, baseline m, cx, cy, doffs
+CAMERA_ARG = "200,0.1,80,60,1.5"
+
+
+def same_files(a, b):
+    assert filecmp.cmp(a, b, shallow=False), f"{a} and {b} differ"
+
+
+@pytest.mark.parametrize("ascii_ply", [False, True])
+def test_writers_write_the_programs_files(tmp_path, ascii_ply):
+    cli("synth", tmp_path, "--width", 160, "--height", 120, "--ndisp", 24, "--seed", 5)
+    lp, rp = tmp_path / "left.png", tmp_path / "right.png"
+    left, right = tristereo.read_image(lp), tristereo.read_image(rp)
+    out = tristereo.Pipeline(160, 120, ndisp=24, threads=1).process(left, right)
+    c, p = tmp_path / "cli", tmp_path / "py"
+    c.mkdir()
+    p.mkdir()
+    for disp, depth in (("d.png", "z.pfm"), ("d.pfm", "z.png")):
+        args = ["match", lp, rp, "--ndisp", 24, "--threads", 1, "--camera", CAMERA_ARG, "--disp", c / disp,
+                "--depth", c / depth]
+        if disp == "d.png":
+            args += ["--disp-color", c / "c.png", "--mesh", c / "m.ply", "--points", c / "p.ply"]
+            if ascii_ply:
+                args.append("--mesh-ascii")
+        cli(*args)
+        tristereo.write_disparity(p / disp, out.disp_q4)
+        report = tristereo.write_depth(p / depth, tristereo.depth(out.disp_q4, CAMERA))
+        assert report["valid"] + report["invalid"] == 160 * 120
+        same_files(c / disp, p / disp)
+        same_files(c / depth, p / depth)
+    tristereo.write_disparity_color(p / "c.png", out.disp_q4, 0, 24)
+    faces = tristereo.write_mesh_ply(p / "m.ply", out, left, camera=CAMERA, binary=not ascii_ply)
+    points = tristereo.write_points_ply(p / "p.ply", out.disp_q4, left, CAMERA, binary=not ascii_ply)
+    for name in ("c.png", "m.ply", "p.ply"):
+        same_files(c / name, p / name)
+    assert faces["faces_written"] > 0 and points > 0
+    # The depth array is the PFM's, NaN where the PFM has +inf.
+    z, zf = tristereo.depth(out.disp_q4, CAMERA), read_pfm(c / "z.pfm")
+    assert np.array_equal(np.isnan(z), np.isinf(zf)) and np.array_equal(z[~np.isnan(z)], zf[~np.isinf(zf)])
+    valid = ~np.isnan(z)
+    d = out.disparity[valid]
+    assert np.allclose(z[valid], 200.0 * 0.1 / (d + 1.5), rtol=1e-6)
+
+
+def test_bgr_colours_in_the_mesh_are_the_pngs(tmp_path):
+    try:
+        import cv2
+    except ImportError:
+        pytest.fail("OpenCV's Python module is missing (Debian: python3-opencv; scripts/install-deps.sh test)")
+    d = os.path.join(require_data("middlebury"), "teddy")
+    lp, rp = os.path.join(d, "left.png"), os.path.join(d, "right.png")
+    left, right = cv2.imread(lp), cv2.imread(rp)
+    h, w = left.shape[:2]
+    out = tristereo.Pipeline(w, h, ndisp=64, threads=1).process(left, right, order="bgr")
+    cli("match", lp, rp, "--ndisp", 64, "--threads", 1, "--mesh", tmp_path / "cli.ply")
+    tristereo.write_mesh_ply(tmp_path / "py.ply", out, left, order="bgr")
+    same_files(tmp_path / "cli.ply", tmp_path / "py.ply")
+
+
+def test_writer_arguments_are_checked(tmp_path):
+    out = tristereo.Pipeline(48, 32, ndisp=8).process(*(np.full((32, 48), 9, np.uint8),) * 2)
+    with pytest.raises(ValueError, match="disp_q4 must be an int16"):
+        tristereo.write_disparity(tmp_path / "d.png", out.disparity)
+    with pytest.raises(ValueError, match="png_scale must be"):
+        tristereo.write_disparity(tmp_path / "d.png", out.disp_q4, png_scale="x")
+    with pytest.raises(TypeError, match="camera must be a Calibration or"):
+        tristereo.depth(out.disp_q4, (1.0, 2.0))
+    with pytest.raises(ValueError, match="focal length and baseline must be > 0"):
+        tristereo.depth(out.disp_q4, (0.0, 0.1, 1.0, 1.0))
+    with pytest.raises(ValueError, match="out of range"):
+        tristereo.depth(out.disp_q4, (1e300, 0.1, 1.0, 1.0))
+    with pytest.raises(ValueError):
+        tristereo.write_disparity(tmp_path / "d.tiff", out.disp_q4)
+    assert not os.path.exists(tmp_path / "d.tiff")
+    with pytest.raises(OSError):
+        tristereo.write_disparity(tmp_path / "missing" / "d.png", out.disp_q4)
