@@ -146,8 +146,24 @@ def wavefront(tiles, decides, cols, lead, workers, speeds=None):
     return max(list(done_at.values()) + [b for b in band_done if b is not None] + [0.0])
 
 
+def split_fill(items):
+    """A fill round walked whole by one worker ("fill triangles" over a..b)
+    is shared in chunks of c triangles when it has two or more: its time is
+    split in proportion."""
+    out = []
+    for i in items:
+        a, b, c = i["args"].get("a", 0), i["args"].get("b", 0), i["args"].get("c", 0)
+        if i["name"] == "fill triangles" and c > 0 and b - a > c:
+            parts = (b - a + c - 1) // c
+            out += [dict(i, dur=i["dur"] * min(c, b - a - k * c) / (b - a)) for k in range(parts)]
+        else:
+            out.append(i)
+    return out
+
+
 def chunks(items, extra, workers, speeds=None):
     """Independent items handed out in order to the first free worker."""
+    items = split_fill(items)
     speeds = speeds or [1.0] * workers
     free = [(0.0, w) for w in range(workers)]
     heapq.heapify(free)

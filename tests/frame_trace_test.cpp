@@ -101,7 +101,7 @@ void check_trace(const FrameTrace& t, int frames, int width, int height) {
     const int pass = s.kind == TraceKind::kPathsForward ? 0 : 1;
     const int cols = s.a, rows = s.c;
     const int bands = (height + rows - 1) / rows;
-    EXPECT_EQ(cols, (width + 15) / 16) << "sparse tiles are 16 px wide";
+    EXPECT_EQ(cols, (width + 31) / 32) << "tiles are 32 px wide";
     const std::tuple<int, int> key{f, pass};
     EXPECT_EQ(static_cast<int>(tiles[key].size()), bands * cols) << "frame " << f << " pass " << pass;
     EXPECT_EQ(tile_count[key], bands * cols) << "a tile twice, frame " << f << " pass " << pass;

@@ -42,7 +42,7 @@ enum class TraceKind : std::uint8_t {
   kCostRows,        // a = first row, b = end row
   kInterpolationTiles,  // a = first row of tiles, b = end
   kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission), b = row of tiles
-  kFillChunk,       // a = first triangle of a fill round's walk, b = the round's triangles
+  kFillChunk,       // a fill round's walk over triangles a .. b - 1, handed out in chunks of c
   kCount
 };
 

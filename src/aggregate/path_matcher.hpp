@@ -205,7 +205,7 @@ class PathMatcher {
     int hq_x = -1, hq_i = 0;
     std::uint16_t min = 0;
   };
-  static constexpr int kMaxRowsPerBand = 8;
+  static constexpr int kMaxRowsPerBand = 1;  // plan_pass: a band is one row
   int max_in_flight_ = 1;
   std::vector<RowCarry> carry_;
   std::vector<std::uint16_t> carry_paths_;
