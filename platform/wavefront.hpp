@@ -70,18 +70,33 @@ class Wavefront {
   // one waits for (the band's carried state is a few hundred bytes).
   bool next(int* band, int* col) {
     for (int spins = 0;; ++spins) {
-      const int low = low_.load(std::memory_order_acquire);
-      if (low >= bands_) return false;
-      const int high = std::min(bands_, low + in_flight_);
-      for (int k = low; k < high; ++k)
-        if (try_claim(k, col)) {
-          *band = k;
-          return true;
-        }
+      if (try_next(band, col, [](int) { return true; })) return true;
+      if (finished()) return false;
       if (spins < 64) cpu_relax();
       else std::this_thread::yield();
     }
   }
+
+  // Claims a ready tile without waiting: false when none is ready now (or
+  // every band is done). `can_start(band)` is asked before a band's first
+  // tile is claimed, for a condition of the caller's (it may record that the
+  // band was started; the claim may still go to another worker).
+  template <class CanStart>
+  bool try_next(int* band, int* col, CanStart&& can_start) {
+    const int low = low_.load(std::memory_order_acquire);
+    const int high = std::min(bands_, low + in_flight_);
+    for (int k = low; k < high; ++k)
+      if (try_claim(k, col, can_start)) {
+        *band = k;
+        return true;
+      }
+    return false;
+  }
+
+  // Every band is done.
+  bool finished() const { return low_.load(std::memory_order_acquire) >= bands_; }
+  // Band k is done (its last tile finished).
+  bool band_done(int k) const { return bands_state_[k].done.load(std::memory_order_acquire) >= cols_; }
 
   // Marks tile (band, col) done; true when it completed its band.
   bool finish(int band, int col) {
@@ -95,12 +110,14 @@ class Wavefront {
   }
 
  private:
-  bool try_claim(int k, int* col) {
+  template <class CanStart>
+  bool try_claim(int k, int* col, CanStart& can_start) {
     Band& b = bands_state_[k];
     int c = b.done.load(std::memory_order_acquire);
     if (c >= cols_ || b.claimed.load(std::memory_order_relaxed) != c) return false;
     if (k > 0 && bands_state_[k - 1].done.load(std::memory_order_acquire) < std::min(cols_, c + lead_ + 1))
       return false;
+    if (c == 0 && !can_start(k)) return false;
     if (!b.claimed.compare_exchange_strong(c, c + 1, std::memory_order_acq_rel)) return false;
     *col = c;
     return true;

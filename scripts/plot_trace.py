@@ -17,7 +17,7 @@ COLOURS = {
     "interpolation tiles": "#8172b3", "fill triangles": "#da8bc3", "run": "#d0d0d0",
 }
 STAGE_COLOURS = {
-    "tritree": "#4c72b0", "costs": "#dd8452", "paths forward": "#55a868", "paths backward": "#2d7a45",
+    "tritree": "#4c72b0", "costs": "#dd8452", "paths": "#55a868",
     "row dp": "#55a868", "right pass": "#937860", "fill": "#da8bc3", "interpolation": "#8172b3",
 }
 

@@ -94,17 +94,23 @@ void check_trace(const FrameTrace& t, int frames, int width, int height) {
     }
   }
   for (const TraceSpan& s : pipe) {
-    if (s.kind != TraceKind::kPathsForward && s.kind != TraceKind::kPathsBackward) continue;
+    if (s.kind != TraceKind::kPaths) continue;
     const int f = static_cast<int>(std::find_if(frame_spans.begin(), frame_spans.end(),
                                                 [&](const TraceSpan& fs) { return inside(s, fs); }) -
                                    frame_spans.begin());
-    const int pass = s.kind == TraceKind::kPathsForward ? 0 : 1;
     const int cols = s.a, rows = s.c;
     const int bands = (height + rows - 1) / rows;
-    EXPECT_EQ(cols, (width + 31) / 32) << "tiles are 32 px wide";
-    const std::tuple<int, int> key{f, pass};
-    EXPECT_EQ(static_cast<int>(tiles[key].size()), bands * cols) << "frame " << f << " pass " << pass;
-    EXPECT_EQ(tile_count[key], bands * cols) << "a tile twice, frame " << f << " pass " << pass;
+    // Up to two workers a pass is a raster (a tile a row); from three on,
+    // bands of 8 rows in about a tile per worker.
+    const int workers = frame_spans[static_cast<std::size_t>(f)].b;
+    EXPECT_EQ(workers, t.workers());
+    EXPECT_EQ(rows, workers <= 2 ? 1 : 8);
+    EXPECT_EQ(cols, workers <= 2 ? 1 : std::min(workers, width / 16));
+    for (int pass = 0; pass < 2; ++pass) {
+      const std::tuple<int, int> key{f, pass};
+      EXPECT_EQ(static_cast<int>(tiles[key].size()), bands * cols) << "frame " << f << " pass " << pass;
+      EXPECT_EQ(tile_count[key], bands * cols) << "a tile twice, frame " << f << " pass " << pass;
+    }
   }
   EXPECT_EQ(static_cast<int>(tiles.size()), 2 * frames);
 }

@@ -31,6 +31,10 @@ struct PipelineConfig {
   int threads = 0;           // worker count; 0 = one per CPU in the allowed set (default)
   std::vector<int> cpus;     // CPUs to pin workers to (empty = allowed set, in order)
   bool pin_threads = true;   // pin worker i to cpus[i % cpus.size()]
+  // Cut the path passes into work items as for this many workers (0 = threads).
+  // Only for traces that the scaling model replays (docs/threads.md): the
+  // output is the same, a one-worker frame cut for many is a little slower.
+  int schedule_workers = 0;
 };
 
 // Wall-clock nanoseconds of one frame's stages (filled by every process()).

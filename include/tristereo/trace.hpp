@@ -26,19 +26,19 @@ namespace tristereo {
 
 enum class TraceKind : std::uint8_t {
   // Pipeline track.
-  kFrame = 0,       // a = frame number (begin_frame())
+  kFrame = 0,       // a = frame number, b = the workers the path tiles were cut for
   kTritree,
   kCosts,           // the right image's rows and the costs at the samples
-  kPathsForward,    // a = tiles per band, b = lead, c = rows per band
-  kPathsBackward,   // the same
+  kPaths,           // both path passes (at once): a = tiles per band, b = the forward
+                    // pass's lead + 256 x the backward one's, c = rows per band
   kRowDp,           // the paper's model: costs and DP row by row
   kRightPass,       // left-right check by the mirrored pass
   kFill,
   kInterpolation,
   // Worker tracks.
   kRun,             // one ThreadPool::run on this worker; a = the frame's run number
-  kPathTile,        // a = pass (0 forward, 1 backward), b = band, c = tile in the band
-  kDecideBand,      // a = band (backward pass)
+  kPathTile,        // a = pass (0 forward, 1 backward), b = band in the pass's order, c = tile
+  kDecideBand,      // a = band of image rows (by the pass that came second)
   kCostRows,        // a = first row, b = end row
   kInterpolationTiles,  // a = first row of tiles, b = end
   kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission), b = row of tiles

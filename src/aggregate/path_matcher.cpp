@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "platform/clock.hpp"
+#include "platform/cpu_relax.hpp"
 #include "src/dp/penalty.hpp"
 #include "src/memory/capacity_bytes.hpp"
 #include "src/tritree/rtin_layout.hpp"
@@ -33,7 +34,7 @@ LargeArray<T> untouched(std::size_t n) {
 }  // namespace
 
 void PathMatcher::configure(int max_width, int max_height, const StereoParams& params,
-                            const KernelSet& kernels, int workers) {
+                            const KernelSet& kernels, int workers, int schedule_workers) {
   if (max_width < 2 || max_width > kMaxImageSide || max_height < 2 || max_height > kMaxImageSide)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: maximum size " +
                                                  std::to_string(max_width) + "x" +
@@ -41,6 +42,8 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
                                                  std::to_string(kMaxImageSide));
   if (workers < 1 || workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: workers = " + std::to_string(workers));
+  if (schedule_workers < 0 || schedule_workers > 256)
+    throw Error(ErrorCode::kInvalidArgument, "path matcher: schedule workers = " + std::to_string(schedule_workers));
   validate_params(params);
   if (!kernels.path_step_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16 || !kernels.sum_rows_u8 ||
       !kernels.normalize_costs_u8)
@@ -84,24 +87,30 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   // The rings hold the rows of the bands under way plus the rows their
   // predecessors reach up (plan_pass): mesh edges span at most a tile side + 1
   // rows (a leaf's edges span at most a tile side, plus the stretch).
-  max_in_flight_ = workers == 1 ? 1 : workers + 1;
-  const std::size_t ring_rows = static_cast<std::size_t>(max_in_flight_) * kMaxRowsPerBand +
+  schedule_workers_ = schedule_workers > 0 ? schedule_workers : workers;
+  max_rows_per_band_ = schedule_workers_ <= 2 ? 1 : kMaxRowsPerBand;
+  max_in_flight_ = schedule_workers_ <= 2 ? 1 : schedule_workers_ + 1;
+  const std::size_t ring_rows = static_cast<std::size_t>(max_in_flight_ + 1) * static_cast<std::size_t>(max_rows_per_band_) +
                                 static_cast<std::size_t>(tile_side_for(params.tritree.max_area_px2) + 2);
   const std::size_t ring = std::min(n, ring_rows * static_cast<std::size_t>(max_width) + 1);
   ring_capacity_ = static_cast<int>(ring);
-  path_rings_.clear();
-  path_mins_.clear();
-  for (int j = 0; j < directions_ / 2 - 1; ++j) {
-    path_rings_.push_back(untouched<std::uint16_t>(ring * path_stride_ + 64));
-    path_mins_.push_back(untouched<std::uint16_t>(ring));
+  const std::size_t carries = static_cast<std::size_t>(max_in_flight_) * static_cast<std::size_t>(max_rows_per_band_);
+  for (int pass = 0; pass < 2; ++pass) {
+    path_rings_[pass].clear();
+    path_mins_[pass].clear();
+    for (int j = 0; j < directions_ / 2 - 1; ++j) {
+      path_rings_[pass].push_back(untouched<std::uint16_t>(ring * path_stride_ + 64));
+      path_mins_[pass].push_back(untouched<std::uint16_t>(ring));
+    }
+    carry_[pass].assign(carries, RowCarry{});
+    carry_paths_[pass].assign(carries * path_stride_ + 64, 0);
+    for (std::size_t c = 0; c < carries; ++c) {
+      carry_paths_[pass][c * path_stride_] = kGuard;
+      carry_paths_[pass][c * path_stride_ + static_cast<std::size_t>(d) + 1] = kGuard;
+    }
+    wavefront_[pass].configure(max_height);
   }
-  carry_.assign(static_cast<std::size_t>(max_in_flight_) * kMaxRowsPerBand, RowCarry{});
-  carry_paths_.assign(carry_.size() * path_stride_ + 64, 0);
-  for (std::size_t c = 0; c < carry_.size(); ++c) {
-    carry_paths_[c * path_stride_] = kGuard;
-    carry_paths_[c * path_stride_ + static_cast<std::size_t>(d) + 1] = kGuard;
-  }
-  wavefront_.configure(max_height);
+  band_first_.reset(new std::atomic<int>[static_cast<std::size_t>(max_height)]);
   sum_ = untouched<std::uint16_t>(n * cost_stride_);
   workers_.clear();
   workers_.resize(static_cast<std::size_t>(workers));
@@ -132,27 +141,33 @@ void PathMatcher::release() {
   costs_len_ = preds_len_ = 0;
   max_samples_ = 0;
   ring_capacity_ = 0;
-  std::vector<RowCarry>().swap(carry_);
-  std::vector<std::uint16_t>().swap(carry_paths_);
-  wavefront_.configure(1);
+  band_first_.reset();
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<RowCarry>().swap(carry_[pass]);
+    std::vector<std::uint16_t>().swap(carry_paths_[pass]);
+    std::vector<LargeArray<std::uint16_t>>().swap(path_rings_[pass]);
+    std::vector<LargeArray<std::uint16_t>>().swap(path_mins_[pass]);
+    wavefront_[pass].configure(1);
+  }
   std::vector<std::uint32_t>().swap(p1_by_gap_);
   std::vector<std::uint32_t>().swap(p2_by_gap_);
   std::vector<std::uint16_t>().swap(zero_path_);
   std::vector<Worker>().swap(workers_);
-  std::vector<LargeArray<std::uint16_t>>().swap(path_rings_);
-  std::vector<LargeArray<std::uint16_t>>().swap(path_mins_);
   kernels_ = nullptr;
 }
 
 std::size_t PathMatcher::working_memory_bytes() const {
   const std::size_t bands = kernels_ != nullptr ? static_cast<std::size_t>(max_samples_ / max_width_) : 0;
   std::size_t bytes = 2 * costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
-                      bands * 64 +  // the wavefront's state, a cache line per band
+                      bands * (2 * 64 + sizeof(std::atomic<int>)) +  // the wavefronts, a cache line per band; band_first_
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
-                      capacity_bytes(workers_) + capacity_bytes(carry_) + capacity_bytes(carry_paths_);
+                      capacity_bytes(workers_);
   const auto ring = static_cast<std::size_t>(ring_capacity_);
-  bytes += path_rings_.size() *
-           ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) + 2 * sizeof(LargeArray<std::uint16_t>));
+  for (int pass = 0; pass < 2; ++pass) {
+    bytes += capacity_bytes(carry_[pass]) + capacity_bytes(carry_paths_[pass]);
+    bytes += path_rings_[pass].size() *
+             ((ring * path_stride_ + 64 + ring) * sizeof(std::uint16_t) + 2 * sizeof(LargeArray<std::uint16_t>));
+  }
   for (const Worker& w : workers_)
     bytes += (2 * path_stride_ + 64) * sizeof(std::uint16_t) + w.scratch.working_memory_bytes() +
              capacity_bytes(w.total) + capacity_bytes(w.slot_row) +
@@ -438,18 +453,27 @@ PathMatcher::PredecessorBounds PathMatcher::predecessor_bounds(const SampleLayou
 // rows up and shear x (rows up) pixels ahead, so it lies in p's tile (an
 // earlier row), a tile to its left, or a band above at most
 // lead = ceil(shear R / B) tiles ahead per band: the wavefront's rule.
-// A band is one row: a tile then reads each of its arrays (costs, sums) in one
-// stream of B samples, which the hardware prefetchers follow; bands of 8 rows
-// cut the streams into eight short pieces per tile and made the one-worker
-// path stage about a quarter slower (synthetic 640x480, D = 128). 32 pixels
-// keep 20 tiles a row at 640 pixels and tiles of 8 samples or more on a
-// sparse frame.
+// Up to two workers, a pass is one worker's raster order (a band is a row, a
+// tile the whole row): each pass keeps its path costs in its own core's
+// caches, and the two passes meet in the middle. From three workers on, a
+// pass has several: bands of 8 rows, so that 7 rows in 8 find the path costs
+// of the row above in their own core's cache (with one-row bands every row
+// read them from another core: the paths stage went from 11.4 to 20.9 ms on
+// KITTI 000000 with two workers), and about one tile a worker per band, wide
+// enough that each row of a tile streams its costs and sums (8-row bands of
+// 16-pixel tiles made one worker's paths stage a quarter slower).
 PathMatcher::PassPlan PathMatcher::plan_pass(const SampleLayout& samples, bool forward, int workers) const {
   PassPlan p;
   p.forward = forward;
   const int w = samples.width, h = samples.height;
-  p.rows_per_band = kMaxRowsPerBand;
-  p.block = 32;
+  if (workers <= 2) {
+    p.rows_per_band = 1;
+    p.block = w;
+  } else {
+    p.rows_per_band = std::min(max_rows_per_band_, kMaxRowsPerBand);
+    const int cols = std::clamp(workers, 2, std::max(2, w / 16));
+    p.block = (w + cols - 1) / cols;
+  }
   p.shear = bounds_.shear[forward ? 0 : 1];
   const int r = p.rows_per_band;
   p.bands = (h + r - 1) / r;
@@ -461,14 +485,16 @@ PathMatcher::PassPlan PathMatcher::plan_pass(const SampleLayout& samples, bool f
   const auto span = [&](int in_flight) {
     int most = 1;
     for (int k = 0; k < p.bands; ++k) {
-      const int r0 = std::max(0, k * r - (in_flight - 1) * r - bounds_.reach_rows);
-      const int r1 = std::min(h - 1, k * r + r - 1);
-      const int y0 = forward ? r0 : h - 1 - r1, y1 = forward ? r1 : h - 1 - r0;
-      most = std::max(most, samples.row_end(y1) - samples.row_begin(y0) + 1);
+      int y0 = 0, y1 = 0, e0 = 0, e1 = 0;
+      band_rows(p, k, h, &y0, &y1);
+      band_rows(p, std::max(0, k - in_flight + 1), h, &e0, &e1);
+      const int first = forward ? std::max(0, e0 - bounds_.reach_rows) : y0;
+      const int last = forward ? y1 - 1 : std::min(h - 1, e1 - 1 + bounds_.reach_rows);
+      most = std::max(most, samples.row_end(last) - samples.row_begin(first) + 1);
     }
     return std::min(most, std::max(1, samples.count()));  // a slot per sample is always enough
   };
-  p.in_flight = std::max(1, std::min(max_in_flight_, workers == 1 ? 1 : workers + 1));
+  p.in_flight = std::max(1, std::min(max_in_flight_, workers <= 2 ? 1 : workers + 1));
   p.ring_n = span(p.in_flight);
   while (p.ring_n > ring_capacity_ && p.in_flight > 1) p.ring_n = span(--p.in_flight);
   if (p.ring_n > ring_capacity_)
@@ -478,21 +504,26 @@ PathMatcher::PassPlan PathMatcher::plan_pass(const SampleLayout& samples, bool f
   return p;
 }
 
+void PathMatcher::band_rows(const PassPlan& plan, int band, int height, int* y0, int* y1) {
+  const int j = plan.forward ? band : plan.bands - 1 - band;
+  *y0 = j * plan.rows_per_band;
+  *y1 = std::min(height, *y0 + plan.rows_per_band);
+}
+
 void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uint8_t> gray, const PassPlan& plan,
-                           int band, int col, int worker) {
+                           int band, int col, int worker, int add) {
   Worker& wk = workers_[static_cast<std::size_t>(worker)];
   const KernelSet& ks = *kernels_;
   const bool forward = plan.forward;
   const int d = num_disp_;
   const int edge_scale = params_.paths.p2_edge_scale;
   const int pass = forward ? 0 : 1;
-  const int add = pass;  // the backward pass adds to the forward pass's S
   const int others = directions_ / 2 - 1;  // vertical and diagonal directions of the pass
   std::uint16_t* paths[3] = {};
   std::uint16_t* mins[3] = {};
   for (int j = 0; j < others; ++j) {
-    paths[j] = path_rings_[static_cast<std::size_t>(j)].get();
-    mins[j] = path_mins_[static_cast<std::size_t>(j)].get();
+    paths[j] = path_rings_[pass][static_cast<std::size_t>(j)].get();
+    mins[j] = path_mins_[pass][static_cast<std::size_t>(j)].get();
   }
   std::uint16_t* ring[2] = {wk.row_path.get(), wk.row_path.get() + path_stride_};
   for (std::uint16_t* r : ring) {
@@ -529,17 +560,16 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
   const Vertex* verts = dense ? nullptr : samples.mesh->vertices.data();
   const std::int32_t* preds = preds_.get();
   const auto per = static_cast<std::size_t>(directions_ - 2);
-  const int rows = plan.rows_per_band;
   const int di = forward ? 1 : -1;
-  const std::size_t carry_base = static_cast<std::size_t>(band % plan.in_flight) * kMaxRowsPerBand;
-  for (int j = 0; j < rows; ++j) {
-    const int r = band * rows + j;
-    if (r >= h) break;
-    const int y = forward ? r : h - 1 - r;
+  const std::size_t carry_base = static_cast<std::size_t>(band % plan.in_flight) * static_cast<std::size_t>(max_rows_per_band_);
+  int band_y0 = 0, band_y1 = 0;
+  band_rows(plan, band, h, &band_y0, &band_y1);
+  for (int j = 0; j < band_y1 - band_y0; ++j) {
+    const int y = forward ? band_y0 + j : band_y1 - 1 - j;
     const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
     if (v0 == v1) continue;
-    RowCarry& carry = carry_[carry_base + static_cast<std::size_t>(j)];
-    std::uint16_t* carry_path = carry_paths_.data() + (carry_base + static_cast<std::size_t>(j)) * path_stride_;
+    RowCarry& carry = carry_[pass][carry_base + static_cast<std::size_t>(j)];
+    std::uint16_t* carry_path = carry_paths_[pass].data() + (carry_base + static_cast<std::size_t>(j)) * path_stride_;
     if (col == 0) {
       carry.next = forward ? v0 : v1 - 1;
       carry.hq_x = -1;
@@ -634,44 +664,67 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
     bounds_ = predecessor_bounds(samples);
   }
   preds_for_ = nullptr;  // the next frame finds its own
+  const int workers = schedule_workers_;
+  const PassPlan plans[2] = {plan_pass(samples, true, workers), plan_pass(samples, false, workers)};
+  for (int pass = 0; pass < 2; ++pass)
+    wavefront_[pass].reset(plans[pass].bands, plans[pass].cols, plans[pass].lead, plans[pass].in_flight);
+  for (int j = 0; j < plans[0].bands; ++j) band_first_[j].store(-1, std::memory_order_relaxed);
+  // Band j of image rows is pass 0's band j and pass 1's band bands - 1 - j.
+  const auto image_band = [&](int pass, int band) { return pass == 0 ? band : plans[1].bands - 1 - band; };
+  // A pass may start a band when it is the first to (it then writes S there),
+  // or once the other pass has done it (it then adds to S).
+  const auto may_start = [&](int pass, int band) {
+    std::atomic<int>& first = band_first_[image_band(pass, band)];
+    int f = first.load(std::memory_order_acquire);
+    if (f < 0 && first.compare_exchange_strong(f, pass, std::memory_order_acq_rel)) return true;
+    return f == pass || wavefront_[1 - pass].band_done(image_band(1 - pass, image_band(pass, band)));
+  };
+  const std::int64_t t_passes = trace_ != nullptr ? monotonic_ns() : 0;
   RejectedSum rejected;
-  for (int pass = 0; pass < 2; ++pass) {
-    const PassPlan plan = plan_pass(samples, pass == 0, pool.size());
-    const bool decide_rows = pass == 1 && disp_q4 != nullptr;
-    wavefront_.reset(plan.bands, plan.cols, plan.lead, plan.in_flight);
-    const std::int64_t t_pass = trace_ != nullptr ? monotonic_ns() : 0;
-    pool.run([&](int w) {
-      RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
-      int band = -1, col = 0;
-      while (wavefront_.next(&band, &col)) {
-        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
-        run_tile(samples, left_gray, plan, band, col, w);
-        const bool band_done = wavefront_.finish(band, col);
-        std::int64_t t1 = 0;
-        if (trace_ != nullptr) {
-          t1 = monotonic_ns();
-          trace_->record(w, TraceKind::kPathTile, t0, t1, pass, band, col);
-        }
-        if (!band_done || !decide_rows) continue;
-        // The band's S is complete: decide its rows while they are in cache.
-        for (int j = 0; j < plan.rows_per_band; ++j) {
-          const int r = band * plan.rows_per_band + j;
-          if (r >= samples.height) break;
-          const int y = samples.height - 1 - r;
-          const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
-          if (v0 == v1) continue;
-          decide.begin_row(y);
-          for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
-          decide.end_row();
-        }
-        if (trace_ != nullptr) trace_->record(w, TraceKind::kDecideBand, t1, monotonic_ns(), band);
+  pool.run([&](int w) {
+    RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
+    const int own = w & 1;  // even workers begin forward, odd ones backward
+    for (int spins = 0;;) {
+      int band = 0, col = 0, pass = -1;
+      for (int q = 0; q < 2 && pass < 0; ++q) {
+        const int p = q == 0 ? own : 1 - own;
+        if (wavefront_[p].try_next(&band, &col, [&](int k) { return may_start(p, k); })) pass = p;
       }
-      if (decide_rows) rejected.add(decide.rejected);
-    });
-    if (trace_ != nullptr)
-      trace_->record(FrameTrace::kPipelineTrack, pass == 0 ? TraceKind::kPathsForward : TraceKind::kPathsBackward,
-                     t_pass, monotonic_ns(), plan.cols, plan.lead, plan.rows_per_band);
-  }
+      if (pass < 0) {
+        if (wavefront_[0].finished() && wavefront_[1].finished()) break;
+        if (++spins < 64) cpu_relax();
+        else std::this_thread::yield();
+        continue;
+      }
+      spins = 0;
+      const int j = image_band(pass, band);
+      const bool second = band_first_[j].load(std::memory_order_acquire) != pass;
+      const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+      run_tile(samples, left_gray, plans[pass], band, col, w, second ? 1 : 0);
+      const bool band_done = wavefront_[pass].finish(band, col);
+      std::int64_t t1 = 0;
+      if (trace_ != nullptr) {
+        t1 = monotonic_ns();
+        trace_->record(w, TraceKind::kPathTile, t0, t1, pass, band, col);
+      }
+      if (!band_done || !second || disp_q4 == nullptr) continue;
+      // The band's S is complete: decide its rows while they are in cache.
+      int y0 = 0, y1 = 0;
+      band_rows(plans[pass], band, samples.height, &y0, &y1);
+      for (int y = y0; y < y1; ++y) {
+        const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
+        if (v0 == v1) continue;
+        decide.begin_row(y);
+        for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
+        decide.end_row();
+      }
+      if (trace_ != nullptr) trace_->record(w, TraceKind::kDecideBand, t1, monotonic_ns(), j);
+    }
+    if (disp_q4 != nullptr) rejected.add(decide.rejected);
+  });
+  if (trace_ != nullptr)
+    trace_->record(FrameTrace::kPipelineTrack, TraceKind::kPaths, t_passes, monotonic_ns(), plans[0].cols,
+                   plans[0].lead | plans[1].lead << 8, plans[0].rows_per_band);
   return rejected.total();
 }
 

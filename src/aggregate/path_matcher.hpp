@@ -9,15 +9,17 @@
 //       + select: smallest argmin of S, sub-pixel, uniqueness, left-right
 //         check from S (lr_source = costs)
 //
-// Each pass is a wavefront of tiles (platform/wavefront.hpp): bands of rows
-// cut into column blocks, sheared so that every predecessor of a tile's
-// samples lies in the tile itself, in the tiles to its left, or in the band
-// above at most `lead` tiles ahead. Any worker takes any ready tile, so every
-// worker takes part in both passes and a slowed one takes fewer tiles. The
-// forward pass writes S, the backward pass adds to it and decides each band
-// as it completes. Every sample's L_r is computed from the same predecessors
-// by the same kernel whatever the schedule, and integer sums do not depend on
-// the order, so the output is the same for any thread count.
+// The two passes run at the same time, each a wavefront of tiles
+// (platform/wavefront.hpp): bands of rows cut into column blocks, sheared so
+// that every predecessor of a tile's samples lies in the tile itself, in the
+// tiles to its left, or in a band above at most `lead` tiles ahead per band.
+// A worker takes a ready tile of its own pass first (even workers forward,
+// odd ones backward), else of the other, so a slowed one takes fewer tiles.
+// The pass that starts a band first writes its S; the other starts that band
+// once the first has done it, adds to S, and decides the band's rows. Every
+// sample's L_r is computed from the same predecessors by the same kernel
+// whatever the schedule, and integer sums do not depend on the order, so the
+// output is the same for any thread count.
 // Every buffer is sized at configure for max_width x max_height samples (dense
 // mode's worst case) and allocated without being touched, so a sparse frame
 // only pays for the pages its samples use. No heap allocation per frame.
@@ -46,8 +48,10 @@ class PathMatcher {
  public:
   // Throws Error on sizes outside 2..kMaxImageSide, workers outside 1..256 or
   // parameters validate_params rejects.
+  // schedule_workers: cut the passes into tiles as for that many workers
+  // (0 = `workers`; a one-worker trace recorded for the scaling model).
   void configure(int max_width, int max_height, const StereoParams& params,
-                 const KernelSet& kernels, int workers);
+                 const KernelSet& kernels, int workers, int schedule_workers = 0);
 
   // C(i, k) = ctx.aggregate_sample at sample i (ctx prepared for the frame).
   // Sparse mode: the mesh predecessors too (unless use_predecessors() handed
@@ -152,9 +156,13 @@ class PathMatcher {
   };
   PredecessorBounds predecessor_bounds(const SampleLayout& samples) const;
   PassPlan plan_pass(const SampleLayout& samples, bool forward, int workers) const;
-  // Tile (band, col) of a pass; `add`: S holds the forward pass's sums.
+  // The image rows [*y0, *y1) of a pass's band (bands are the same rows in
+  // both passes: band j = rows [j R, j R + R), the backward pass's k-th band
+  // is j = bands - 1 - k).
+  static void band_rows(const PassPlan& plan, int band, int height, int* y0, int* y1);
+  // Tile (band, col) of a pass; `add`: S holds the other pass's sums.
   void run_tile(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray, const PassPlan& plan,
-                int band, int col, int worker);
+                int band, int col, int worker, int add);
   // aggregate(), deciding the rows on the way when disp_q4 is given.
   Rejected aggregate_rows(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                           ThreadPool& pool, std::int16_t* disp_q4);
@@ -181,15 +189,15 @@ class PathMatcher {
   LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards
   // The directions run in two passes, forward (raster order: the even
-  // directions) and backward (the odd ones), one after the other; a pass steps
+  // directions) and backward (the odd ones), at the same time; a pass steps
   // every direction at each sample while its costs and sums are in cache. L_r
   // of a vertical or diagonal direction is kept until no later sample can need
-  // it, in rings shared by the passes: path_rings_[j] (direction 2 (j + 1) +
+  // it, in each pass's rings: path_rings_[pass][j] (direction 2 (j + 1) +
   // pass) and path_mins_ (the minimum of each L_r) hold ring_capacity_
   // samples, of which a frame uses plan.ring_n (sample i is slot i mod
   // ring_n): enough for the rows of the bands under way plus the rows their
   // predecessors reach up.
-  std::vector<LargeArray<std::uint16_t>> path_rings_, path_mins_;
+  std::vector<LargeArray<std::uint16_t>> path_rings_[2], path_mins_[2];
   int ring_capacity_ = 0;
   int reach_ = 0;                    // find_predecessors' reach for preds_for_
   const Mesh* preds_for_ = nullptr;  // the mesh whose predecessors preds_ holds (this frame)
@@ -205,13 +213,18 @@ class PathMatcher {
     int hq_x = -1, hq_i = 0;
     std::uint16_t min = 0;
   };
-  static constexpr int kMaxRowsPerBand = 1;  // plan_pass: a band is one row
+  static constexpr int kMaxRowsPerBand = 8;  // plan_pass: bands of 8 rows from 3 workers on
+  int max_rows_per_band_ = 1;  // what configure() sized for
   int max_in_flight_ = 1;
-  std::vector<RowCarry> carry_;
-  std::vector<std::uint16_t> carry_paths_;
-  Wavefront wavefront_;
+  int schedule_workers_ = 1;  // plan_pass's worker count
+  std::vector<RowCarry> carry_[2];
+  std::vector<std::uint16_t> carry_paths_[2];
+  Wavefront wavefront_[2];
+  // Per band of image rows: the pass that started it first (-1: none yet);
+  // the other pass starts it once the first has done it, and adds to S.
+  std::unique_ptr<std::atomic<int>[]> band_first_;
   FrameTrace* trace_ = nullptr;
-  // S: the forward pass writes it, the backward pass adds to it.
+  // S: in each band, the pass that comes first writes it, the other adds to it.
   LargeArray<std::uint16_t> sum_;
   struct Worker {
     // L_r of the horizontal direction: the previous sample's and this one's.

@@ -147,6 +147,9 @@ void Pipeline::configure(const PipelineConfig& config) {
                     std::to_string(config.max_height) + " is outside 2.." +
                     std::to_string(kMaxImageSide) + " per side");
   validate_params(config.params);
+  if (config.schedule_workers < 0 || config.schedule_workers > 256)
+    throw Error(ErrorCode::kInvalidArgument,
+                "schedule_workers = " + std::to_string(config.schedule_workers) + " is outside 0..256 (0 = threads)");
   if (config.threads < 0 || config.threads > 256)
     throw Error(ErrorCode::kInvalidArgument,
                 "threads = " + std::to_string(config.threads) + " is outside 0..256 (0 = one per CPU)");
@@ -170,7 +173,7 @@ void Pipeline::configure(const PipelineConfig& config) {
     w.tile_values.reset(new std::int32_t[midpoint_band_values(m.tritree.tile_side(), config.max_width)]);
   }
   const int max_px = config.max_width * config.max_height;
-  if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads);
+  if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads, config.schedule_workers);
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px, threads);
@@ -443,7 +446,9 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     m.span(TraceKind::kRightPass, t_matched, t_right);
   m.span(TraceKind::kFill, t_right, t_filled);
   m.span(TraceKind::kInterpolation, t_filled, t_end);
-  m.span(TraceKind::kFrame, t_start, t_end, m.frame_number++);
+  if (m.trace != nullptr)
+    m.trace->record(FrameTrace::kPipelineTrack, TraceKind::kFrame, t_start, t_end, m.frame_number++,
+                    m.config.schedule_workers > 0 ? m.config.schedule_workers : m.config.threads);
   m.timings.tritree_ns = t_tritree - t_start;
   m.timings.cost_aggregation_ns = cost_ns;
   m.timings.dp_ns = dp_ns;

@@ -16,8 +16,7 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kFrame: return "frame";
     case TraceKind::kTritree: return "tritree";
     case TraceKind::kCosts: return "costs";
-    case TraceKind::kPathsForward: return "paths forward";
-    case TraceKind::kPathsBackward: return "paths backward";
+    case TraceKind::kPaths: return "paths";
     case TraceKind::kRowDp: return "row dp";
     case TraceKind::kRightPass: return "right pass";
     case TraceKind::kFill: return "fill";
