@@ -86,6 +86,8 @@ Reports:
                        stages on a pipeline track; open it in Perfetto
                        (ui.perfetto.dev) or chrome://tracing (docs/profiling.md)
   --trace-frames N     how many frames the trace keeps, 1..100 (default 3)
+  --schedule-workers N cut the path passes into work items as for N workers (with
+                       --trace, for scripts/scaling_model.py; docs/threads.md)
                        The reports are checked before the run (never an input, a
                        frame of --folder or each other) and written together, all
                        or nothing.
@@ -344,7 +346,7 @@ int cmd_profile(int argc, char** argv) {
   std::set<std::string> values = {
       "frames",        "warmup", "source", "left", "right", "folder", "left-pattern",
       "right-pattern", "width",  "height", "gpio", "json",  "csv",    "realtime-priority",
-      "trace",         "trace-frames"};
+      "trace",         "trace-frames", "schedule-workers"};
   std::set<std::string> flags = {"realtime", "mesh-output", "quiet", "help"};
   add_stereo_options(values, flags);
   const Args args(static_cast<int>(nargv.size()), nargv.data(), values, flags);
@@ -359,6 +361,7 @@ int cmd_profile(int argc, char** argv) {
       {"left-pattern", {"folder"}, nullptr, "it names the left frames in that folder"},
       {"right-pattern", {"folder"}, nullptr, "it names the right frames in that folder"},
       {"trace-frames", {"trace"}, nullptr, "it says how many frames the trace keeps"},
+      {"schedule-workers", {"trace"}, nullptr, "it cuts the work for the scaling model's traces"},
   };
   check_option_needs(args, kNeeds);
 
@@ -428,6 +431,7 @@ int cmd_profile(int argc, char** argv) {
   } else {
     ring = folder_frames(args.get("folder", ""), left_pattern, right_pattern, run_frames);
   }
+  config.schedule_workers = bounded_int(args, "schedule-workers", 0, 0, 256);
   config.max_width = ring.width;
   config.max_height = ring.height;
 
@@ -514,7 +518,7 @@ int cmd_profile(int argc, char** argv) {
       loop_start_ns = monotonic_ns();
     }
     const std::size_t slot = static_cast<std::size_t>(i) % ring.size();
-    if (!trace_path.empty()) trace.set_enabled(i >= run_frames - trace_frames);
+    if (!trace_path.empty()) trace.set_enabled(i >= std::max(warmup, run_frames - trace_frames));
     const std::int64_t cpu0 = process_cpu_ns();
     const std::int64_t t0 = monotonic_ns();
     markers.frame_begin();

@@ -1,33 +1,39 @@
 #!/usr/bin/env python3
-"""Predicts a frame's time on N workers from a one-worker frame trace.
+"""Predicts a frame's time on N workers from one-worker frame traces.
 
-    tristereo profile --threads 1 --trace one.json --trace-frames 10 [model options]
-    tristereo profile --threads 2 --trace two.json --trace-frames 10 [same options]
-    scripts/scaling_model.py one.json --measured two.json
+    tristereo profile --threads 1 --trace t1.json --trace-frames 10 [pair and model options]
+    tristereo profile --threads 1 --schedule-workers 4 --trace t4.json ...   (and 8, 16)
+    tristereo profile --threads 2 --trace m2.json ...
+    scripts/scaling_model.py t1.json t4.json t8.json t16.json --measured m2.json
 
-The trace (docs/profiling.md) holds, per frame, the stages on the pipeline
+A trace (docs/profiling.md) holds, per frame, the stages on the pipeline
 track and, on the worker's track, every ThreadPool run and the work items it
-took with their durations. Each frame is replayed on N = 1, 2, 4, 8, 16
+took with their durations. The path passes are cut into work items for the
+workers the frame was planned for (`--schedule-workers`, default the worker
+count; up to two workers the cut is the same), so each worker count N >= 3 is
+predicted from a one-worker trace cut for N. Each frame is replayed on N
 workers by a list scheduler:
 
 - the time of a frame outside every run (the caller's serial steps) stays
   serial;
-- a run of path tiles (kind "path tile", args pass/band/tile) is a wavefront:
-  a tile waits for the tile before it in its band, for the band above to be
-  `lead` tiles ahead, and for the band in_flight = N + 1 bands back to be done
-  (platform/wavefront.hpp); a free worker takes the ready tile of the lowest
-  band; a band's decision ("decide band") follows its last tile on the same
-  worker;
-- a run with other items (rows of costs, rows of interpolation tiles) hands
-  them out in order to whichever worker is free (WorkChunks); the run's time
-  outside its items (e.g. the side task the first worker takes) is one more
-  item;
-- a run without items (the tritree's, the fill's, the right rows') is taken to
-  divide evenly: such runs are listed as "even" in the report.
+- the path run ("path tile" items, args pass/band/tile) is two wavefronts at
+  once (src/aggregate/path_matcher.cpp): a tile waits for the tile before it
+  in its band, for the band above to be `lead` tiles ahead, and for the band
+  N + 1 bands back to be done; a band of rows is started by the first pass to
+  reach it, the other pass starts it once the first has done it; a free
+  worker takes the ready tile of the lowest band of its own pass (even
+  workers forward, odd ones backward), else of the other pass; a band's
+  decision ("decide band") follows its last tile on the same worker;
+- a run with other items (rows of costs, rows of the tritree's tiles, rows of
+  interpolation tiles, a fill round's walk split in its chunks) hands them out
+  in order to whichever worker is free (WorkChunks); the run's time outside
+  its items (e.g. the side task the first worker takes) is one more item;
+- a run without items (the right rows' preparation) is taken to divide
+  evenly: such runs are listed as "even" in the report.
 
-The model knows nothing of memory bandwidth or caches: where the measured
-2-worker frame is slower than the prediction, the difference is what the
-workers lose to each other outside the schedule.
+The model knows nothing of memory bandwidth or caches: where a measured frame
+is slower than the prediction, the difference is what the workers cost each
+other in the memory system.
 """
 import argparse
 import heapq
@@ -35,8 +41,7 @@ import json
 import statistics
 import sys
 
-STAGES = ["tritree", "costs", "paths forward", "paths backward", "row dp", "right pass", "fill",
-          "interpolation"]
+STAGES = ["tritree", "costs", "paths", "row dp", "right pass", "fill", "interpolation"]
 
 
 def load(path):
@@ -81,69 +86,102 @@ def frames_of(events):
                 continue
             key = (stage_of(stages, e["ts"], e["ts"] + e["dur"]), e["name"])
             loose.setdefault(key, []).append(e)
-        plans = {0: None, 1: None}
+        plan = None
         for st in stages:
-            if st["name"] in ("paths forward", "paths backward"):
-                plans[0 if st["name"] == "paths forward" else 1] = (st["args"]["a"], st["args"]["b"])
-        frames.append({"dur": f["dur"], "stages": stages, "runs": runs, "loose": loose, "plans": plans})
+            if st["name"] == "paths":
+                plan = (st["args"]["a"], st["args"]["b"] & 255, st["args"]["b"] >> 8)  # cols, leads
+        frames.append({"dur": f["dur"], "stages": stages, "runs": runs, "loose": loose, "plan": plan,
+                       "schedule": f["args"].get("b", 1)})
     return frames
 
 
-def wavefront(tiles, decides, cols, lead, workers, speeds=None):
-    """Makespan of one pass's tiles on `workers` workers (lowest band first);
+def paths_run(tiles, decides, plan, workers, speeds=None):
+    """Makespan of the two path passes' tiles on `workers` workers;
     speeds[w]: worker w's speed against the traced one (default 1)."""
+    cols, leads = plan[0], (plan[1], plan[2])
     speeds = speeds or [1.0] * workers
-    in_flight = 1 if workers == 1 else workers + 1
-    dur = {(t["args"]["b"], t["args"]["c"]): t["dur"] for t in tiles}
-    bands = 1 + max(b for b, _ in dur)
-    done_at = {}
-    band_done = [None] * bands
-    next_col = [0] * bands
-    free = [(0.0, w) for w in range(workers)]  # (time each worker is free, worker)
+    in_flight = 1 if workers <= 2 else workers + 1
+    # A one-worker trace runs the forward pass first on every band and the
+    # backward pass second (it adds to S, and decides): a tile's time is taken
+    # by its role, at its place (band of image rows, tile in image x order).
+    keys = [set(), set()]
+    for t in tiles:
+        keys[t["args"]["a"]].add((t["args"]["b"], t["args"]["c"]))
+    bands = 1 + max(b for p in (0, 1) for b, _ in keys[p])
+    image_band = lambda p, k: k if p == 0 else bands - 1 - k
+    image_col = lambda p, c: c if p == 0 else cols - 1 - c
+    role_dur = ({}, {})  # first, second
+    for t in tiles:
+        p, k, c = t["args"]["a"], t["args"]["b"], t["args"]["c"]
+        role_dur[p][(image_band(p, k), image_col(p, c))] = t["dur"]
+    dur = [{key: None for key in keys[0]}, {key: None for key in keys[1]}]
+    done_at = [{}, {}]
+    band_done = [[None] * bands, [None] * bands]
+    next_col = [[0] * bands, [0] * bands]
+    low = [0, 0]
+    first = [None] * bands  # the pass that started each band of rows first
+    free = [(0.0, w) for w in range(workers)]
     heapq.heapify(free)
-    low = 0
-    remaining = len(dur)
+    remaining = len(dur[0]) + len(dur[1])
+    end_all = 0.0
+
+    def ready_time(p, k):
+        c = next_col[p][k]
+        if c >= cols:
+            return None
+        deps = []
+        if c > 0:
+            deps.append(done_at[p].get((k, c - 1)))
+        if k > 0:
+            deps.append(done_at[p].get((k - 1, min(cols - 1, c + leads[p]))))
+        if c == 0:
+            if k >= in_flight:
+                deps.append(band_done[p][k - in_flight])
+            j = image_band(p, k)
+            if first[j] is not None and first[j] != p:
+                deps.append(band_done[1 - p][image_band(1 - p, j)])
+        if any(d is None for d in deps):
+            return None
+        return max(deps, default=0.0)
+
     while remaining:
         t, w = heapq.heappop(free)
-        # The lowest band whose next tile is ready by time t; else wait for the
-        # earliest tile that becomes ready.
+        own = w % 2
         best = None
-        earliest = None
-        for k in range(low, min(bands, low + in_flight)):
-            c = next_col[k]
-            if c >= cols:
-                continue
-            deps = []
-            if c > 0:
-                deps.append(done_at.get((k, c - 1)))
-            if k > 0:
-                deps.append(done_at.get((k - 1, min(cols - 1, c + lead))))
-            if k >= in_flight and c == 0:
-                deps.append(band_done[k - in_flight])
-            if any(d is None for d in deps):
-                continue
-            ready = max(deps, default=0.0)
-            if ready <= t:
-                best = (k, c, t)
+        for p in (own, 1 - own):
+            for k in range(low[p], min(bands, low[p] + in_flight)):
+                r = ready_time(p, k)
+                if r is None:
+                    continue
+                start = max(t, r)
+                if best is None or start < best[2] - 1e-9:
+                    best = (p, k, start)
+                if r <= t:
+                    break
+            if best is not None and best[2] <= t:
                 break
-            if earliest is None or ready < earliest[2]:
-                earliest = (k, c, ready)
-        pick = best or earliest
-        if pick is None:  # cannot happen: the lowest band's next tile always can
+        if best is None:
             raise RuntimeError("scaling_model: no tile can start")
-        k, c, start = pick
-        d = dur.get((k, c), 0.0) / speeds[w]
-        end = start + d
-        done_at[(k, c)] = end
+        p, k, start = best
+        c = next_col[p][k]
+        if c == 0 and first[image_band(p, k)] is None:
+            first[image_band(p, k)] = p
+        j = image_band(p, k)
+        role = 0 if first[j] == p else 1
+        end = start + role_dur[role].get((j, image_col(p, c)), 0.0) / speeds[w]
+        done_at[p][(k, c)] = end
+        next_col[p][k] = c + 1
         if c == cols - 1:
-            end += decides.get(k, 0.0) / speeds[w]
-            band_done[k] = end
-            while low < bands and band_done[low] is not None:
-                low += 1
-        next_col[k] = c + 1
+            band_done[p][k] = end
+            j = image_band(p, k)
+            if first[j] != p:  # the second pass decides the band
+                end += decides.get(j, 0.0) / speeds[w]
+            while low[p] < bands and band_done[p][low[p]] is not None:
+                low[p] += 1
         remaining -= 1
+        end_all = max(end_all, end)
         heapq.heappush(free, (end, w))
-    return max(list(done_at.values()) + [b for b in band_done if b is not None] + [0.0])
+    return end_all
 
 
 def split_fill(items):
@@ -182,11 +220,9 @@ def predict(frame, workers, speeds=None):
     for r in frame["runs"]:
         tiles = [i for i in r["items"] if i["name"] == "path tile"]
         if tiles:
-            p = tiles[0]["args"]["a"]
-            cols, lead = frame["plans"][p]
             decides = {i["args"]["a"]: i["dur"] for i in r["items"] if i["name"] == "decide band"}
             covered = sum(i["dur"] for i in tiles) + sum(decides.values())
-            t = wavefront(tiles, decides, cols, lead, workers, speeds) + max(0.0, r["dur"] - covered) / speeds[0]
+            t = paths_run(tiles, decides, frame["plan"], workers, speeds) + max(0.0, r["dur"] - covered) / speeds[0]
         elif r["items"]:
             covered = sum(i["dur"] for i in r["items"])
             t = chunks(r["items"], max(0.0, r["dur"] - covered), workers, speeds)
@@ -218,65 +254,104 @@ def predict(frame, workers, speeds=None):
 
 
 def median_frame(frames):
-    """One frame whose every duration is the median over frames of the same
-    pair (the same items in the same order): a span that another process
-    preempted in one frame does not count as the item's own cost."""
+    """One frame whose every part is the median over frames of the same pair
+    (the same items in the same order): each item's duration, each run's time
+    outside its items, each stage's time outside its runs and items, the gaps
+    between stages. An item that another process preempted in one frame does
+    not count as the item's own cost."""
     first = frames[0]
     shape = lambda f: ([len(r["items"]) for r in f["runs"]], sorted((k, len(v)) for k, v in f["loose"].items()),
-                       len(f["stages"]))
+                       [st["name"] for st in f["stages"]])
     if any(shape(f) != shape(first) for f in frames[1:]):
-        sys.exit("scaling_model: --same-frames, but the frames differ in their runs or items")
-    med = lambda xs: statistics.median(xs)
-    out = {"dur": med([f["dur"] for f in frames]), "plans": first["plans"], "stages": [], "runs": [], "loose": {}}
-    for j, st in enumerate(first["stages"]):
-        out["stages"].append(dict(st, dur=med([f["stages"][j]["dur"] for f in frames])))
+        sys.exit("scaling_model: --same-frames, but the frames differ in their runs, items or stages")
+    med = statistics.median
+    out = {"plan": first["plan"], "schedule": first["schedule"], "stages": [], "runs": [], "loose": {}}
     for j, r in enumerate(first["runs"]):
         items = [dict(it, dur=med([f["runs"][j]["items"][m]["dur"] for f in frames])) for m, it in enumerate(r["items"])]
-        out["runs"].append(dict(r, dur=med([f["runs"][j]["dur"] for f in frames]), items=items))
+        rest = med([f["runs"][j]["dur"] - sum(i["dur"] for i in f["runs"][j]["items"]) for f in frames])
+        out["runs"].append(dict(r, dur=sum(i["dur"] for i in items) + rest, items=items))
     for k, items in first["loose"].items():
         out["loose"][k] = [dict(it, dur=med([f["loose"][k][m]["dur"] for f in frames])) for m, it in enumerate(items)]
+    # A stage: the median of its own time (outside its runs and loose items)
+    # plus its runs' and items' median times.
+    for j, st in enumerate(first["stages"]):
+        def inner(f, st_f):
+            t0, t1 = st_f["ts"], st_f["ts"] + st_f["dur"]
+            runs = sum(r["dur"] for r in f["runs"] if r["start"] >= t0 - 1e-3 and r["start"] + r["dur"] <= t1 + 1e-3)
+            loose = sum(i["dur"] for v in f["loose"].values() for i in v
+                        if i["ts"] >= t0 - 1e-3 and i["ts"] + i["dur"] <= t1 + 1e-3)
+            return runs + loose
+        own = med([f["stages"][j]["dur"] - inner(f, f["stages"][j]) for f in frames])
+        out["stages"].append(dict(st, dur=own + inner(out, dict(st, dur=first["stages"][j]["dur"]))
+                                  if False else own))
+        out["stages"][-1]["_own"] = own
+    # Rebuild the stage durations from the median parts, on frame 0's timeline
+    # (containment only uses frame 0's times).
+    for j, st in enumerate(out["stages"]):
+        t0, t1 = first["stages"][j]["ts"], first["stages"][j]["ts"] + first["stages"][j]["dur"]
+        runs = sum(r["dur"] for r in out["runs"] if r["start"] >= t0 - 1e-3 and r["start"] + r["dur"] <= t1 + 1e-3)
+        loose = sum(i["dur"] for v in out["loose"].values() for i in v
+                    if i["ts"] >= t0 - 1e-3 and i["ts"] + i["dur"] <= t1 + 1e-3)
+        st["dur"] = st.pop("_own") + runs + loose
+        st["ts"] = first["stages"][j]["ts"]
+    gaps = med([f["dur"] - sum(st["dur"] for st in f["stages"] if not any(
+        o is not st and o["ts"] <= st["ts"] + 1e-3 and st["ts"] + st["dur"] <= o["ts"] + o["dur"] + 1e-3
+        for o in f["stages"])) for f in frames])
+    top = [st for st in out["stages"] if not any(
+        o is not st and o["ts"] <= st["ts"] + 1e-3 and st["ts"] + st["dur"] <= o["ts"] + o["dur"] + 1e-3
+        for o in first["stages"])]
+    out["dur"] = gaps + sum(st["dur"] for st in top)
     return out
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("trace", help="a one-worker trace (tristereo profile --threads 1 --trace FILE)")
-    ap.add_argument("--measured", help="a trace of the same frames on more workers, to compare with")
-    ap.add_argument("--workers", default="1,2,4,8,16", help="worker counts to predict (default 1,2,4,8,16)")
+    ap.add_argument("traces", nargs="+",
+                    help="one-worker traces: the first cut for 1 worker (tristereo profile --threads 1 --trace FILE), "
+                         "the others cut for N workers (--schedule-workers N)")
+    ap.add_argument("--measured", help="a trace of the same frames on 2 (or more) workers, to compare with")
     ap.add_argument("--slow", type=float, metavar="S",
                     help="also predict each count with its last worker at speed S (e.g. 0.5: a core half as fast, "
                          "an A55 beside A76s) beside the ideal, the work of N - 1 + S equal workers")
     ap.add_argument("--same-frames", action="store_true",
-                    help="the trace's frames are one pair repeated (profile --left/--right): replay one frame "
+                    help="the traces' frames are one pair repeated (profile --left/--right): replay one frame "
                          "whose every duration is the median over them")
     args = ap.parse_args()
-    events, workers = load(args.trace)
-    if workers != 1:
-        sys.exit(f"scaling_model: {args.trace} was recorded with {workers} workers; give a one-worker trace")
-    frames = frames_of(events)
-    if not frames:
-        sys.exit(f"scaling_model: {args.trace} holds no frame")
-    if args.same_frames:
-        frames = [median_frame(frames)]
-    counts = [int(x) for x in args.workers.split(",")]
-    rows = {}
+    per_count = {}  # workers -> frames cut for them
+    for path in args.traces:
+        events, workers = load(path)
+        if workers != 1:
+            sys.exit(f"scaling_model: {path} was recorded with {workers} workers; give one-worker traces")
+        frames = frames_of(events)
+        if not frames:
+            sys.exit(f"scaling_model: {path} holds no frame")
+        if args.same_frames:
+            frames = [median_frame(frames)]
+        schedule = frames[0]["schedule"]
+        for n in ([1, 2] if schedule <= 2 else [schedule]):
+            per_count.setdefault(n, frames)
+    if 1 not in per_count:
+        sys.exit("scaling_model: the first trace must be cut for one worker (no --schedule-workers)")
+
+    def median_prediction(n, speeds=None):
+        preds = [predict(f, n, speeds) for f in per_count[n]]
+        stages = {}
+        for _, st, _ in preds:
+            for k, v in st.items():
+                stages.setdefault(k, []).append(v)
+        even = set().union(*(e for _, _, e in preds))
+        return statistics.median(t for t, _, _ in preds), {k: statistics.median(v) for k, v in stages.items()}, even
+
+    counts = sorted(per_count)
+    rows = {n: median_prediction(n) for n in counts}
+    base_total, base_stages, _ = rows[1]
+    print(f"scaling model: medians in ms (speed-up over 1 worker); N >= 3 from the traces cut for N")
+    names = [s for s in STAGES + ["other"] if s in base_stages]
+    print(f"{'workers':>8} {'frame':>15}" + "".join(f" {s:>17}" for s in names))
     even = set()
     for n in counts:
-        totals, per_stage = [], {}
-        for f in frames:
-            total, stages, ev = predict(f, n)
-            even |= ev
-            totals.append(total)
-            for s, t in stages.items():
-                per_stage.setdefault(s, []).append(t)
-        rows[n] = (statistics.median(totals), {s: statistics.median(v) for s, v in per_stage.items()})
-    base_total, base_stages = rows[counts[0]] if counts[0] == 1 else predict(frames[0], 1)[:2]
-    print(f"scaling model: {len(frames)} frame(s) of {args.trace}, medians in ms (speed-up over 1 worker)")
-    names = [s for s in STAGES + ["other"] if s in base_stages]
-    header = f"{'workers':>8} {'frame':>15}" + "".join(f" {s:>17}" for s in names)
-    print(header)
-    for n in counts:
-        total, st = rows[n]
+        total, st, ev = rows[n]
+        even |= ev
         line = f"{n:>8} {total / 1000:8.2f} ({base_total / total:4.2f}x)"
         for s in names:
             line += f" {st[s] / 1000:8.2f} ({base_stages[s] / st[s]:5.2f}x)" if st.get(s) else f" {'':>17}"
@@ -289,18 +364,17 @@ def main():
         for n in counts:
             if n < 2:
                 continue
-            speeds = [1.0] * (n - 1) + [args.slow]
-            slow = statistics.median(predict(f, n, speeds)[0] for f in frames)
+            slow = median_prediction(n, [1.0] * (n - 1) + [args.slow])[0]
             ideal = base_total / (n - 1 + args.slow)
-            even_n = rows[n][0]
-            print(f"{n:>8} {slow / 1000:8.2f} ms; all at full speed {even_n / 1000:.2f} ms; "
+            print(f"{n:>8} {slow / 1000:8.2f} ms; all at full speed {rows[n][0] / 1000:.2f} ms; "
                   f"ideal {ideal / 1000:.2f} ms; slow / ideal = {slow / ideal:.2f}")
     if args.measured:
         m_events, m_workers = load(args.measured)
         m_frames = frames_of(m_events)
         measured = statistics.median(f["dur"] for f in m_frames)
-        predicted = rows[m_workers][0] if m_workers in rows else statistics.median(
-            predict(f, m_workers)[0] for f in frames)
+        if m_workers not in rows:
+            sys.exit(f"scaling_model: no trace cut for {m_workers} workers to compare {args.measured} with")
+        predicted = rows[m_workers][0]
         print(f"measured on {m_workers} workers: {measured / 1000:.2f} ms (median of {len(m_frames)} frames); "
               f"predicted {predicted / 1000:.2f} ms: prediction / measured = {predicted / measured:.3f}")
 
