@@ -22,7 +22,8 @@ workers by a list scheduler:
   N + 1 bands back to be done; a band of rows is started by the first pass to
   reach it, the other pass starts it once the first has done it; a free
   worker takes the ready tile of the lowest band of its own pass (even
-  workers forward, odd ones backward), else of the other pass; a band's
+  workers forward, odd ones backward), else of the other pass (unless the
+  passes are cut into whole rows: up to two workers); a band's
   decision ("decide band") follows its last tile on the same worker;
 - a run with other items (rows of costs, rows of the tritree's tiles, rows of
   interpolation tiles, a fill round's walk split in its chunks) hands them out
@@ -148,7 +149,9 @@ def paths_run(tiles, decides, plan, workers, speeds=None):
         t, w = heapq.heappop(free)
         own = w % 2
         best = None
-        for p in (own, 1 - own):
+        # A pass cut into whole rows is one chain: with two or more workers,
+        # each keeps to its own pass (path_matcher.cpp).
+        for p in ((own, 1 - own) if workers == 1 or cols > 1 else (own,)):
             for k in range(low[p], min(bands, low[p] + in_flight)):
                 r = ready_time(p, k)
                 if r is None:

@@ -684,14 +684,18 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
   pool.run([&](int w) {
     RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
     const int own = w & 1;  // even workers begin forward, odd ones backward
+    // A pass cut into whole rows is one chain: a second worker on it would
+    // only wait for the first and pull its rows across the cores, so with
+    // such a plan each worker keeps to its own pass (one worker does both).
+    const int passes_to_try = pool.size() == 1 || plans[1 - own].cols > 1 ? 2 : 1;
     for (int spins = 0;;) {
       int band = 0, col = 0, pass = -1;
-      for (int q = 0; q < 2 && pass < 0; ++q) {
+      for (int q = 0; q < passes_to_try && pass < 0; ++q) {
         const int p = q == 0 ? own : 1 - own;
         if (wavefront_[p].try_next(&band, &col, [&](int k) { return may_start(p, k); })) pass = p;
       }
       if (pass < 0) {
-        if (wavefront_[0].finished() && wavefront_[1].finished()) break;
+        if (wavefront_[own].finished() && (passes_to_try == 1 || wavefront_[1 - own].finished())) break;
         if (++spins < 64) cpu_relax();
         else std::this_thread::yield();
         continue;
