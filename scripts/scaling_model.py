@@ -164,7 +164,17 @@ def paths_run(tiles, decides, plan, workers, speeds=None):
             if best is not None and best[2] <= t:
                 break
         if best is None:
-            raise RuntimeError("scaling_model: no tile can start")
+            # Nothing this worker may take can start before another worker
+            # finishes a tile: wait for the next one to (or stop, when its
+            # passes are done).
+            passes = (own, 1 - own) if workers == 1 or cols > 1 else (own,)
+            if all(low[p] >= bands for p in passes):
+                continue
+            later = [x for x, _ in free if x > t]
+            if not later:
+                raise RuntimeError("scaling_model: no tile can start")
+            heapq.heappush(free, (min(later), w))
+            continue
         p, k, start = best
         c = next_col[p][k]
         if c == 0 and first[image_band(p, k)] is None:
