@@ -14,7 +14,7 @@ import sys
 
 COLOURS = {
     "tritree rows": "#4c72b0", "cost rows": "#dd8452", "path tile": "#55a868", "decide band": "#c44e52",
-    "interpolation tiles": "#8172b3", "fill triangles": "#da8bc3", "run": "#d0d0d0",
+    "interpolation tiles": "#8172b3", "fill items": "#da8bc3", "run": "#d0d0d0",
 }
 STAGE_COLOURS = {
     "tritree": "#4c72b0", "costs": "#dd8452", "paths": "#55a868",

@@ -198,13 +198,13 @@ def paths_run(tiles, decides, plan, workers, speeds=None):
 
 
 def split_fill(items):
-    """A fill round walked whole by one worker ("fill triangles" over a..b)
+    """A fill round walked whole by one worker ("fill items" over a..b)
     is shared in chunks of c triangles when it has two or more: its time is
     split in proportion."""
     out = []
     for i in items:
         a, b, c = i["args"].get("a", 0), i["args"].get("b", 0), i["args"].get("c", 0)
-        if i["name"] == "fill triangles" and c > 0 and b - a > c:
+        if i["name"] == "fill items" and c > 0 and b - a > c:
             parts = (b - a + c - 1) // c
             out += [dict(i, dur=i["dur"] * min(c, b - a - k * c) / (b - a)) for k in range(parts)]
         else:

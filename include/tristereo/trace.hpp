@@ -42,7 +42,8 @@ enum class TraceKind : std::uint8_t {
   kCostRows,        // a = first row, b = end row
   kInterpolationTiles,  // a = first row of tiles, b = end
   kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission), b = row of tiles
-  kFillChunk,       // a fill round's walk over triangles a .. b - 1, handed out in chunks of c
+  kFillChunk,       // a fill round over items a .. b - 1 (mesh triangles, or a grid's invalid
+                    // samples), handed out in chunks of c
   kCount
 };
 

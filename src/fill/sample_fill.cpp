@@ -95,12 +95,20 @@ int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, Th
   for (;;) {
     if (pool != nullptr && pool->size() > 1 && pending >= 2 * kPendingPerChunk) {
       chunks_.reset(0, pending, kPendingPerChunk);
-      pool->run([&](int) {
+      pool->run([&](int wk) {
         int j0 = 0, j1 = 0;
-        while (chunks_.next(&j0, &j1)) candidates(j0, j1);
+        while (chunks_.next(&j0, &j1)) {
+          const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+          candidates(j0, j1);
+          if (trace_ != nullptr) trace_->record(wk, TraceKind::kFillChunk, t0, monotonic_ns(), j0, j1, kPendingPerChunk);
+        }
       });
-    } else {
+    } else if (trace_ == nullptr) {
       candidates(0, pending);
+    } else {  // one item (c: the chunk a pool would take)
+      const std::int64_t t0 = monotonic_ns();
+      candidates(0, pending);
+      trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), 0, pending, kPendingPerChunk);
     }
     const int now = write_round(pending_.get(), &pending, disp_q4, [cand](int j, int) { return cand[j]; });
     filled += now;

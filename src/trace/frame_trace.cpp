@@ -27,7 +27,7 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kCostRows: return "cost rows";
     case TraceKind::kInterpolationTiles: return "interpolation tiles";
     case TraceKind::kTritreeRows: return "tritree rows";
-    case TraceKind::kFillChunk: return "fill triangles";
+    case TraceKind::kFillChunk: return "fill items";
     case TraceKind::kCount: break;
   }
   return "?";
