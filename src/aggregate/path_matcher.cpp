@@ -715,13 +715,7 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
       // The band's S is complete: decide its rows while they are in cache.
       int y0 = 0, y1 = 0;
       band_rows(plans[pass], band, samples.height, &y0, &y1);
-      for (int y = y0; y < y1; ++y) {
-        const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
-        if (v0 == v1) continue;
-        decide.begin_row(y);
-        for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
-        decide.end_row();
-      }
+      for (int y = y0; y < y1; ++y) decide.row(y);
       if (trace_ != nullptr) trace_->record(w, TraceKind::kDecideBand, t1, monotonic_ns(), j);
     }
     if (disp_q4 != nullptr) rejected.add(decide.rejected);
@@ -745,6 +739,14 @@ PathMatcher::RowDecider::RowDecider(const PathMatcher& pm, const SampleLayout& s
                                     std::int16_t* disp_q4)
     : pm_(pm), samples_(samples), wk_(wk), disp_q4_(disp_q4),
       lr_(pm.params_.validity.lr_max_diff_q4 >= 0 && pm.params_.validity.lr_source == LrSource::kSummedCosts) {}
+
+void PathMatcher::RowDecider::row(int y) {
+  const int v0 = samples_.row_begin(y), v1 = samples_.row_end(y);
+  if (v0 == v1) return;
+  begin_row(y);
+  for (int i = v0; i < v1; ++i) sample(i, pm_.sum_.get() + PathMatcher::row(i, pm_.cost_stride_));
+  end_row();
+}
 
 void PathMatcher::RowDecider::begin_row(int y) {
   v0_ = samples_.row_begin(y);
@@ -813,13 +815,7 @@ PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPoo
     RowDecider decide(*this, samples, wk, disp_q4);
     int y0 = 0, y1 = 0;
     while (rows_.next(&y0, &y1))
-      for (int y = y0; y < y1; ++y) {
-        const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
-        if (v0 == v1) continue;
-        decide.begin_row(y);
-        for (int i = v0; i < v1; ++i) decide.sample(i, sum_.get() + row(i, cost_stride_));
-        decide.end_row();
-      }
+      for (int y = y0; y < y1; ++y) decide.row(y);
     rejected.add(decide.rejected);
   });
   return rejected.total();

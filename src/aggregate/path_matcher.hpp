@@ -122,6 +122,8 @@ class PathMatcher {
   class RowDecider {
    public:
     RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk, std::int16_t* disp_q4);
+    // Every sample of image row y from its complete S.
+    void row(int y);
     void begin_row(int y);
     void sample(int i, const std::uint16_t* total);  // S(i, .)
     void end_row();
