@@ -23,17 +23,6 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-std::string folder_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
-std::string name_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
 // The absolute path a file would have, links in its folder resolved; the path
 // itself if the folder cannot be resolved (then it is reported missing anyway).
 std::string resolved(const std::string& path) {
@@ -97,6 +86,17 @@ void check_output_paths(const Args& args, const std::vector<OutputOption>& outpu
       throw Error(ErrorCode::kIoError, opt + " " + path + ": cannot write into folder '" + dir +
                                            "': " + std::strerror(errno));
   }
+}
+
+std::string folder_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+std::string name_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 }  // namespace tristereo::cli

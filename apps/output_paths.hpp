@@ -34,4 +34,9 @@ void check_output_paths(const Args& args, const std::vector<OutputOption>& outpu
 // True when both paths name the same file (existing or to be created).
 bool same_file(const std::string& a, const std::string& b);
 
+// The folder a path names a file in ("." for a bare name, "/" at the root),
+// and the file's name in it.
+std::string folder_of(const std::string& path);
+std::string name_of(const std::string& path);
+
 }  // namespace tristereo::cli

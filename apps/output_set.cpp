@@ -11,22 +11,12 @@
 #include <cstring>
 
 #include "apps/option_errors.hpp"
+#include "apps/output_paths.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo::cli {
 
 namespace {
-
-std::string folder_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
-std::string name_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
 
 std::string extension_of(const std::string& name) {
   const std::size_t dot = name.find_last_of('.');

@@ -1090,23 +1090,26 @@ std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint
 // three-way deinterleave, and the compiler's grouped loads are what a hand
 // version would write (pshufb on AVX2, ld3 on NEON). Plain SSE2 has no byte
 // shuffle, so there the loop stays scalar (the same as the scalar twin).
-template <class Arch>
-void RgbToGrayRowU8<Arch>::call(const std::uint8_t* rgb, int n, std::uint8_t* gray) {
+// kR, kB: where red and blue sit in a triplet (RGB: 0, 2; BGR: 2, 0). A
+// template of the arch too, so that each arch's file keeps its own copy.
+template <class Arch, int kR, int kB>
+void triplets_to_gray_row(const std::uint8_t* px, int n, std::uint8_t* gray) {
   const auto count = static_cast<std::size_t>(n > 0 ? n : 0);
   for (std::size_t x = 0; x < count; ++x) {
-    const unsigned r = rgb[3 * x], g = rgb[3 * x + 1], b = rgb[3 * x + 2];
+    const unsigned r = px[3 * x + kR], g = px[3 * x + 1], b = px[3 * x + kB];
     gray[x] = static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
   }
 }
 
-// The same for BGR triplets (twin: bgr_to_gray_row_scalar), vectorised the same way.
+template <class Arch>
+void RgbToGrayRowU8<Arch>::call(const std::uint8_t* rgb, int n, std::uint8_t* gray) {
+  triplets_to_gray_row<Arch, 0, 2>(rgb, n, gray);
+}
+
+// The same for BGR triplets (twin: bgr_to_gray_row_scalar).
 template <class Arch>
 void BgrToGrayRowU8<Arch>::call(const std::uint8_t* bgr, int n, std::uint8_t* gray) {
-  const auto count = static_cast<std::size_t>(n > 0 ? n : 0);
-  for (std::size_t x = 0; x < count; ++x) {
-    const unsigned b = bgr[3 * x], g = bgr[3 * x + 1], r = bgr[3 * x + 2];
-    gray[x] = static_cast<std::uint8_t>((77u * r + 150u * g + 29u * b + 128u) >> 8);
-  }
+  triplets_to_gray_row<Arch, 2, 0>(bgr, n, gray);
 }
 
 // One pass over the sums for their minimum and the right view's winners
