@@ -170,6 +170,18 @@ TEST(RtinLayout, TileSideAndVirtualGrid) {
 
 // ------------------------------------------------------------ pixel moments
 
+// An owned pixel lies in the closed triangle (every edge function >= 0), so
+// the brute-force sums need only its bounding box: a whole-image scan per leaf
+// made the Middlebury invariants test minutes long under qemu and ASan.
+struct Box {
+  int x0, y0, x1, y1;
+};
+Box box_of(const ImageU8& img, Vertex a, Vertex b, Vertex c) {
+  return Box{std::max(0, std::min({a.x, b.x, c.x})), std::max(0, std::min({a.y, b.y, c.y})),
+             std::min(img.width - 1, std::max({a.x, b.x, c.x})),
+             std::min(img.height - 1, std::max({a.y, b.y, c.y}))};
+}
+
 // The model's SSE, straight from the definition: pixels by the fill rule,
 // residual r = n_x (x - Ax) + n_y (y - Ay) + area2 (I - I_A).
 std::uint64_t sse_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, std::int64_t* n_px) {
@@ -179,8 +191,9 @@ std::uint64_t sse_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, 
   const std::int64_t n_x = uy * vi - ui * vy, n_y = ui * vx - ux * vi, area2 = ux * vy - uy * vx;
   std::uint64_t sse = 0;
   *n_px = 0;
-  for (int y = 0; y < img.height; ++y) {
-    for (int x = 0; x < img.width; ++x) {
+  const Box box = box_of(img, a, b, c);
+  for (int y = box.y0; y <= box.y1; ++y) {
+    for (int x = box.x0; x <= box.x1; ++x) {
       if (!owns_pixel(a, b, c, x, y, img.width, img.height)) continue;
       const std::int64_t r = n_x * (x - a.x) + n_y * (y - a.y) + area2 * (img.at(x, y) - ia);
       sse += static_cast<std::uint64_t>(r * r);
@@ -192,8 +205,9 @@ std::uint64_t sse_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, 
 
 PixelMoments moments_brute_force(const ImageU8& img, Vertex a, Vertex b, Vertex c, int ox, int oy) {
   PixelMoments m;
-  for (int y = 0; y < img.height; ++y) {
-    for (int x = 0; x < img.width; ++x) {
+  const Box box = box_of(img, a, b, c);
+  for (int y = box.y0; y <= box.y1; ++y) {
+    for (int x = box.x0; x <= box.x1; ++x) {
       if (owns_pixel(a, b, c, x, y, img.width, img.height)) m.add_pixel(x - ox, y - oy, img.at(x, y));
     }
   }
