@@ -39,6 +39,7 @@
 #include "src/profile/latency_stats.hpp"
 #include "src/profile/profile_report.hpp"
 #include "src/profile/rss_trace.hpp"
+#include "tristereo/verify.hpp"
 #include "tristereo/gray.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
@@ -502,6 +503,7 @@ int cmd_profile(int argc, char** argv) {
   FrameLog log(static_cast<std::size_t>(frames));
   RssTrace rss(frames, RssTrace::interval_for(frames, kRssSamples));
   ProgressLine progress(quiet);
+  ProfileOutputCheck output_check;
 
   std::vector<ImageView<const std::uint8_t>> lefts, rights;
   for (std::size_t k = 0; k < ring.size(); ++k) {
@@ -550,6 +552,18 @@ int cmd_profile(int argc, char** argv) {
       log.push(s);
       const int done = i - warmup + 1;
       if (rss.due(done)) rss.push(done, current_rss_bytes());  // outside the timed frame
+      // Outside the timed frame too; the digest's strings are made only twice.
+      if (i == warmup) {
+        output_check.first_frame = 0;
+        output_check.first_input = static_cast<std::int64_t>(slot);
+        output_check.first_digest = digest_hex(out);
+      }
+      if (i == run_frames - 1) {
+        output_check.has = true;
+        output_check.last_frame = done - 1;
+        output_check.last_input = static_cast<std::int64_t>(slot);
+        output_check.last_digest = digest_hex(out);
+      }
       progress.update("frame", done, frames, s.total_ns);
     } else {
       progress.update("warm-up", i + 1, warmup, t1 - t0);
@@ -585,7 +599,7 @@ int cmd_profile(int argc, char** argv) {
   rc.frames = frames;
   rc.working_memory_bytes = static_cast<std::int64_t>(pipeline.working_memory_bytes());
   const ProfileMachine machine{cpu_model_name(), online_cpu_count()};
-  const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss);
+  const ProfileReport report = make_profile_report(rc, log, wall_ns, peak_rss_bytes(), machine, &rss, &output_check);
 
   OutputSet outputs;
   add_report(outputs, "--csv", csv_path, [&](std::ostream& os) { write_frames_csv(os, log, rc); });

@@ -538,12 +538,44 @@ TEST(ProfileJson, RssAndDriftParseBack) {
   EXPECT_NEAR(drift["first"]["p50_ms"].number, 1.0, 1e-9);
   EXPECT_NEAR(drift["last"]["p99_ms"].number, 1.5, 1e-9);
   EXPECT_NEAR(drift["p50_change_pct"].number, 50.0, 1e-9);
+  EXPECT_NEAR(drift["p99_change_pct"].number, 50.0, 1e-9);
+  EXPECT_NEAR(drift["first_cpu"]["p99_ms"].number, 1.0, 1e-9);
+  EXPECT_NEAR(drift["last_cpu"]["p50_ms"].number, 1.5, 1e-9);
+  EXPECT_EQ(j["outputs"].kind, Json::kNull);  // no check given
   std::ostringstream table;
   write_profile_table(table, r);
   EXPECT_NE(table.str().find("RSS over the loop: start 10.00 MiB, end 10.29 MiB (+300 KiB), max 12.00 MiB (4 samples)"),
             std::string::npos)
       << table.str();
   EXPECT_NE(table.str().find("(+50.0 %)"), std::string::npos) << table.str();
+}
+
+TEST(ProfileJson, OutputCheckSaysWhetherTheLastFrameEqualsTheFirst) {
+  ProfileOutputCheck check;
+  check.has = true;
+  check.first_frame = 0;
+  check.last_frame = 2499;
+  check.first_input = 3;
+  check.last_input = 3;
+  check.first_digest = "mesh=00ff disp=0a";
+  check.last_digest = check.first_digest;
+  for (const bool same : {true, false}) {
+    if (!same) check.last_digest = "mesh=00ff disp=0b";
+    const ProfileReport r =
+        make_profile_report(make_config(false, 2500), drifting_log(2500), 1000, 0, kMachine, nullptr, &check);
+    std::ostringstream os;
+    write_profile_json(os, r);
+    const Json j = parse_json_or_fail(os.str());
+    const Json& o = j["outputs"];
+    EXPECT_EQ(o["last_frame"].number, 2499);
+    EXPECT_EQ(o["first_input"].number, 3);
+    EXPECT_EQ(o["first_digest"].text, "mesh=00ff disp=0a");
+    EXPECT_TRUE(o["same_input"].boolean);
+    EXPECT_EQ(o["identical"].boolean, same);
+    std::ostringstream table;
+    write_profile_table(table, r);
+    EXPECT_NE(table.str().find(same ? "(identical)" : "(DIFFERENT)"), std::string::npos) << table.str();
+  }
 }
 
 }  // namespace

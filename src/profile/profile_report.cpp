@@ -68,7 +68,8 @@ std::string cpu_list_text(const std::vector<int>& cpus) {
 
 ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog& log,
                                   std::int64_t wall_ns, std::int64_t peak_rss_bytes,
-                                  const ProfileMachine& machine, const RssTrace* rss) {
+                                  const ProfileMachine& machine, const RssTrace* rss,
+                                  const ProfileOutputCheck* outputs) {
   if (log.size() == 0) {
     throw Error(ErrorCode::kInvalidArgument, "profile report of 0 measured frames (need >= 1)");
   }
@@ -102,10 +103,16 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
     const auto n = static_cast<std::ptrdiff_t>(r.drift_window_frames);
     r.first_window = compute_latency_stats({total.begin(), total.begin() + n});
     r.last_window = compute_latency_stats({total.end() - n, total.end()});
-    r.p50_change_pct = r.first_window.p50_ms > 0
-                           ? 100.0 * (r.last_window.p50_ms - r.first_window.p50_ms) / r.first_window.p50_ms
-                           : 0.0;
+    const auto change_pct = [](double first, double last) {
+      return first > 0 ? 100.0 * (last - first) / first : 0.0;
+    };
+    r.p50_change_pct = change_pct(r.first_window.p50_ms, r.last_window.p50_ms);
+    r.p99_change_pct = change_pct(r.first_window.p99_ms, r.last_window.p99_ms);
+    const std::vector<std::int64_t> cpu = log.cpu_column();
+    r.first_window_cpu = compute_latency_stats({cpu.begin(), cpu.begin() + n});
+    r.last_window_cpu = compute_latency_stats({cpu.end() - n, cpu.end()});
   }
+  if (outputs) r.outputs = *outputs;
   return r;
 }
 
@@ -233,7 +240,20 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
     write_stats_json(os, r.first_window);
     os << ",\n    \"last\": ";
     write_stats_json(os, r.last_window);
-    os << ",\n    \"p50_change_pct\": " << fixed(r.p50_change_pct, 3) << "}";
+    os << ",\n    \"p50_change_pct\": " << fixed(r.p50_change_pct, 3)
+       << ", \"p99_change_pct\": " << fixed(r.p99_change_pct, 3) << ",\n    \"first_cpu\": ";
+    write_stats_json(os, r.first_window_cpu);
+    os << ",\n    \"last_cpu\": ";
+    write_stats_json(os, r.last_window_cpu);
+    os << "}";
+  }
+  if (r.outputs.has) {
+    const ProfileOutputCheck& o = r.outputs;
+    os << ",\n  \"outputs\": {\"first_frame\": " << o.first_frame << ", \"first_input\": " << o.first_input
+       << ", \"first_digest\": " << json_quote(o.first_digest) << ",\n    \"last_frame\": " << o.last_frame
+       << ", \"last_input\": " << o.last_input << ", \"last_digest\": " << json_quote(o.last_digest)
+       << ",\n    \"same_input\": " << (o.same_input() ? "true" : "false")
+       << ", \"identical\": " << (o.identical() ? "true" : "false") << "}";
   }
   os << "\n}\n";
 }
@@ -273,12 +293,20 @@ void write_profile_table(std::ostream& os, const ProfileReport& r) {
     os << line;
   }
   if (r.drift_window_frames > 0) {
-    char line[200];
+    char line[300];
     std::snprintf(line, sizeof line,
-                  "drift: p50 of the first %zu frames %.3f ms, of the last %zu %.3f ms (%+.1f %%)\n",
+                  "drift: p50 of the first %zu frames %.3f ms, of the last %zu %.3f ms (%+.1f %%); "
+                  "p99 %.3f -> %.3f ms (%+.1f %%)\n",
                   r.drift_window_frames, r.first_window.p50_ms, r.drift_window_frames,
-                  r.last_window.p50_ms, r.p50_change_pct);
+                  r.last_window.p50_ms, r.p50_change_pct, r.first_window.p99_ms, r.last_window.p99_ms,
+                  r.p99_change_pct);
     os << line;
+  }
+  if (r.outputs.has) {
+    const ProfileOutputCheck& o = r.outputs;
+    os << "outputs: frame " << o.first_frame << " (input " << o.first_input << ") " << o.first_digest << ", frame "
+       << o.last_frame << " (input " << o.last_input << ") " << o.last_digest
+       << (!o.same_input() ? " (different inputs)\n" : o.identical() ? " (identical)\n" : " (DIFFERENT)\n");
   }
 }
 

@@ -52,6 +52,20 @@ struct ProfileMachine {
   int online_cpus = 0;
 };
 
+// Digests (verify.hpp's digest_hex) of the first and last measured frames'
+// outputs, and which input each processed (the index in the source's ring of
+// prepared pairs): on the same input they must be equal.
+struct ProfileOutputCheck {
+  bool has = false;
+  std::int64_t first_frame = 0;  // measured frame numbers, from 0
+  std::int64_t last_frame = 0;
+  std::int64_t first_input = 0;
+  std::int64_t last_input = 0;
+  std::string first_digest;
+  std::string last_digest;
+  bool same_input() const { return first_input == last_input; }
+  bool identical() const { return first_digest == last_digest; }
+};
 struct ProfileStageSummary {
   std::string name;  // profile_stage_name() of the stage
   LatencyStats stats;
@@ -79,6 +93,14 @@ struct ProfileReport {
   LatencyStats first_window;
   LatencyStats last_window;
   double p50_change_pct = 0;  // 100 * (last p50 - first p50) / first p50
+  double p99_change_pct = 0;  // the same for p99
+  // The same windows of the process CPU time per frame: on a shared machine the
+  // wall clock follows the other jobs, the CPU time only tristereo's work.
+  LatencyStats first_window_cpu;
+  LatencyStats last_window_cpu;
+  // The outputs of the first and the last measured frame (a soak asks that the
+  // last frame of a long run equals the first on the same input).
+  ProfileOutputCheck outputs;
 };
 
 constexpr std::size_t kDriftWindowFrames = 1000;
@@ -90,7 +112,8 @@ constexpr std::size_t kDriftWindowFrames = 1000;
 // rss: the resident-memory trace of the loop, or nullptr (no "rss" section).
 ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog& log,
                                   std::int64_t wall_ns, std::int64_t peak_rss_bytes,
-                                  const ProfileMachine& machine, const RssTrace* rss = nullptr);
+                                  const ProfileMachine& machine, const RssTrace* rss = nullptr,
+                                  const ProfileOutputCheck* outputs = nullptr);
 
 // Column names of the per-frame CSV, in order: frame, <stage>_ms...,
 // total_ms, cpu_ms (right_pass_ms and mesh_output_ms only when the config has
