@@ -7,8 +7,10 @@
 # Usage: scripts/consumer-test.sh native [BUILD_DIR]    (default build/, static)
 #        scripts/consumer-test.sh aarch64 [BUILD_DIR]   (default build-cross-aarch64/)
 #
-# native:  installs BUILD_DIR into a temporary prefix (static library), builds
-#          and runs both consumers; then builds the library shared
+# native:  installs BUILD_DIR into a temporary prefix (static library), runs
+#          the installed program from it (synth, match), builds and runs both
+#          consumers and README's example (examples/consumer/match_pair.cpp,
+#          whose disparity must equal the program's byte for byte); then builds the library shared
 #          (BUILD_SHARED_LIBS=ON, in build-shared/), checks that it exports
 #          the tristereo API only, installs it, builds and runs both
 #          consumers against it.
@@ -72,9 +74,28 @@ case "$target" in
       echo "==== consumer[native]: cmake --install $build --prefix $prefix ($kind)"
       cmake --install "$build" --prefix "$prefix" >"$work/install-$kind.log" 2>&1 ||
         { cat "$work/install-$kind.log"; note "install ($kind)" FAILED; continue; }
+      if [ "$kind" = static ]; then
+        # The installed program, run from the prefix: a generated pair, matched.
+        if "$prefix/bin/tristereo" synth "$work/scene" --width 160 --height 120 --ndisp 24 >"$work/prog.log" 2>&1 &&
+           "$prefix/bin/tristereo" match "$work/scene/left.png" "$work/scene/right.png" --ndisp 24 \
+             --disp "$work/prog_disp.pfm" >>"$work/prog.log" 2>&1; then
+          note "installed program ($prefix/bin/tristereo synth, match)" passed
+        else
+          cat "$work/prog.log"
+          note "installed program" FAILED
+        fi
+      fi
       if cmake -S "$src" -B "$work/cmake-$kind" -DCMAKE_PREFIX_PATH="$prefix" >"$work/c-$kind.log" 2>&1 &&
          cmake --build "$work/cmake-$kind" >>"$work/c-$kind.log" 2>&1; then
         run_consumer "find_package ($kind)" env LD_LIBRARY_PATH="$prefix/lib" "$work/cmake-$kind/consumer"
+        # README's example on the same pair: the same disparity file as the program's.
+        if env LD_LIBRARY_PATH="$prefix/lib" "$work/cmake-$kind/match_pair" "$work/scene/left.png" \
+             "$work/scene/right.png" 24 "$work/example_$kind.pfm" &&
+           cmp "$work/example_$kind.pfm" "$work/prog_disp.pfm"; then
+          note "README example ($kind): the program's disparity, byte for byte" passed
+        else
+          note "README example ($kind)" FAILED
+        fi
       else
         cat "$work/c-$kind.log"
         note "find_package ($kind)" "FAILED (configure or build)"
