@@ -39,8 +39,10 @@ together once every one is complete):
   --disp-color OUT.png      colour-mapped disparity for viewing
   --mesh OUT.ply            2.5D mesh (binary PLY; --mesh-ascii for ASCII); vertices in
                             (x, y, disparity) or metric 3D with --camera
-  --camera F,B,CX,CY[,DOFFS]  focal length (px), baseline (m), principal point, Middlebury
-                            doffs (px), within the bounds of docs/calibration.md
+  --camera F,B,CX,CY[,DOFFS]  focal length (px), baseline (metres, or with its unit: 0.12m,
+                            12cm, 120mm; a bare value over 10 is refused as a likely
+                            unit slip), principal point, Middlebury doffs (px), within
+                            the bounds of docs/calibration.md
   --calib FILE              the camera from a calibration file: Middlebury calib.txt, KITTI
                             (P2/P3 or P0/P1) or OpenCV YAML/XML (P1+P2 or Q); sets the metric
                             mesh, --depth, --points and the ROS fields of --stats (metres)

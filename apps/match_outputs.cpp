@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "apps/option_errors.hpp"
 #include "apps/output_paths.hpp"
@@ -21,15 +23,40 @@ namespace tristereo::cli {
 namespace {
 double ms(std::int64_t ns) { return static_cast<double>(ns) / 1e6; }
 
-CameraParams parse_camera(const std::string& text) {
+// --camera's bare baseline (no unit suffix) above this is refused as a likely
+// unit mistake; with an explicit "m" the calibration bounds (calib.hpp) apply.
+constexpr double kMaxBareBaselineM = 10.0;
+
+CameraParams parse_camera(const std::string& text, bool* baseline_unit_given) {
   CameraParams c{};
   double v[5] = {0, 0, 0, 0, 0};
   std::stringstream ss(text);
   std::string item;
   int n = 0;
+  *baseline_unit_given = false;
   while (std::getline(ss, item, ',')) {
     if (n >= 5) throw UsageError("--camera takes at most 5 numbers: F,B,CX,CY[,DOFFS]");
-    v[n++] = parse_double("--camera", item);
+    if (n != 1) {
+      v[n++] = parse_double("--camera", item);
+      continue;
+    }
+    // The baseline may carry its unit: 0.12, 0.12m, 12cm, 120mm.
+    const std::string given = item;
+    double unit_m = 1.0;
+    for (const auto& [suffix, metres] : {std::pair<const char*, double>{"mm", 0.001}, {"cm", 0.01}, {"m", 1.0}}) {
+      const std::size_t len = std::char_traits<char>::length(suffix);
+      if (item.size() > len && item.compare(item.size() - len, len, suffix) == 0) {
+        item.resize(item.size() - len);
+        unit_m = metres;
+        *baseline_unit_given = true;
+        break;
+      }
+    }
+    try {
+      v[n++] = parse_double("--camera", item) * unit_m;
+    } catch (const UsageError&) {
+      throw UsageError("--camera: baseline '" + given + "' is not a number of metres, or one followed by m, cm or mm");
+    }
   }
   if (n < 4) throw UsageError("--camera needs F,B,CX,CY[,DOFFS]");
   c.focal_px = v[0];
@@ -88,11 +115,22 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
     throw UsageError("--points " + args.get("points", "") + ": the file must end in .ply");
   if (camera) {
     *source = "--camera";
-    const CameraParams c = parse_camera(args.get("camera", ""));
+    bool unit_given = false;
+    const CameraParams c = parse_camera(args.get("camera", ""), &unit_given);
     // The bounds every calibration file is held to (calib.hpp), for this
     // input's size; refused now rather than after computing.
     if (const CameraBoundsCheck check = check_camera_bounds(c, width, height))
       throw UsageError("--camera: " + check.message + " (F,B,CX,CY,DOFFS: B in metres)");
+    // A bare baseline is metres. Over 10 m is no robot's rig but a common slip:
+    // a baseline copied in millimetres (Middlebury's files state it so).
+    if (!unit_given && c.baseline > kMaxBareBaselineM) {
+      char msg[300];
+      std::snprintf(msg, sizeof msg,
+                    "--camera: baseline %.6g is taken as metres, and over %g m is not a stereo rig's: "
+                    "in millimetres it would be %.6g m; write the unit (e.g. %.6gmm or %.6gm)",
+                    c.baseline, kMaxBareBaselineM, c.baseline / 1000.0, c.baseline, c.baseline / 1000.0);
+      throw UsageError(msg);
+    }
     return c;
   }
   if (!calib) return std::nullopt;

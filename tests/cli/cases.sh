@@ -143,6 +143,11 @@ run error 2 '--camera: baseline 1e-300 m is outside \[0.0001, 1000\] m' "a basel
   "$M --ndisp 16 --camera 200,1e-300,48,32 --depth z.pfm" "test ! -e z.pfm" "no z.pfm"
 run error 2 '--camera: principal point cy 1000 px is outside \[-64, 128\] px \(for a 96x64 image\)' \
   "principal point far outside the image" "$M --ndisp 16 --camera 200,0.1,48,1000 --depth z.pfm"
+run error 2 '--camera: baseline 120 is taken as metres, and over 10 m is not a stereo rig.s: in millimetres it would be 0.12 m; write the unit \(e.g. 120mm or 0.12m\)' \
+  "a baseline in millimetres without its unit" "$M --ndisp 16 --camera 200,120,48,32 --depth z.pfm" "test ! -e z.pfm" "no z.pfm"
+run error 2 "--camera: baseline '120km' is not a number of metres, or one followed by m, cm or mm" "a baseline unit that is not m, cm or mm" "$M --ndisp 16 --camera 200,120km,48,32 --depth z.pfm"
+run error 2 '--camera: baseline 120000 m is outside \[0.0001, 1000\] m' "a baseline over the bounds with its unit" \
+  "$M --ndisp 16 --camera 200,120000m,48,32 --depth z.pfm"
 run error 2 '--camera needs F,B,CX,CY' "camera with 3 numbers" "$M --ndisp 16 --camera 1,2,3 --mesh m.ply"
 run error 2 '--calib and --camera both set the camera' "two cameras" "$M --ndisp 16 --camera 1,1,0,0 --calib x.txt"
 run error 2 '--depth needs a camera' "depth without a camera" "$M --ndisp 16 --depth z.pfm"
