@@ -51,6 +51,12 @@ together once every one is complete):
   --depth OUT.pfm|OUT.png   metric depth: PFM metres (+inf = invalid) or 16-bit PNG
                             millimetres (0 = invalid); needs --calib or --camera
   --points OUT.ply          the dense map as a coloured point cloud in metres
+  --min-disparity PX        the metric outputs (--depth, --points, metric --mesh) keep
+                            disparities with d + doffs >= PX (default 2: beyond it half a
+                            pixel of disparity error is over a quarter of the depth);
+                            0 keeps every d + doffs > 0
+  --min-depth M, --max-depth M  the metric outputs keep depths in [M, M'] metres (default:
+                            no depth limit)
   --samples OUT.csv         the samples (mesh vertices): x,y,disparity (for eval --samples)
   --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds,
                             and the run's own (run_ms: reading both inputs, configure,
@@ -78,7 +84,7 @@ int cmd_match(int argc, char** argv) {
   const Clock::time_point t_start = Clock::now();
   std::set<std::string> values = {"disp",   "disp-color", "mesh",       "camera", "calib",
                                   "calib-format", "disp-format", "calib-unit", "depth", "points", "samples",
-                                  "stats"};
+                                  "stats", "min-disparity", "min-depth", "max-depth"};
   std::set<std::string> flags = {"reference", "mesh-ascii", "help"};
   add_stereo_options(values, flags);
   Args args(argc, argv, values, flags);
@@ -91,6 +97,12 @@ int cmd_match(int argc, char** argv) {
       {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
       {"calib-format", {"calib"}, nullptr, "it says how to read the calibration file"},
       {"calib-unit", {"calib"}, nullptr, "it gives the unit of an OpenCV calibration file's translations"},
+      {"min-disparity", {"depth", "points", "mesh"}, nullptr, "it limits the metric outputs"},
+      {"min-depth", {"depth", "points", "mesh"}, nullptr, "it limits the metric outputs"},
+      {"max-depth", {"depth", "points", "mesh"}, nullptr, "it limits the metric outputs"},
+      {"min-disparity", {"calib", "camera"}, nullptr, "it limits the metric outputs, which need a camera"},
+      {"min-depth", {"calib", "camera"}, nullptr, "it limits the metric outputs, which need a camera"},
+      {"max-depth", {"calib", "camera"}, nullptr, "it limits the metric outputs, which need a camera"},
   };
   check_option_needs(args, kNeeds);
   const auto& pos = args.positional();
@@ -98,6 +110,7 @@ int cmd_match(int argc, char** argv) {
   // Every option is checked before any file is read: a usage error is
   // reported as one (exit 2) even when an input is missing too.
   (void)stereo_config_from_args(args, 2, 2);
+  (void)depth_limits_from_args(args);
   const std::string& left_path = pos[0];
   const std::string& right_path = pos[1];
   check_output_paths(args, match_output_options(),
@@ -130,6 +143,7 @@ int cmd_match(int argc, char** argv) {
   run.phases.read_inputs_ms = ms_between(t_start, t_mark);
   run.config = config;
   run.camera = camera_from_args(args, left.width, left.height, &run.camera_source);
+  run.depth_limits = depth_limits_from_args(args);
   // The swapped-pair check reads the images only: it runs beside the frame
   // (a one-shot match's wall time, docs/performance.md), its warning printed
   // once the frame is done.

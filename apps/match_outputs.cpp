@@ -248,8 +248,36 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                   c.baseline, p.d_min, p.d_min + p.num_disp - 1, w.x, w.y, w.w, w.h);
     text.resize(text.size() - 3);  // drop "\n}\n": the object goes on
     text += buf;
+    // How many valid pixels the metric outputs leave out by the depth limits.
+    ImageS16 limited = o.disp_q4;
+    const std::int64_t beyond = apply_depth_limits(limited.view(), c, run.depth_limits);
+    std::snprintf(buf, sizeof buf,
+                  ",\n  \"depth_limits\": {\"min_disparity_px\": %.9g, \"min_depth_m\": %.9g, "
+                  "\"max_depth_m\": %.9g, \"pixels_left_out\": %lld}\n}\n",
+                  run.depth_limits.min_disparity_px, run.depth_limits.min_depth_m, run.depth_limits.max_depth_m,
+                  static_cast<long long>(beyond));
+    text.resize(text.size() - 3);
+    text += buf;
   }
   write_text_file(path, text);
+}
+
+DepthLimits depth_limits_from_args(const Args& args) {
+  DepthLimits l;
+  const auto value = [&](const char* opt, double fallback) {
+    if (!args.has(opt)) return fallback;
+    const std::string name = std::string("--") + opt;
+    const double v = parse_double(name, args.get(opt, ""));
+    if (v < 0) throw UsageError(name + " " + args.get(opt, "") + ": expected a value >= 0");
+    return v;
+  };
+  l.min_disparity_px = value("min-disparity", l.min_disparity_px);
+  l.min_depth_m = value("min-depth", l.min_depth_m);
+  l.max_depth_m = value("max-depth", l.max_depth_m);
+  if (args.has("max-depth") && !(l.max_depth_m > l.min_depth_m))
+    throw UsageError("--max-depth " + args.get("max-depth", "") + " must be above --min-depth " +
+                     (args.has("min-depth") ? args.get("min-depth", "") : std::string("(0)")));
+  return l;
 }
 
 const std::vector<OutputOption>& match_output_options() {
@@ -274,19 +302,37 @@ void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& 
       write_disparity_color(path, o.disp_q4.view(), run.config.params.d_min, run.config.params.num_disp);
     });
   const CameraParams* cam = run.camera ? &*run.camera : nullptr;
+  // The metric outputs see the disparities within the depth limits only.
+  ImageS16 metric_disp_q4;
+  std::vector<std::int16_t> metric_vertex_disp_q4;
+  std::int64_t vertices_beyond_limits = 0;
+  if (cam) {
+    if (args.has("depth") || args.has("points")) {
+      metric_disp_q4 = o.disp_q4;
+      apply_depth_limits(metric_disp_q4.view(), *cam, run.depth_limits);
+    }
+    if (args.has("mesh")) {
+      metric_vertex_disp_q4 = o.vertex_disp_q4;
+      const int n = static_cast<int>(metric_vertex_disp_q4.size());
+      if (n > 0)
+        vertices_beyond_limits = apply_depth_limits(
+            {metric_vertex_disp_q4.data(), n, 1, 1, static_cast<std::ptrdiff_t>(n) * 2}, *cam, run.depth_limits);
+    }
+  }
   MeshWriteReport mesh_report;
   if (args.has("mesh"))
     outputs.add("--mesh", args.get("mesh", ""), [&](const std::string& path) {
-      mesh_report = write_mesh_ply(path, o.mesh, o.vertex_disp_q4, left.view(), cam, !args.flag("mesh-ascii"));
+      mesh_report = write_mesh_ply(path, o.mesh, cam ? metric_vertex_disp_q4 : o.vertex_disp_q4, left.view(), cam,
+                                   !args.flag("mesh-ascii"));
     });
   DepthWriteReport depth_report;
   if (args.has("depth") && cam)
     outputs.add("--depth", args.get("depth", ""), [&](const std::string& path) {
-      depth_report = write_depth(path, depth_m_from_disp_q4(o.disp_q4.view(), *cam).view());
+      depth_report = write_depth(path, depth_m_from_disp_q4(metric_disp_q4.view(), *cam).view());
     });
   if (args.has("points") && cam)
     outputs.add("--points", args.get("points", ""), [&](const std::string& path) {
-      write_points_ply(path, o.disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
+      write_points_ply(path, metric_disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
     });
   if (args.has("samples"))
     outputs.add("--samples", args.get("samples", ""), [&](const std::string& path) { write_samples_csv(path, o); });
@@ -299,8 +345,15 @@ void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& 
   if (dropped > 0) {
     std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
               << o.mesh.triangles.size() << " faces left out";
-    if (mesh_report.faces_without_disparity > 0)
+    if (mesh_report.faces_without_disparity > 0) {
       std::cerr << "; " << mesh_report.faces_without_disparity << " touch a vertex without a valid disparity";
+      if (vertices_beyond_limits > 0)
+        std::cerr << " or one of the " << vertices_beyond_limits
+                  << " vertices outside the depth limits (d + doffs < --min-disparity "
+                  << run.depth_limits.min_disparity_px
+                  << " px, e.g. at or beyond infinity: check the camera's doffs and --dmin; or outside "
+                     "--min-depth/--max-depth)";
+    }
     if (mesh_report.faces_behind_camera > 0)
       std::cerr << "; " << mesh_report.faces_behind_camera
                 << " touch a vertex at or beyond infinity (disparity + doffs <= 0: check the "

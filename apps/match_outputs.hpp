@@ -8,6 +8,7 @@
 
 #include "apps/cli_args.hpp"
 #include "apps/output_paths.hpp"
+#include "tristereo/depth.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
@@ -24,6 +25,7 @@ struct MatchRun {
   int threads = 1;
   std::optional<CameraParams> camera;  // from --calib or --camera: metric outputs
   std::string camera_source;           // the calibration file, or "--camera"
+  DepthLimits depth_limits;            // what the metric outputs keep (--min-disparity, --min/max-depth)
   // Where a one-shot run's wall time went before its outputs (--stats
   // "run_ms"; docs/performance.md, "One-shot match"), in ms of steady clock:
   // from the command's start through decoding both inputs, configure(), the
@@ -42,6 +44,9 @@ struct MatchRun {
 std::optional<CameraParams> camera_from_args(const Args& args, int width, int height,
                                              std::string* source);
 
+// --min-disparity PX, --min-depth M, --max-depth M (defaults: DepthLimits's),
+// checked (UsageError naming the option).
+DepthLimits depth_limits_from_args(const Args& args);
 // The output options of match, with the extensions each writes (for
 // check_output_paths, before computing).
 const std::vector<OutputOption>& match_output_options();

@@ -2,6 +2,7 @@
 // and the metric depth they give (include/tristereo/calib.hpp, depth.hpp).
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -17,6 +19,7 @@
 #include "tristereo/depth.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/io.hpp"
+#include "tristereo/pipeline.hpp"
 #include "tristereo/status.hpp"
 
 namespace tristereo {
@@ -389,6 +392,129 @@ TEST_F(Calib, PointCloudRefusesPointsBeyondFloat) {
   EXPECT_NE(m.find("beyond float range"), std::string::npos) << m;
   EXPECT_FALSE(fs::exists(p));
   EXPECT_TRUE(fs::is_empty(dir_)) << "a temporary was left behind";
+}
+
+
+// ---- Depth limits: what the metric outputs keep.
+
+TEST(DepthLimits, KeepExactlyWhatTheyState) {
+  CameraParams cam{};
+  cam.focal_px = 100;
+  cam.baseline = 0.1;  // f B = 10 m px
+  cam.doffs = 1;       // effective disparity d + 1
+  // d (px) -> d + doffs, Z = 10 / (d + 1)
+  const std::int16_t d_q4[] = {kInvalidDispQ4, -16, 0, 8, 16, 17, 16 * 4, 16 * 9, 16 * 19};
+  const auto run = [&](const DepthLimits& l, std::int64_t* removed) {
+    std::vector<std::int16_t> v(std::begin(d_q4), std::end(d_q4));
+    *removed = apply_depth_limits({v.data(), static_cast<int>(v.size()), 1, 1,
+                                   static_cast<std::ptrdiff_t>(v.size() * 2)},
+                                  cam, l);
+    return v;
+  };
+  std::int64_t removed = 0;
+  // Default: d + doffs >= 2 px (d >= 1), no depth limit. -1 px gives d + doffs = 0: no depth.
+  std::vector<std::int16_t> kept = run(DepthLimits{}, &removed);
+  const std::vector<std::int16_t> want_default = {kInvalidDispQ4, kInvalidDispQ4, kInvalidDispQ4, kInvalidDispQ4,
+                                                  16, 17, 64, 144, 304};
+  EXPECT_EQ(kept, want_default);
+  EXPECT_EQ(removed, 3);  // the invalid input is not counted
+  // 0: every d + doffs > 0 (the 0.5 px disparity too).
+  DepthLimits all;
+  all.min_disparity_px = 0;
+  kept = run(all, &removed);
+  EXPECT_EQ(kept[2], 0);
+  EXPECT_EQ(kept[3], 8);
+  EXPECT_EQ(kept[1], kInvalidDispQ4);
+  EXPECT_EQ(removed, 1);
+  // Z in [1, 2] m: d + 1 in [5, 10] px: d = 4 (Z = 2) and d = 9 (Z = 1) kept, both edges inclusive.
+  DepthLimits band;
+  band.min_depth_m = 1;
+  band.max_depth_m = 2;
+  kept = run(band, &removed);
+  const std::vector<std::int16_t> want_band = {kInvalidDispQ4, kInvalidDispQ4, kInvalidDispQ4, kInvalidDispQ4,
+                                               kInvalidDispQ4, kInvalidDispQ4, 64, 144, kInvalidDispQ4};
+  EXPECT_EQ(kept, want_band);
+  EXPECT_EQ(removed, 6);
+}
+
+TEST(DepthLimits, BadValuesAreRefusedNamingTheField) {
+  const auto msg = [](const DepthLimits& l) { return message_of([&] { check_depth_limits(l); }); };
+  DepthLimits l;
+  l.min_disparity_px = -1;
+  EXPECT_NE(msg(l).find("min_disparity_px"), std::string::npos);
+  l = DepthLimits{};
+  l.min_depth_m = std::numeric_limits<double>::infinity();
+  EXPECT_NE(msg(l).find("min_depth_m"), std::string::npos);
+  l = DepthLimits{};
+  l.min_depth_m = 3;
+  l.max_depth_m = 2;
+  EXPECT_NE(msg(l).find("max_depth_m must be above min_depth_m"), std::string::npos);
+  l.max_depth_m = 0;  // no upper limit
+  EXPECT_NO_THROW(check_depth_limits(l));
+}
+
+// On the scenes with a calibration (ETH3D, Middlebury 2014; KITTI 000000 with
+// its devkit calibration above), the default limits leave out the far field
+// the matcher invents: before them depths reach hundreds of metres where the
+// scenes end within tens; after, no depth lies beyond f B / 2, and most of the
+// pixels left out that have ground truth were wrong by more than 2 px.
+TEST_F(Calib, DefaultDepthLimitsLeaveOutTheFarFieldOnRealScenes) {
+  TRISTEREO_REQUIRE_DATA("eth3d");
+  TRISTEREO_REQUIRE_DATA("middlebury2014");
+  TRISTEREO_REQUIRE_DATA("kitti2015");
+  std::vector<std::pair<test::DataScene, CameraParams>> scenes;
+  for (const test::DataScene& s : test::load_data_set("eth3d"))
+    scenes.emplace_back(s, read_calibration(s.dir + "/calib.txt").camera());
+  for (const test::DataScene& s : test::load_data_set("middlebury2014"))
+    scenes.emplace_back(s, read_calibration(s.dir + "/calib.txt").camera());
+  const CameraParams kitti = read_calibration(write("kitti.txt", kKittiText)).camera();
+  for (const test::DataScene& s : test::load_data_set("kitti2015"))
+    if (s.name == "000000") scenes.emplace_back(s, kitti);
+  ASSERT_GE(scenes.size(), 3u);
+  for (const auto& [scene, cam] : scenes) {
+    SCOPED_TRACE(scene.set + "/" + scene.name);
+    PipelineConfig config;
+    config.max_width = scene.left.width;
+    config.max_height = scene.left.height;
+    config.params.num_disp = scene.ndisp;
+    config.threads = 2;
+    Pipeline pipeline;
+    pipeline.configure(config);
+    const StereoOutput& out = pipeline.process(scene.left.view(), scene.right.view());
+    ImageS16 limited = out.disp_q4;
+    const std::int64_t removed = apply_depth_limits(limited.view(), cam, DepthLimits{});
+    const Image<float> z_all = depth_m_from_disp_q4(out.disp_q4.view(), cam);
+    const Image<float> z = depth_m_from_disp_q4(limited.view(), cam);
+    const double far_limit = cam.focal_px * cam.baseline / 2.0;
+    double z_all_max = 0, z_max = 0;
+    // Relative depth errors against the ground truth's depth, of the pixels
+    // the limits leave out and of those they keep.
+    std::vector<double> err_out, err_kept;
+    for (int y = 0; y < z.height; ++y)
+      for (int x = 0; x < z.width; ++x) {
+        if (std::isfinite(z_all.at(x, y))) z_all_max = std::max(z_all_max, double{z_all.at(x, y)});
+        if (std::isfinite(z.at(x, y))) z_max = std::max(z_max, double{z.at(x, y)});
+        const float g = scene.gt.at(x, y);
+        if (out.disp_q4.at(x, y) == kInvalidDispQ4 || !std::isfinite(g) || !(g + cam.doffs > 0)) continue;
+        const double z_gt = cam.focal_px * cam.baseline / (g + cam.doffs);
+        const double z_d = std::isfinite(z_all.at(x, y)) ? z_all.at(x, y) : 1e9;
+        (limited.at(x, y) == kInvalidDispQ4 ? err_out : err_kept).push_back(std::fabs(z_d - z_gt) / z_gt);
+      }
+    const auto median = [](std::vector<double> v) {
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    EXPECT_LE(z_max, far_limit * (1 + 1e-6));
+    std::printf("%s/%s: f B / 2 = %.1f m; depth max %.1f m before the limits, %.1f m after; %lld pixels left "
+                "out; median relative depth error with ground truth: %zu left out %.3f, %zu kept %.4f\n",
+                scene.set.c_str(), scene.name.c_str(), far_limit, z_all_max, z_max,
+                static_cast<long long>(removed), err_out.size(), median(err_out), err_kept.size(),
+                median(err_kept));
+    if (err_out.size() >= 100) {
+      EXPECT_GT(median(err_out), 10 * median(err_kept));
+    }
+  }
 }
 
 }  // namespace

@@ -25,6 +25,26 @@ TRISTEREO_API Image<float> depth_m_from_disp_q4(ImageView<const std::int16_t> di
 // a non-finite disparity is invalid.
 TRISTEREO_API Image<float> depth_m_from_disp_px(ImageView<const float> disp_px, const CameraParams& camera);
 
+// Which disparities the metric outputs keep (depth, point cloud, metric mesh).
+// Depth error grows as Z^2: a disparity error of e px moves Z by about
+// Z * e / (d + doffs), so a half-pixel error at an effective disparity of 2 px
+// is already a quarter of Z. Points beyond that are the rig's far field,
+// left out unless asked for (min_disparity_px = 0).
+struct DepthLimits {
+  double min_disparity_px = 2.0;  // keep d + doffs_px >= this (pixels); 0 = every d + doffs > 0
+  double min_depth_m = 0;         // keep Z >= this; 0 = no lower limit
+  double max_depth_m = 0;         // keep Z <= this; 0 = no upper limit
+};
+// kInvalidArgument unless every limit is finite and >= 0, and max_depth_m is
+// 0 or above min_depth_m. The message names the field.
+TRISTEREO_API void check_depth_limits(const DepthLimits& limits);
+// Sets kInvalidDispQ4 wherever the limits exclude the disparity (the rest is
+// untouched) and returns how many values it invalidated. Works on a dense map
+// (one channel) or a row of vertex disparities (height 1). The test is exact:
+// d + doffs and Z = f B / (d + doffs) in double, as depth_m_from_disp_q4 does.
+TRISTEREO_API std::int64_t apply_depth_limits(ImageView<std::int16_t> disp_q4, const CameraParams& camera,
+                                             const DepthLimits& limits);
+
 // What write_depth wrote.
 struct DepthWriteReport {
   std::int64_t valid = 0;         // pixels with a depth in the file

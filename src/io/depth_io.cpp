@@ -37,6 +37,41 @@ double depth_m(std::int16_t q4, const CameraParams& c) {
 
 }  // namespace
 
+void check_depth_limits(const DepthLimits& l) {
+  const auto bad = [](double v) { return !std::isfinite(v) || v < 0; };
+  if (bad(l.min_disparity_px))
+    throw Error(ErrorCode::kInvalidArgument, "depth limits: min_disparity_px must be finite and >= 0");
+  if (bad(l.min_depth_m))
+    throw Error(ErrorCode::kInvalidArgument, "depth limits: min_depth_m must be finite and >= 0");
+  if (bad(l.max_depth_m))
+    throw Error(ErrorCode::kInvalidArgument, "depth limits: max_depth_m must be finite and >= 0");
+  if (l.max_depth_m > 0 && !(l.max_depth_m > l.min_depth_m))
+    throw Error(ErrorCode::kInvalidArgument, "depth limits: max_depth_m must be above min_depth_m (or 0: no limit)");
+}
+
+std::int64_t apply_depth_limits(ImageView<std::int16_t> disp_q4, const CameraParams& camera,
+                                const DepthLimits& limits) {
+  check_write_view(disp_q4, 1, 1, "apply_depth_limits");
+  check_camera(camera, "apply_depth_limits");
+  check_depth_limits(limits);
+  std::int64_t removed = 0;
+  for (int y = 0; y < disp_q4.height; ++y) {
+    std::int16_t* row = disp_q4.row(y);
+    for (int x = 0; x < disp_q4.width; ++x) {
+      if (row[x] == kInvalidDispQ4) continue;
+      const double effective = row[x] / 16.0 + camera.doffs;
+      const double z = depth_m(row[x], camera);  // +inf when effective <= 0
+      const bool keep = effective > 0 && effective >= limits.min_disparity_px && z >= limits.min_depth_m &&
+                        (limits.max_depth_m == 0 || z <= limits.max_depth_m);
+      if (!keep) {
+        row[x] = kInvalidDispQ4;
+        ++removed;
+      }
+    }
+  }
+  return removed;
+}
+
 Image<float> depth_m_from_disp_q4(ImageView<const std::int16_t> disp_q4, const CameraParams& camera) {
   check_write_view(disp_q4, 1, 1, "depth_m_from_disp_q4");
   check_camera(camera, "depth_m_from_disp_q4");

@@ -148,6 +148,16 @@ run error 2 '--camera: baseline 120 is taken as metres, and over 10 m is not a s
 run error 2 "--camera: baseline '120km' is not a number of metres, or one followed by m, cm or mm" "a baseline unit that is not m, cm or mm" "$M --ndisp 16 --camera 200,120km,48,32 --depth z.pfm"
 run error 2 '--camera: baseline 120000 m is outside \[0.0001, 1000\] m' "a baseline over the bounds with its unit" \
   "$M --ndisp 16 --camera 200,120000m,48,32 --depth z.pfm"
+run error 2 '--min-depth has no effect without --calib or --camera' "a depth limit without a camera" \
+  "$M --ndisp 16 --min-depth 1 --mesh m.ply"
+run error 2 '--max-depth has no effect without --depth, --points or --mesh' "a depth limit without a metric output" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --max-depth 5"
+run error 2 '--max-depth 1 must be above --min-depth 2' "depth limits the wrong way round" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --min-depth 2 --max-depth 1 --depth z.pfm" "test ! -e z.pfm" "no z.pfm"
+run error 2 '--min-disparity -1: expected a value >= 0' "a negative minimum disparity" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --min-disparity -1 --depth z.pfm"
+run error 2 "--max-depth: 'inf' is not a finite number" "an infinite depth limit" \
+  "$M --ndisp 16 --camera 200,0.1,48,32 --max-depth inf --depth z.pfm"
 run error 2 '--camera needs F,B,CX,CY' "camera with 3 numbers" "$M --ndisp 16 --camera 1,2,3 --mesh m.ply"
 run error 2 '--calib and --camera both set the camera' "two cameras" "$M --ndisp 16 --camera 1,1,0,0 --calib x.txt"
 run error 2 '--depth needs a camera' "depth without a camera" "$M --ndisp 16 --depth z.pfm"
@@ -247,7 +257,7 @@ run warning 0 "warning: the disparity range 500..515 leaves no match inside the 
 run warning 0 "warning: the disparity range -200..-185 leaves no match" "range entirely below -W" "$M --ndisp 16 --dmin -200"
 run warning 0 "warning: --threads [0-9]+ with only [0-9]+ CPUs allowed" "more threads than CPUs" "$M --ndisp 16 --threads \$((\$(nproc) + 1))"
 run warning 0 "warning: --threads 2 with only 1 CPUs in --cpus" "more threads than --cpus" "$M --ndisp 16 --threads 2 --cpus 0"
-run warning 0 "warning: --mesh m.ply: [0-9]+ of [0-9]+ faces left out; [0-9]+ touch a vertex at or beyond infinity" \
+run warning 0 "warning: --mesh m.ply: [0-9]+ of [0-9]+ faces left out; [0-9]+ touch a vertex without a valid disparity or one of the [0-9]+ vertices outside the depth limits \(d \+ doffs < --min-disparity 2 px, e.g. at or beyond infinity" \
   "metric mesh with vertices behind the camera" "$M --ndisp 16 --camera 100,1,48,32,-3 --mesh m.ply" "test -s m.ply" "m.ply written"
 run warning 0 "warning: --camera: with doffs -20 px, no disparity searched \(0\.\.15\) gives a finite positive depth" \
   "a doffs that leaves no pixel a depth (without --mesh)" "$M --ndisp 16 --camera 200,0.1,48,32,-20 --depth z.pfm" \
