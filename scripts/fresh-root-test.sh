@@ -6,8 +6,9 @@
 #   1. scripts/demo.sh (the main job); its outputs must exist and be non-empty;
 #   2. TRISTEREO_TEST_SUBSET=exactness scripts/test.sh: every install step
 #      (native and the ARM cross toolchains, qemu-user, target libraries),
-#      the script lint, the native build and the exactness tests, and the aarch64
-#      and armhf builds with their exactness tests under qemu.
+#      the script lint, the native build and the exactness tests, and the
+#      aarch64 build with its exactness tests under qemu (armhf installed and
+#      checked; the host's test command builds and runs it in full).
 # Nothing installed on this machine can help: the root starts with only what
 # debootstrap's minbase variant, git and ca-certificates bring.
 #
@@ -159,9 +160,15 @@ lap "main job (demo.sh)" "${t0}"
 
 # ---------------------------------------------------------------- 2. the test command
 t0=$(date +%s)
-say "test command: TRISTEREO_TEST_SUBSET=exactness scripts/test.sh (inside the root)"
+# aarch64 only: the host's test command builds and runs both ARM targets in
+# full, and armhf's toolchain and libraries are still installed and checked
+# here. Warnings are not errors here: the same compiler built every target
+# with -Werror on the host, and this way the exactness build reuses the main
+# job's objects instead of compiling the library a second time.
+fresh_env="TRISTEREO_TEST_SUBSET=exactness TRISTEREO_CROSS_ARCHS=aarch64 TRISTEREO_TEST_WERROR=OFF"
+say "test command: ${fresh_env} scripts/test.sh (inside the root)"
 rc=0
-in_root "TRISTEREO_TEST_SUBSET=exactness scripts/test.sh" || rc=$?
+in_root "${fresh_env} scripts/test.sh" || rc=$?
 lap "test command (exactness)" "${t0}"
 
 echo
