@@ -29,13 +29,25 @@ if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCH
 
 targets=()
 for h in ${harnesses}; do targets+=("fuzz_${h}"); done
-set -e
-"${repo}/scripts/configure.sh" "${build}" -S "${repo}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_COMPILER="${cxx}" "${launcher[@]}" -DTRISTEREO_FUZZ=ON -DTRISTEREO_WERROR=ON \
-  -DTRISTEREO_BUILD_TESTS=OFF -DTRISTEREO_BUILD_BENCH=OFF -DTRISTEREO_BUILD_PYTHON=OFF \
-  -DTRISTEREO_BUILD_APPS=ON
-cmake --build "${build}" -j"$(nproc)" --target "${targets[@]}"
-set +e
+if [[ "${TRISTEREO_FUZZ_PREBUILT:-0}" == 1 ]]; then
+  # Built by an earlier stage (scripts/sanitize-test.sh asan with
+  # TRISTEREO_ASAN_FUZZ=1): only checked here.
+  for t in "${targets[@]}"; do
+    if [[ ! -x "${build}/tests/fuzz/${t}" ]]; then
+      echo "fuzz-test: TRISTEREO_FUZZ_PREBUILT=1 but ${build}/tests/fuzz/${t} is missing (did the asan stage build?)" >&2
+      exit 1
+    fi
+  done
+  echo "fuzz-test: the harnesses built in ${build} (-O1, ASan + UBSan, coverage feedback)"
+else
+  set -e
+  "${repo}/scripts/configure.sh" "${build}" -S "${repo}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_COMPILER="${cxx}" "${launcher[@]}" -DTRISTEREO_FUZZ=ON -DTRISTEREO_WERROR=ON \
+    -DTRISTEREO_BUILD_TESTS=OFF -DTRISTEREO_BUILD_BENCH=OFF -DTRISTEREO_BUILD_PYTHON=OFF \
+    -DTRISTEREO_BUILD_APPS=ON
+  cmake --build "${build}" -j"$(nproc)" --target "${targets[@]}"
+  set +e
+fi
 
 # ASan keeps freed blocks in a quarantine (256 MB by default) to catch uses
 # after free; counted in the RSS, it alone would reach the 256 MB limit.

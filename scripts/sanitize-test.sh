@@ -9,6 +9,11 @@
 #                                                (TRISTEREO_SANITIZE: every
 #                                                report aborts), the whole suite
 #
+# TRISTEREO_ASAN_FUZZ=1 (asan only) also builds the libFuzzer harnesses in the
+# same tree (TRISTEREO_FUZZ: coverage feedback in every object), so that the
+# fuzz stage runs them without compiling the library a third time
+# (scripts/fuzz-test.sh with TRISTEREO_FUZZ_PREBUILT=1); the test command does.
+#
 # Why clang at all: GCC and clang differ where C++ leaves things unspecified
 # (the order in which a call's arguments are evaluated hid a clock-test bug
 # for as long as only GCC built the suite), and clang's UBSan checks more
@@ -32,7 +37,8 @@ case "${mode}" in
     build="${2:-${repo}/build-asan}"
     # -O1: sanitizer reports keep their frames; benchmarks are not run here.
     flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g"
-           -DTRISTEREO_SANITIZE=ON -DTRISTEREO_BUILD_BENCH=OFF)
+           -DTRISTEREO_SANITIZE=ON -DTRISTEREO_BUILD_BENCH=OFF
+           "-DTRISTEREO_FUZZ=$([[ "${TRISTEREO_ASAN_FUZZ:-0}" == 1 ]] && echo ON || echo OFF)")
     export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1}"
     export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
     symbolizer="$(command -v llvm-symbolizer-14 || command -v llvm-symbolizer || true)"

@@ -19,9 +19,10 @@
 #                AddressSanitizer + UndefinedBehaviorSanitizer, every report
 #                fatal, and run (scripts/sanitize-test.sh asan): the clang
 #                build and the sanitized run in one job
-#   fuzz         every libFuzzer harness of tests/fuzz: its corpus and
-#                regression inputs replayed, then fuzzed 20 s
-#                (TRISTEREO_FUZZ_SECONDS) under ASan + UBSan (scripts/fuzz-test.sh)
+#   fuzz         every libFuzzer harness of tests/fuzz (built in the asan
+#                stage's tree): its corpus and regression inputs replayed,
+#                then fuzzed 20 s (TRISTEREO_FUZZ_SECONDS) under ASan + UBSan
+#                (scripts/fuzz-test.sh)
 #   aarch64, armhf  the whole suite cross-built (warnings as errors) and run
 #                under qemu-user (scripts/cross-test.sh)
 #   consumer-aarch64  the consumer against the installed aarch64 build, run
@@ -220,11 +221,13 @@ if [ "$subset" = "all" ]; then
   # -------------------------------------------- clang + ASan + UBSan, fuzzing
   t0=$(date +%s)
   echo "==== test: asan: scripts/sanitize-test.sh asan"
-  run_logged "$log_dir/asan.log" scripts/sanitize-test.sh asan
+  # The fuzz harnesses are built in the asan tree (one clang + sanitizer
+  # build of the library instead of two) and run by the fuzz stage.
+  run_logged "$log_dir/asan.log" env TRISTEREO_ASAN_FUZZ=1 scripts/sanitize-test.sh asan
   status=passed
   [ "$rc" -eq 0 ] || status=FAILED
   record asan "$status" $(($(date +%s) - t0)) "$(ctest_counts "$log_dir/asan.log")"
-  run_stage fuzz scripts/fuzz-test.sh
+  run_stage fuzz env TRISTEREO_FUZZ_BUILD="$PWD/build-asan" TRISTEREO_FUZZ_PREBUILT=1 scripts/fuzz-test.sh
 fi
 
 # ---------------------------------------------------------------- ARM under qemu
