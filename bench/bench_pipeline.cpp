@@ -4,7 +4,7 @@
 // named  frame/<scene>/D<d>/<sparse|dense>/<kernels>/t<threads>. Counters give
 // the median-friendly per-stage milliseconds of the last timed iteration set
 // (means over iterations) and Mdisp/s = samples * D / (cost + DP time).
-// scripts/perf_report.py turns the JSON output into docs/performance.md; ratios
+// scripts/perf_report.py turns the JSON output into docs/performance-tables.md; ratios
 // (SIMD vs scalar, sparse vs dense, N threads vs 1) come from one run.
 // frame_pair/<scene>/D<d>/<mode>/<kernels>/t1_vs_t<N> alternates frames of a
 // 1-thread and an N-thread pipeline and reports the median of the per-pair
@@ -17,7 +17,7 @@
 // every pixel in both modes: the census transform of both images and every
 // pixel's Hamming costs, row by row (counter `census_pixels_ms`); perf_report.py
 // takes it as the shared part of the sparse frame's lower bound
-// (docs/performance.md, "fourth session").
+// (docs/performance.md, "Sparse against dense").
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
