@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "apps/cli_args.hpp"
+#include "apps/rig_options.hpp"
 #include "apps/option_errors.hpp"
 #include "apps/commands.hpp"
 #include "platform/cpu_features.hpp"
@@ -17,14 +18,18 @@
 namespace tristereo::cli {
 
 int cmd_info(int argc, char** argv) {
-  Args args(argc, argv, {"max-size", "ndisp", "threads"}, {"dense", "help"});
+  std::set<std::string> values = {"max-size", "ndisp", "threads"};
+  add_rig_options(values);
+  Args args(argc, argv, values, {"dense", "help"});
   if (args.flag("help")) {
     std::cout << "usage: tristereo info [--max-size WxH] [--ndisp D] [--threads N] [--dense]\n\n"
                  "Prints the version, the compiled, available and default kernel sets, the CPUs,\n"
                  "GPIO support, and the working memory of a pipeline configured for frames up to\n"
                  "WxH (default 640x480) with D disparities (default 64) on N workers (default 0:\n"
                  "one per allowed CPU): the bytes it allocates once, in total and per configured\n"
-                 "pixel (docs/performance.md, \"Working memory\").\n"
+                 "pixel (docs/performance.md, \"Working memory\"). With --rig FILE [--rig-right\n"
+                 "FILE2], for that rig's raw frames (their size, unless --max-size): the\n"
+                 "rectification maps are counted too, and printed on their own line.\n"
               << "\n" << exit_codes_help();
     return 0;
   }
@@ -32,6 +37,7 @@ int cmd_info(int argc, char** argv) {
   PipelineConfig config;
   // Every value is checked here, in the words the user typed (exit 2), not
   // left to configure(), whose errors name its fields and exit 1.
+  if (args.has("rig-right") && !args.has("rig")) throw UsageError("--rig-right needs --rig");
   if (args.has("max-size")) {
     const auto [w, h] = parse_size("--max-size", args.get("max-size", ""));
     for (const auto& [side, v] : {std::pair<const char*, int>{"width", w}, {"height", h}})
@@ -65,6 +71,20 @@ int cmd_info(int argc, char** argv) {
 
   // The real allocation, not an estimate: what configure() sizes is counted
   // by the pipeline itself. No frame is run.
+  LoadedRig rig;
+  if (args.has("rig")) {
+    const StereoRig r = read_rig(args.get("rig", ""), args.get("rig-right", ""));
+    if (!args.has("max-size")) {
+      config.max_width = r.left.width;
+      config.max_height = r.left.height;
+    }
+    rig = load_rig(args, r.left.width, r.left.height);
+    config.rectify = rig.maps;
+    std::printf("rectification maps: %zu bytes (%.1f MiB) for %dx%d, %zu border pixels (6 bytes per pixel "
+                "and camera: int16 x, y and a uint16 of the two 5-bit fractions)\n",
+                rig.maps->memory_bytes(), rig.maps->memory_bytes() / (1024.0 * 1024.0), rig.maps->left.width,
+                rig.maps->left.height, rig.maps->left.border.size() + rig.maps->right.border.size());
+  }
   Pipeline pipeline;
   pipeline.configure(config);
   const double bytes = static_cast<double>(pipeline.working_memory_bytes());

@@ -11,6 +11,7 @@
 #include "apps/match_outputs.hpp"
 #include "apps/match_warnings.hpp"
 #include "apps/output_paths.hpp"
+#include "apps/rig_options.hpp"
 #include "apps/stereo_pair.hpp"
 #include "tristereo/gray.hpp"
 #include "platform/thread_pool.hpp"
@@ -87,9 +88,10 @@ int cmd_match(int argc, char** argv) {
                                   "stats", "min-disparity", "min-depth", "max-depth"};
   std::set<std::string> flags = {"reference", "mesh-ascii", "help"};
   add_stereo_options(values, flags);
+  add_rig_options(values);
   Args args(argc, argv, values, flags);
   if (args.flag("help")) {
-    std::cout << kMatchHelp << stereo_options_help() << exit_codes_help();
+    std::cout << kMatchHelp << "\n" << rig_options_help() << "\n" << stereo_options_help() << exit_codes_help();
     return 0;
   }
   // Options that act only beside another (cli_args.hpp, OptionNeed).
@@ -100,11 +102,17 @@ int cmd_match(int argc, char** argv) {
       {"min-disparity", {"depth", "points", "mesh"}, nullptr, "it limits the metric outputs"},
       {"min-depth", {"depth", "points", "mesh"}, nullptr, "it limits the metric outputs"},
       {"max-depth", {"depth", "points", "mesh"}, nullptr, "it limits the metric outputs"},
-      {"min-disparity", {"calib", "camera"}, nullptr, "it limits the metric outputs, which need a camera"},
-      {"min-depth", {"calib", "camera"}, nullptr, "it limits the metric outputs, which need a camera"},
-      {"max-depth", {"calib", "camera"}, nullptr, "it limits the metric outputs, which need a camera"},
+      {"min-disparity", {"calib", "camera", "rig"}, nullptr, "it limits the metric outputs, which need a camera"},
+      {"min-depth", {"calib", "camera", "rig"}, nullptr, "it limits the metric outputs, which need a camera"},
+      {"max-depth", {"calib", "camera", "rig"}, nullptr, "it limits the metric outputs, which need a camera"},
+      {"rig-right", {"rig"}, nullptr, "it is the right camera's file of a --rig pair"},
   };
   check_option_needs(args, kNeeds);
+  // A rig brings its own rectified camera: a second one would contradict it.
+  for (const char* other : {"calib", "camera"})
+    if (args.has("rig") && args.has(other))
+      throw UsageError(std::string("--rig and --") + other +
+                       " both give the camera: --rig's rectified camera is the one of the rectified frames");
   const auto& pos = args.positional();
   check_two_paths("match", pos);
   // Every option is checked before any file is read: a usage error is
@@ -114,7 +122,8 @@ int cmd_match(int argc, char** argv) {
   const std::string& left_path = pos[0];
   const std::string& right_path = pos[1];
   check_output_paths(args, match_output_options(),
-                     {{"LEFT", left_path}, {"RIGHT", right_path}, {"--calib", args.get("calib", "")}});
+                     {{"LEFT", left_path}, {"RIGHT", right_path}, {"--calib", args.get("calib", "")},
+                      {"--rig", args.get("rig", "")}, {"--rig-right", args.get("rig-right", "")}});
   // The two decodes run side by side: PNG decoding is a seventh of a one-shot
   // run's CPU (docs/performance.md, "One-shot match"). A bad LEFT is still the
   // error reported: its exception leaves before RIGHT's result is looked at.
@@ -123,7 +132,18 @@ int cmd_match(int argc, char** argv) {
   ImageU8 left = read_image_u8(left_path);
   ImageU8 right = right_decoded.get();
   check_stereo_pair(left_path, left, right_path, right);
-  const PipelineConfig config = stereo_config_from_args(args, left.width, left.height);
+  PipelineConfig config = stereo_config_from_args(args, left.width, left.height);
+  // Raw frames: the rig's maps go into the pipeline (its rectification
+  // stage); the outputs' colours and the reference use the rectified left.
+  LoadedRig rig;
+  ImageU8 rectified_left, rectified_right;
+  if (args.has("rig")) {
+    rig = load_rig(args, left.width, left.height);
+    config.rectify = rig.maps;
+    rectified_left = reference_rectify(rig.rig, rig.rect, 0, left.channels == 1 ? left : to_gray(left));
+    if (args.flag("reference"))
+      rectified_right = reference_rectify(rig.rig, rig.rect, 1, right.channels == 1 ? right : to_gray(right));
+  }
   const StereoParams& p = config.params;
   if (args.has("disp")) {
     // What a 16-bit PNG cannot hold is refused now, not after the computing.
@@ -144,6 +164,10 @@ int cmd_match(int argc, char** argv) {
   run.config = config;
   run.camera = camera_from_args(args, left.width, left.height, &run.camera_source);
   run.depth_limits = depth_limits_from_args(args);
+  if (args.has("rig")) {
+    run.camera = rig.rect.calibration().camera();
+    run.camera_source = args.get("rig", "");
+  }
   // The swapped-pair check reads the images only: it runs beside the frame
   // (a one-shot match's wall time, docs/performance.md), its warning printed
   // once the frame is done.
@@ -157,7 +181,8 @@ int cmd_match(int argc, char** argv) {
                                run.camera ? no_depth_warning(*run.camera,
                                                              run.camera_source == "--camera"
                                                                  ? run.camera_source
-                                                                 : "--calib " + run.camera_source,
+                                                                 : (args.has("rig") ? "--rig " : "--calib ") +
+                                                                       run.camera_source,
                                                              p.d_min, p.num_disp)
                                           : std::string(),
                                threads_warning(config.threads,
@@ -169,7 +194,8 @@ int cmd_match(int argc, char** argv) {
   Pipeline pipeline;  // lives until the outputs are written: its result is not copied
   if (args.flag("reference")) {
     const auto t0 = Clock::now();
-    run.output = run_reference(left, right, config.params);
+    run.output = args.has("rig") ? run_reference(rectified_left, rectified_right, config.params)
+                                 : run_reference(left, right, config.params);
     run.timings.total_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
     run.implementation = "reference";
     run.phases.configure_ms = 0;
@@ -189,7 +215,7 @@ int cmd_match(int argc, char** argv) {
   const std::string swapped_text = swapped.get();
   run.phases.checks_ms = ms_between(t_mark, Clock::now());
   if (!swapped_text.empty()) std::cerr << swapped_text << "\n";
-  write_match_outputs(args, left, run);
+  write_match_outputs(args, args.has("rig") ? rectified_left : left, run);
   print_match_summary(std::cout, run);
   return 0;
 }

@@ -10,5 +10,6 @@ int cmd_synth(int argc, char** argv);
 int cmd_eval(int argc, char** argv);
 int cmd_info(int argc, char** argv);
 int cmd_demo(int argc, char** argv);
+int cmd_rectify(int argc, char** argv);
 
 }  // namespace tristereo::cli

@@ -99,8 +99,9 @@ std::optional<CameraParams> camera_from_args(const Args& args, int width, int he
   const bool calib = args.has("calib"), camera = args.has("camera");
   if (calib && camera) throw UsageError("--calib and --camera both set the camera: give one of them");
   for (const char* opt : {"depth", "points"})
-    if (args.has(opt) && !calib && !camera)
-      throw UsageError(std::string("--") + opt + " needs a camera: --calib FILE (or --camera F,B,CX,CY[,DOFFS])");
+    if (args.has(opt) && !calib && !camera && !args.has("rig"))
+      throw UsageError(std::string("--") + opt +
+                       " needs a camera: --calib FILE (or --camera F,B,CX,CY[,DOFFS], or --rig FILE)");
   if (args.has("depth")) {
     const std::string e = lower_ext(args.get("depth", ""));
     if (e != ".pfm" && e != ".png")

@@ -17,6 +17,8 @@ Commands:
   demo [OUTDIR]                 built-in default: synthetic scene -> sparse and dense matching,
                                 scores vs exact ground truth, reference check, files in OUTDIR
   match LEFT RIGHT --ndisp D    disparity map, 2.5D mesh and stats for one rectified pair
+                                (raw frames with --rig FILE: rectified first)
+  rectify LEFT RIGHT --rig FILE rectified PNGs of a raw pair (--out-left, --out-right)
   verify LEFT RIGHT --ndisp D   float reference vs every kernel set: prints 'bit-exact'
   synth OUTDIR                  write a synthetic pair with exact ground truth
   eval DISP GT                  bad 0.5/1/2/3 px and KITTI D1 against ground truth
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
     else if (cmd == "synth") fn = cmd_synth;
     else if (cmd == "eval") fn = cmd_eval;
     else if (cmd == "info") fn = cmd_info;
+    else if (cmd == "rectify") fn = cmd_rectify;
     else if (cmd == "demo") fn = cmd_demo;
     else if (cmd == "profile") fn = cmd_profile;
     if (!fn) {

@@ -1515,5 +1515,37 @@ void MidpointsRowQ4<Arch>::call(const std::int32_t* above, const std::int32_t* r
   if (x < n) run(n - block, masks_at(n - block));
 }
 
+// The rectification's remap: the taps are gathered lane by lane (a map
+// points anywhere), the weights and sums run in int32 lanes (< 2^18, exact),
+// the tail goes to the scalar twin.
+template <class Arch>
+void RemapBilinearRowU8<Arch>::call(const std::uint8_t* src, std::size_t stride, const std::int16_t* xy,
+                                    const std::uint16_t* frac, int n, std::uint8_t* out) {
+  using B = xsimd::batch<std::int32_t, Arch>;
+  constexpr int L = static_cast<int>(B::size);
+  alignas(64) std::int32_t p00[L], p01[L], p10[L], p11[L], fx[L], fy[L], res[L];
+  const B k32(32), half(512);
+  int x = 0;
+  for (; x + L <= n; x += L) {
+    for (int i = 0; i < L; ++i) {
+      const std::size_t j = static_cast<std::size_t>(x + i);
+      const std::uint8_t* s = src + static_cast<std::size_t>(xy[2 * j + 1]) * stride + static_cast<std::size_t>(xy[2 * j]);
+      p00[i] = s[0];
+      p01[i] = s[1];
+      p10[i] = s[stride];
+      p11[i] = s[stride + 1];
+      fx[i] = frac[j] & 31;
+      fy[i] = frac[j] >> 5;
+    }
+    const B bx = B::load_aligned(fx), by = B::load_aligned(fy);
+    // p00 (32-fx)(32-fy) + p01 fx (32-fy) + ... regrouped by rows: the same integers.
+    const B top = B::load_aligned(p00) * (k32 - bx) + B::load_aligned(p01) * bx;
+    const B bottom = B::load_aligned(p10) * (k32 - bx) + B::load_aligned(p11) * bx;
+    ((top * (k32 - by) + bottom * by + half) >> 10).store_aligned(res);
+    for (int i = 0; i < L; ++i) out[x + i] = static_cast<std::uint8_t>(res[i]);
+  }
+  if (x < n) remap_bilinear_row_u8_scalar(src, stride, xy + 2 * x, frac + x, n - x, out + x);
+}
+
 }  // namespace simd
 }  // namespace tristereo

@@ -151,6 +151,12 @@ struct MidpointsRowQ4 {
                    int first_backslash, int frac_bits, std::int16_t* disp_q4);
 };
 
+template <class Arch>
+struct RemapBilinearRowU8 {
+  static void call(const std::uint8_t* src, std::size_t stride, const std::int16_t* xy, const std::uint16_t* frac,
+                   int n, std::uint8_t* out);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -175,7 +181,8 @@ struct MidpointsRowQ4 {
   KEYWORD template struct BgrToGrayRowU8<ARCH>;                \
   KEYWORD template struct Side4TestsU8<ARCH>;                  \
   KEYWORD template struct Side8TestsS32<ARCH>;                 \
-  KEYWORD template struct MidpointsRowQ4<ARCH>;
+  KEYWORD template struct MidpointsRowQ4<ARCH>;               \
+  KEYWORD template struct RemapBilinearRowU8<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

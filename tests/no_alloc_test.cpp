@@ -1,11 +1,14 @@
 // Once configured, process() performs no heap allocation (any thread count,
 // sparse or dense, box or adaptive weights, frames smaller than the maximum,
 // with a frame trace recording or not).
+#include <memory>
+
 #include <gtest/gtest.h>
 
 #include "support/alloc_counter.hpp"
 #include "support/scenes.hpp"
 #include "tristereo/pipeline.hpp"
+#include "tristereo/rig.hpp"
 #include "tristereo/synth.hpp"
 
 namespace tristereo {
@@ -64,6 +67,63 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
         EXPECT_EQ(trace.dropped(), 0u);
        }
       }
+    }
+  }
+}
+
+// Raw frames in: the rectification stage remaps into buffers of configure(),
+// gray and RGB frames alike, at 1 and 3 workers, traced or not.
+TEST(NoAlloc, RawFramesDoNotAllocate) {
+  SynthParams sp;
+  sp.width = 160;
+  sp.height = 120;
+  sp.num_disp = 32;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  ImageU8 rgb_l(160, 120, 3), rgb_r(160, 120, 3);
+  for (std::size_t i = 0; i < s.left.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      rgb_l.pixels[i * 3 + c] = s.left.pixels[i];
+      rgb_r.pixels[i * 3 + c] = s.right.pixels[i];
+    }
+  StereoRig rig;
+  for (RawCamera* cam : {&rig.left, &rig.right}) {
+    cam->width = 160;
+    cam->height = 120;
+    cam->K = {150, 0, 80, 0, 150, 60, 0, 0, 1};
+    cam->dist = {-0.2, 0.05, 0.001, -0.001, 0, 0, 0, 0};
+  }
+  rig.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  rig.T = {-0.1, 0.002, 0};
+  // A shorter focal length than alpha 0's, so that the corners see beyond the raw image.
+  Rectification rect = rectify_rig(rig);
+  for (std::array<double, 12>* P : {&rect.P1, &rect.P2})
+    for (int i : {0, 3, 5}) (*P)[static_cast<std::size_t>(i)] *= 0.7;
+  auto maps = std::make_shared<RectifyMaps>(build_rectify_maps(rig, rect));
+  ASSERT_FALSE(maps->left.border.empty() && maps->right.border.empty());  // the border path runs too
+  for (int threads : {1, 3}) {
+    for (bool traced : {false, true}) {
+      PipelineConfig c;
+      c.max_width = 160;
+      c.max_height = 120;
+      c.params.num_disp = 32;
+      c.threads = threads;
+      c.pin_threads = false;
+      c.rectify = maps;
+      Pipeline pipe;
+      pipe.configure(c);
+      FrameTrace trace;
+      if (traced) {
+        trace.reserve(threads, 1 << 16);
+        pipe.set_trace(&trace);
+      }
+      test::start_counting_allocations();
+      for (int f = 0; f < 3; ++f) {
+        pipe.process(s.left.view(), s.right.view());
+        pipe.process(rgb_l.view(), rgb_r.view());
+      }
+      EXPECT_EQ(test::stop_counting_allocations(), 0) << "threads=" << threads << " traced=" << traced;
+      EXPECT_GT(pipe.last_timings().rectify_ns, 0);
+      EXPECT_EQ(trace.dropped(), 0u);
     }
   }
 }

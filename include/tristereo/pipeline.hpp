@@ -19,6 +19,7 @@
 #include "tristereo/kernels.hpp"
 #include "tristereo/mesh.hpp"
 #include "tristereo/params.hpp"
+#include "tristereo/rectify.hpp"
 #include "tristereo/trace.hpp"
 
 namespace tristereo {
@@ -35,12 +36,19 @@ struct PipelineConfig {
   // Only for traces that the scaling model replays (docs/threads.md): the
   // output is the same, a one-worker frame cut for many is a little slower.
   int schedule_workers = 0;
+  // Raw cameras in (include/tristereo/rectify.hpp): when set, process() takes
+  // the raw frames of the maps' raw size and rectifies them first (a stage of
+  // its own: FrameTimings::rectify_ns), into buffers allocated here. The
+  // maps' rectified size must fit max_width x max_height. Shared, not copied:
+  // the same maps can serve several pipelines.
+  std::shared_ptr<const RectifyMaps> rectify;
 };
 
 // Wall-clock nanoseconds of one frame's stages (filled by every process()).
 // tritree .. interpolation are the left (reference) view's; the right view's
 // pass of the left-right check is right_pass_ns in one piece.
 struct FrameTimings {
+  std::int64_t rectify_ns = 0;       // raw frames only: both views remapped (in total_ns too)
   std::int64_t tritree_ns = 0;
   std::int64_t cost_aggregation_ns = 0;
   std::int64_t dp_ns = 0;
@@ -74,7 +82,8 @@ class TRISTEREO_API Pipeline {
   bool configured() const;
   const PipelineConfig& config() const;
 
-  // Throws Error on bad input (sizes, channels, null data, stride).
+  // Throws Error on bad input (sizes, channels, null data, stride; with
+  // config.rectify, frames not of the maps' raw size).
   const StereoOutput& process(ImageView<const std::uint8_t> left,
                               ImageView<const std::uint8_t> right);
 

@@ -44,6 +44,8 @@ enum class TraceKind : std::uint8_t {
   kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission), b = row of tiles
   kFillChunk,       // a fill round over items a .. b - 1 (mesh triangles, or a grid's invalid
                     // samples), handed out in chunks of c
+  kRectify,         // pipeline track: both raw frames remapped (after the other kinds, so
+                    // that their numbers stay those of older traces)
   kCount
 };
 

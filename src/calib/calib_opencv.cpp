@@ -17,12 +17,7 @@ namespace tristereo::calib_detail {
 
 namespace {
 
-struct Node {
-  int line = 0;
-  int rows = 0, cols = 0;   // matrices only
-  std::string text;         // scalars and sequences: the value; matrices: the data
-  bool matrix = false;
-};
+using Node = StorageNode;
 
 int parse_int(const std::string& text, const std::string& path, int line, const std::string& key) {
   const std::vector<double> v = parse_numbers(text, path, line, key);
@@ -145,12 +140,15 @@ std::vector<double> matrix(const std::map<std::string, Node>& nodes, const std::
 
 }  // namespace
 
+std::map<std::string, StorageNode> read_opencv_storage(const std::string& path, const std::vector<Line>& lines) {
+  for (const Line& l : lines)
+    if (l.text.find("<opencv_storage>") != std::string::npos) return parse_xml(path, lines);
+  return parse_yaml(path, lines);
+}
+
 StereoCalibration read_opencv_file(const std::string& path, const std::vector<Line>& lines,
                                    double unit_m) {
-  bool xml = false;
-  for (const Line& l : lines)
-    if (l.text.find("<opencv_storage>") != std::string::npos) xml = true;
-  const std::map<std::string, Node> nodes = xml ? parse_xml(path, lines) : parse_yaml(path, lines);
+  const std::map<std::string, Node> nodes = read_opencv_storage(path, lines);
   StereoCalibration c;
   c.format = CalibFormat::kOpenCv;
   c.path = path;

@@ -2,6 +2,7 @@
 // names the file, the line and the key, as the bad-input policy asks.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,16 @@ void validate(const StereoCalibration& c, int line_of_focal, int line_of_baselin
 
 StereoCalibration read_middlebury(const std::string& path, const std::vector<Line>& lines);
 StereoCalibration read_kitti(const std::string& path, const std::vector<Line>& lines);
+// A top-level entry of a cv::FileStorage file (YAML or XML).
+struct StorageNode {
+  int line = 0;
+  int rows = 0, cols = 0;   // matrices only
+  std::string text;         // scalars and sequences: the value; matrices: the data
+  bool matrix = false;
+};
+// The top-level entries of a cv::FileStorage file, by name.
+std::map<std::string, StorageNode> read_opencv_storage(const std::string& path, const std::vector<Line>& lines);
+
 StereoCalibration read_opencv_file(const std::string& path, const std::vector<Line>& lines,
                                    double unit_m);
 

@@ -212,6 +212,16 @@ struct KernelSet {
   void (*rgb_to_gray_row_u8)(const std::uint8_t* rgb, int n, std::uint8_t* gray) = nullptr;
   // The same for BGR triplets (the Python module's order='bgr').
   void (*bgr_to_gray_row_u8)(const std::uint8_t* bgr, int n, std::uint8_t* gray) = nullptr;
+
+  // One row of the rectification's bilinear remap (include/tristereo/rectify.hpp),
+  // for i in [0, n): with ix, iy = xy[2 i], xy[2 i + 1], fx = frac[i] & 31,
+  // fy = frac[i] >> 5 and s = src + iy * stride + ix,
+  //   out[i] = (s[0] (32 - fx)(32 - fy) + s[1] fx (32 - fy)
+  //             + s[stride] (32 - fx) fy + s[stride + 1] fx fy + 512) >> 10.
+  // All four taps must be readable (the map keeps other pixels out of the
+  // rows). The sum is < 255 * 1024 + 512 < 2^18: int32 never overflows.
+  void (*remap_bilinear_row_u8)(const std::uint8_t* src, std::size_t stride, const std::int16_t* xy,
+                                const std::uint16_t* frac, int n, std::uint8_t* out) = nullptr;
 };
 
 // The portable reference set (always available).

@@ -31,6 +31,7 @@ const KernelSet& scalar_kernel_set() {
     s.side4_tests_u8 = side4_tests_u8_scalar;
     s.side8_tests_s32 = side8_tests_s32_scalar;
     s.midpoints_row_q4 = midpoints_row_q4_scalar;
+    s.remap_bilinear_row_u8 = remap_bilinear_row_u8_scalar;
     return s;
   }();
   return set;

@@ -62,6 +62,9 @@ void side8_tests_s32_scalar(const std::int32_t* const* quad_sums, std::size_t qu
                             const std::uint8_t* const* rows, int n, int first_backslash,
                             const std::int64_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,
                             std::size_t sums_stride);
+// In src/rectify/remap_scalar.cpp.
+void remap_bilinear_row_u8_scalar(const std::uint8_t* src, std::size_t stride, const std::int16_t* xy,
+                                  const std::uint16_t* frac, int n, std::uint8_t* out);
 // In src/interp/midpoints_row_scalar.cpp.
 void midpoints_row_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below, int n,
                              int first_backslash, int frac_bits, std::int16_t* disp_q4);

@@ -28,6 +28,7 @@
 #include "src/memory/large_array.hpp"
 #include "src/memory/untouched_vector.hpp"
 #include "src/pipeline/input_check.hpp"
+#include "src/rectify/rectify_map.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/gray.hpp"
@@ -60,6 +61,7 @@ struct Pipeline::Impl {
   WorkChunks triangles;  // interpolation: triangles handed out on demand
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
   ImageU8 left_gray, right_gray;     // used when the input is RGB (reserved, sized per frame)
+  ImageU8 rect_left, rect_right;     // the rectified frames (config.rectify only)
   // Left-right check: the right view is matched as the left view of the
   // mirrored pair (mirror(R), mirror(L)). Reserved, sized per frame.
   ImageU8 mirror_left, mirror_right;
@@ -124,7 +126,8 @@ std::size_t Pipeline::working_memory_bytes() const {
                       capacity_bytes(m.left_gray.pixels) + capacity_bytes(m.right_gray.pixels) +
                       capacity_bytes(m.out.mesh.vertices) + capacity_bytes(m.out.mesh.triangles) +
                       capacity_bytes(m.out.mesh.row_start) + capacity_bytes(m.out.vertex_disp_q4) +
-                      capacity_bytes(m.out.disp_q4.pixels);
+                      capacity_bytes(m.out.disp_q4.pixels) + capacity_bytes(m.rect_left.pixels) +
+                      capacity_bytes(m.rect_right.pixels) + (m.config.rectify ? m.config.rectify->memory_bytes() : 0);
   for (const Impl::Worker& w : m.workers)
     bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
              midpoint_band_values(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
@@ -153,6 +156,18 @@ void Pipeline::configure(const PipelineConfig& config) {
   if (config.threads < 0 || config.threads > 256)
     throw Error(ErrorCode::kInvalidArgument,
                 "threads = " + std::to_string(config.threads) + " is outside 0..256 (0 = one per CPU)");
+  if (config.rectify) {
+    const RectifyMaps& r = *config.rectify;
+    for (const RectifyMap* map : {&r.left, &r.right})
+      if (map->width > config.max_width || map->height > config.max_height || map->raw_width > config.max_width ||
+          map->raw_height > config.max_height || map->width != r.left.width || map->height != r.left.height ||
+          map->xy.size() != 2 * static_cast<std::size_t>(map->width) * map->height)
+        throw Error(ErrorCode::kInvalidArgument,
+                    "rectification maps of " + std::to_string(map->raw_width) + "x" + std::to_string(map->raw_height) +
+                        " raw to " + std::to_string(map->width) + "x" + std::to_string(map->height) +
+                        " rectified pixels do not fit the configured maximum size " + std::to_string(config.max_width) +
+                        "x" + std::to_string(config.max_height));
+  }
   const KernelChoice active = resolve_kernel_choice(config.kernels);
   const KernelSet& kernels = kernel_set_for(active);
 
@@ -206,6 +221,13 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.right_gray = ImageU8{};
   m.left_gray.pixels.reserve(max_px_size);
   m.right_gray.pixels.reserve(max_px_size);
+  m.rect_left = ImageU8{};
+  m.rect_right = ImageU8{};
+  if (config.rectify) {
+    // Sized once: every raw frame fills them whole.
+    m.rect_left = ImageU8(config.rectify->left.width, config.rectify->left.height, 1);
+    m.rect_right = ImageU8(config.rectify->right.width, config.rectify->right.height, 1);
+  }
   m.out = StereoOutput{};
   m.tritree.reserve(m.out.mesh);
   m.out.vertex_disp_q4.reserve(max_px_size);
@@ -364,8 +386,38 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
 
   const std::int64_t t_start = monotonic_ns();
   m.pool.trace_new_frame();
-  const ImageView<const std::uint8_t> lg = as_gray(left, m.left_gray, *m.kernels);
-  const ImageView<const std::uint8_t> rg = as_gray(right, m.right_gray, *m.kernels);
+  ImageView<const std::uint8_t> lg = as_gray(left, m.left_gray, *m.kernels);
+  ImageView<const std::uint8_t> rg = as_gray(right, m.right_gray, *m.kernels);
+  if (m.config.rectify) {
+    // Raw frames: both rectified first, rows of both views handed out
+    // together (each row is one worker's, whichever: the same output).
+    const RectifyMaps& maps = *m.config.rectify;
+    for (const auto& in : {std::make_pair(left, &maps.left), std::make_pair(right, &maps.right)})
+      if (in.first.width != in.second->raw_width || in.first.height != in.second->raw_height)
+        throw Error(ErrorCode::kSizeMismatch, "raw frame of " + std::to_string(in.first.width) + "x" +
+                                                  std::to_string(in.first.height) + " for a rig calibrated at " +
+                                                  std::to_string(in.second->raw_width) + "x" +
+                                                  std::to_string(in.second->raw_height));
+    const int h = maps.left.height;
+    m.rows.reset(0, 2 * h, kRowsPerChunk);
+    const ImageView<const std::uint8_t> raw_l = lg, raw_r = rg;
+    m.pool.run([&](int) {
+      int r0 = 0, r1 = 0;
+      while (m.rows.next(&r0, &r1)) {
+        for (int r = r0; r < r1;) {
+          const bool right_view = r >= h;
+          const int v0 = right_view ? r - h : r;
+          const int v1 = std::min(r1 - (right_view ? h : 0), h);
+          remap_rows(right_view ? maps.right : maps.left, right_view ? raw_r : raw_l,
+                     right_view ? m.rect_right.view() : m.rect_left.view(), v0, v1, *m.kernels);
+          r += v1 - v0;
+        }
+      }
+    });
+    lg = m.rect_left.view();
+    rg = m.rect_right.view();
+  }
+  const std::int64_t t_rectified = monotonic_ns();
   const int width = lg.width, height = lg.height;
   const StereoParams& params = m.config.params;
 
@@ -441,7 +493,8 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);
 
-  m.span(TraceKind::kTritree, t_start, t_tritree);
+  if (m.config.rectify) m.span(TraceKind::kRectify, t_start, t_rectified);
+  m.span(TraceKind::kTritree, t_rectified, t_tritree);
   if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass)
     m.span(TraceKind::kRightPass, t_matched, t_right);
   m.span(TraceKind::kFill, t_right, t_filled);
@@ -449,7 +502,8 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   if (m.trace != nullptr)
     m.trace->record(FrameTrace::kPipelineTrack, TraceKind::kFrame, t_start, t_end, m.frame_number++,
                     m.config.schedule_workers > 0 ? m.config.schedule_workers : m.config.threads);
-  m.timings.tritree_ns = t_tritree - t_start;
+  m.timings.rectify_ns = t_rectified - t_start;
+  m.timings.tritree_ns = t_tritree - t_rectified;
   m.timings.cost_aggregation_ns = cost_ns;
   m.timings.dp_ns = dp_ns;
   m.timings.right_pass_ns = t_right - t_matched;

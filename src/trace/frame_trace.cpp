@@ -19,6 +19,7 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kPaths: return "paths";
     case TraceKind::kRowDp: return "row dp";
     case TraceKind::kRightPass: return "right pass";
+    case TraceKind::kRectify: return "rectify";
     case TraceKind::kFill: return "fill";
     case TraceKind::kInterpolation: return "interpolation";
     case TraceKind::kRun: return "run";

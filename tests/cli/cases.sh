@@ -148,7 +148,7 @@ run error 2 '--camera: baseline 120 is taken as metres, and over 10 m is not a s
 run error 2 "--camera: baseline '120km' is not a number of metres, or one followed by m, cm or mm" "a baseline unit that is not m, cm or mm" "$M --ndisp 16 --camera 200,120km,48,32 --depth z.pfm"
 run error 2 '--camera: baseline 120000 m is outside \[0.0001, 1000\] m' "a baseline over the bounds with its unit" \
   "$M --ndisp 16 --camera 200,120000m,48,32 --depth z.pfm"
-run error 2 '--min-depth has no effect without --calib or --camera' "a depth limit without a camera" \
+run error 2 '--min-depth has no effect without --calib, --camera or --rig' "a depth limit without a camera" \
   "$M --ndisp 16 --min-depth 1 --mesh m.ply"
 run error 2 '--max-depth has no effect without --depth, --points or --mesh' "a depth limit without a metric output" \
   "$M --ndisp 16 --camera 200,0.1,48,32 --max-depth 5"
@@ -266,3 +266,29 @@ run warning 0 "warning: --calib calib.txt: with doffs 2 px, no disparity searche
   "a disparity range with no depth, from a calibration file" "$M --ndisp 16 --dmin -20 --calib calib.txt --depth z.pfm"
 run warning 0 "warning: LEFT p/left.png is gray but RIGHT rgb.ppm is RGB" "gray LEFT, RGB RIGHT" "$T match $L rgb.ppm --ndisp 16"
 run warning 0 "warning: RIGHT p/right.png is gray but LEFT rgb.ppm is RGB" "RGB LEFT, gray RIGHT" "$T match rgb.ppm $R --ndisp 16"
+
+# ---- raw cameras in (issue 38): --rig on match, rectify and info
+rig_yaml() {  # rig_yaml WIDTH HEIGHT R-DATA: an OpenCV stereoCalibrate file
+  printf '%%YAML:1.0\n---\nimage_width: %s\nimage_height: %s\n' "$1" "$2"
+  for m in M1 M2; do printf '%s: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 90., 0., 48., 0., 90., 32., 0., 0., 1. ]\n' "$m"; done
+  for d in D1 D2; do printf '%s: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ -0.05, 0., 0., 0., 0. ]\n' "$d"; done
+  printf 'R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ %s ]\n' "$3"
+  printf 'T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -0.1, 0., 0. ]\n'
+}
+rig_yaml 96 64 "1., 0., 0., 0., 1., 0., 0., 0., 1." > "$W/rig.yml"
+rig_yaml 640 480 "1., 0., 0., 0., 1., 0., 0., 0., 1." > "$W/rig640.yml"
+rig_yaml 96 64 "1., 0.3, 0., 0., 1., 0., 0., 0., 1." > "$W/rig_skewed.yml"
+printf 'image_width: 96\nimage_height: 64\ncamera_matrix:\n  rows: 3\n  cols: 3\n  data: [90, 0, 48, 0, 90, 32, 0, 0, 1]\n' > "$W/ros_left.yaml"
+run error 2 "rectify needs --rig FILE" "rectify without a rig" "$T rectify $L $R --out-left a.png --out-right b.png"
+run error 2 "rectify needs --out-right OUT.png" "rectify without its second output" "$T rectify $L $R --rig rig.yml --out-left a.png"
+run error 2 "--out-left a.jpg" "rectify to a JPEG" "$T rectify $L $R --rig rig.yml --out-left a.jpg --out-right b.png"
+run error 2 "--rig-right has no effect without --rig" "--rig-right alone" "$M --ndisp 16 --rig-right rig.yml"
+run error 2 "--rig and --calib both give the camera" "--rig with --calib" "$M --ndisp 16 --rig rig.yml --calib calib.txt"
+run error 1 "calibration file 'no_rig.yml': cannot open it" "missing rig file" "$M --ndisp 16 --rig no_rig.yml"
+run error 1 "--rig rig640.yml is for 640x480 frames, the input is 96x64" "rig of another size" "$M --ndisp 16 --rig rig640.yml"
+run error 1 "line 25, key 'R': is not a rotation" "rig whose R is not a rotation" "$T rectify $L $R --rig rig_skewed.yml --out-left a.png --out-right b.png" \
+  "test ! -e a.png" "nothing written"
+run error 1 "ROS camera_info file of one camera: the right camera's file is needed too" "one camera_info without --rig-right" \
+  "$M --ndisp 16 --rig ros_left.yaml"
+run error 1 "key 'distortion_model': missing" "camera_info pair without a distortion model" \
+  "$M --ndisp 16 --rig ros_left.yaml --rig-right ros_left.yaml"
