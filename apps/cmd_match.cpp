@@ -49,6 +49,15 @@ together once every one is complete):
   --depth OUT.pfm|OUT.png   metric depth: PFM metres (+inf = invalid) or 16-bit PNG
                             millimetres (0 = invalid); needs --calib or --camera
   --points OUT.ply          the dense map as a coloured point cloud in metres
+  --points-include-filled   --points and --mesh keep only measured pixels and vertices
+                            (those that passed the uniqueness and left-right tests) unless
+                            this is given; filled ones are a neighbour's guess
+  --valid OUT.png           8-bit state per pixel: 0 invalid, 1 filled (a neighbour's
+                            disparity), 2 measured (docs/model.md section 7)
+  --confidence OUT.png      8-bit confidence per pixel: 0 invalid, 1..127 filled (fewer
+                            the farther from a measured sample), 128..255 measured (more
+                            the clearer the best match); --min-confidence C turns every
+                            pixel and sample below C invalid in all outputs
   --samples OUT.csv         the samples (mesh vertices): x,y,disparity (for eval --samples)
   --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds,
                             and the run's own (run_ms: reading both inputs, configure,
@@ -76,8 +85,8 @@ int cmd_match(int argc, char** argv) {
   const Clock::time_point t_start = Clock::now();
   std::set<std::string> values = {"disp",   "disp-color", "mesh",       "camera", "calib",
                                   "calib-format", "disp-format", "calib-unit", "depth", "points", "samples",
-                                  "stats"};
-  std::set<std::string> flags = {"reference", "mesh-ascii", "help"};
+                                  "stats", "valid", "confidence"};
+  std::set<std::string> flags = {"reference", "mesh-ascii", "points-include-filled", "help"};
   add_stereo_options(values, flags);
   Args args(argc, argv, values, flags);
   if (args.flag("help")) {
@@ -89,6 +98,7 @@ int cmd_match(int argc, char** argv) {
       {"mesh-ascii", {"mesh", "points"}, nullptr, "it writes their PLY files as ASCII"},
       {"calib-format", {"calib"}, nullptr, "it says how to read the calibration file"},
       {"calib-unit", {"calib"}, nullptr, "it gives the unit of an OpenCV calibration file's translations"},
+      {"points-include-filled", {"points", "mesh"}, nullptr, "it keeps filled pixels and vertices in their PLY files"},
   };
   check_option_needs(args, kNeeds);
   const auto& pos = args.positional();

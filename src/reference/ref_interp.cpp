@@ -90,5 +90,29 @@ ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_d
   return out;
 }
 
+void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& vertex_state,
+                        const std::vector<std::uint8_t>& vertex_confidence, ImageU8& state,
+                        ImageU8& confidence) {
+  const int w = mesh.width, h = mesh.height;
+  state = ImageU8(w, h, 1, 0);
+  confidence = ImageU8(w, h, 1, 0);
+  for (const Triangle& t : mesh.triangles) {
+    const Vertex& a = mesh.vertices.at(static_cast<std::size_t>(t[0]));
+    const Vertex& b = mesh.vertices.at(static_cast<std::size_t>(t[1]));
+    const Vertex& c = mesh.vertices.at(static_cast<std::size_t>(t[2]));
+    std::uint8_t s = 255, conf = 255;
+    for (int k = 0; k < 3; ++k) {
+      s = std::min(s, vertex_state.at(static_cast<std::size_t>(t[static_cast<std::size_t>(k)])));
+      conf = std::min(conf, vertex_confidence.at(static_cast<std::size_t>(t[static_cast<std::size_t>(k)])));
+    }
+    for (int y = std::max(0, std::min({a.y, b.y, c.y})); y <= std::min(h - 1, std::max({a.y, b.y, c.y})); ++y)
+      for (int x = std::max(0, std::min({a.x, b.x, c.x})); x <= std::min(w - 1, std::max({a.x, b.x, c.x})); ++x)
+        if (edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) && edge_keeps(c, a, x, y, w, h)) {
+          state.at(x, y) = s;
+          confidence.at(x, y) = conf;
+        }
+  }
+}
+
 }  // namespace reference
 }  // namespace tristereo
