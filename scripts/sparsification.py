@@ -26,8 +26,8 @@ Printed per scene and per set (the set's pixels pooled):
 its valid pixels are exactly those of confidence >= C.
 
 Usage: scripts/sparsification.py --tristereo build/tristereo [--data DIR]
-       [--sets a,b] [--thresholds 128,160] [--json OUT] [--plot OUT.png]
-       [--check C] [-- extra match options]
+       [--sets a,b] [--thresholds 128,144] [--json OUT] [--plot OUT.png]
+       [--markdown] [--check C] [-- extra match options]
 """
 import argparse
 import concurrent.futures
@@ -208,42 +208,35 @@ def plot(sets, path):
     fig.savefig(path, dpi=100)
 
 
-def main(argv):
-    extra = []
-    if "--" in argv:
-        i = argv.index("--")
-        argv, extra = argv[:i], argv[i + 1:]
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--tristereo", required=True)
-    ap.add_argument("--data", default=datasets.DEFAULT_DATA)
-    ap.add_argument("--sets", default=None, help="comma-separated set folders (default: all)")
-    ap.add_argument("--thresholds", default="128", help="comma-separated --min-confidence values to report")
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--json", default=None)
-    ap.add_argument("--plot", default=None)
-    ap.add_argument("--check", type=int, default=None)
-    a = ap.parse_args(argv)
-    thresholds = [int(t) for t in a.thresholds.split(",") if t]
-    scenes = datasets.scenes(a.data, a.sets.split(",") if a.sets else None)
+# The --min-confidence value docs/model.md section 7 suggests for robots, and
+# the issue's target for it: on KITTI and Middlebury 2014, the pixels kept are
+# at least 65 % of those with ground truth and their error rate at most 0.3
+# times the rate of all of them (invalid counted bad) without it.
+ROBOT_MIN_CONFIDENCE = 144
+TARGET_SETS = ("middlebury2014", "kitti2015")
+TARGET_SHARE, TARGET_RATIO = 0.65, 0.3
+
+
+def measure(exe, data, sets, thresholds, extra, jobs=2, check=None):
+    """Scores every scene -> (rows per scene, rows per set, report dict).
+    With `check`, also verifies a --min-confidence run on one scene per set
+    (RuntimeError when it keeps other pixels)."""
+    scenes = datasets.scenes(data, sets)
     with tempfile.TemporaryDirectory(prefix="sparsification_") as work:
-        with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-            futures = [pool.submit(score_scene, a.tristereo, s, extra, work) for s in scenes]
+        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+            futures = [pool.submit(score_scene, exe, s, extra, work) for s in scenes]
             results = [f.result() for f in futures]
-        if a.check is not None:
+        if check is not None:
             seen = set()
             for s, r in zip(scenes, results):
                 if s.set in seen:
                     continue
                 seen.add(s.set)
-                disp, _, _ = match_scene(a.tristereo, s, extra, work, a.check)
+                disp, _, _ = match_scene(exe, s, extra, work, check)
                 gt, known = read_gt(s)
-                kept = np.isfinite(disp)[known]
-                if not np.array_equal(kept, r["conf"] >= a.check):
-                    print("check failed: %s with --min-confidence %d keeps other pixels than confidence >= %d"
-                          % (s.id, a.check, a.check), file=sys.stderr)
-                    return 1
-            print("check: --min-confidence %d keeps exactly the pixels of confidence >= %d (%s)"
-                  % (a.check, a.check, ", ".join(sorted(seen))))
+                if not np.array_equal(np.isfinite(disp)[known], r["conf"] >= check):
+                    raise RuntimeError("%s with --min-confidence %d keeps other pixels than confidence >= %d"
+                                       % (s.id, check, check))
     rows, set_rows, report = [], [], {"options": extra, "scenes": {}, "sets": {}}
     for s, r in zip(scenes, results):
         summary = summarise(r["bad"], r["state"], r["conf"], thresholds)
@@ -257,16 +250,100 @@ def main(argv):
         summary = summarise(pooled[0], pooled[1], pooled[2], thresholds)
         set_rows.append((label, metric_of(members[0][0]), summary))
         report["sets"][set_name] = summary
-    print("options: %s" % (" ".join(extra) if extra else "(defaults)"))
-    print("Per scene (%; meas/fill = error rate of the measured/filled pixels, their share in 'meas %'/'fill %'):")
-    print_table(rows, thresholds)
-    print("\nPer set (pixels pooled):")
-    print_table(set_rows, thresholds)
+    return rows, set_rows, report
+
+
+def markdown(rows, set_rows, report, thresholds, plot_path=None):
+    """The section of docs/results.md (scripts/results.py writes it)."""
+    out = []
+    w = out.append
+    w("## Measured, filled and confidence\n")
+    w("Every pixel's state and confidence (docs/model.md section 7; `tristereo match --valid "
+      "--confidence`), defaults, one run per scene, scored as the table per set above but with bad > 2 px "
+      "for Middlebury v2 too (its all.png mask), KITTI D1; invalid = bad; only known-GT pixels. *share*: of "
+      "the known-GT pixels; *rate*: error rate of those pixels. The sparsification curve removes the least "
+      "confident pixels first (equal confidences together) and gives the error rate of those kept; AUC is "
+      "its mean over 1..100 %% kept, the oracle's the same for a perfect ranking of the same errors. "
+      "*C >= c*: what `--min-confidence c` keeps (with c >= 128 only measured pixels). "
+      "Rerun: `scripts/sparsification.py --tristereo build/tristereo --thresholds %s`.\n"
+      % ",".join(str(t) for t in thresholds))
+    head = "| set | metric | all | measured share | measured rate | filled share | filled rate | invalid share " \
+           "| AUC | oracle AUC |"
+    rule = "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|"
+    for c in thresholds:
+        head += " C >= %d kept | rate | x all |" % c
+        rule += "--:|--:|--:|"
+    for title, table in (("Per set (the set's pixels pooled)", set_rows), ("Per scene", rows)):
+        w("%s, %%:\n" % title)
+        w(head)
+        w(rule)
+        for label, metric, r in table:
+            line = "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+                label, metric, pct(r["all"]), pct(r["measured_share"]), pct(r["measured_rate"]),
+                pct(r["filled_share"]), pct(r["filled_rate"]), pct(r["invalid_share"]), pct(r["auc"]),
+                pct(r["oracle_auc"]))
+            for c in thresholds:
+                t = r["thresholds"][str(c)]
+                line += " %s | %s | %s |" % (pct(t["share"]), pct(t["rate"]),
+                                              "-" if t["ratio"] is None else "%.2f" % t["ratio"])
+            w(line)
+        w("")
+    if str(ROBOT_MIN_CONFIDENCE) in next(iter(report["sets"].values()))["thresholds"]:
+        w("Target of issue #39 with `--min-confidence %d` (docs/model.md section 7): kept share >= %d %% "
+          "and rate <= %.1f x all, per set:\n" % (ROBOT_MIN_CONFIDENCE, round(100 * TARGET_SHARE), TARGET_RATIO))
+        for set_name in TARGET_SETS:
+            r = report["sets"].get(set_name)
+            if r is None:
+                continue
+            t = r["thresholds"][str(ROBOT_MIN_CONFIDENCE)]
+            met = t["share"] >= TARGET_SHARE and t["ratio"] is not None and t["ratio"] <= TARGET_RATIO
+            w("- %s: %s %% kept, rate %s %% = %.2f x all (%s %%): %s." % (
+                set_name, pct(t["share"]), pct(t["rate"]), t["ratio"], pct(r["all"]), "met" if met else "not met"))
+        w("")
+    if plot_path:
+        w("![sparsification curves](img/%s)\n" % os.path.basename(plot_path))
+    return out
+
+
+def main(argv):
+    extra = []
+    if "--" in argv:
+        i = argv.index("--")
+        argv, extra = argv[:i], argv[i + 1:]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tristereo", required=True)
+    ap.add_argument("--data", default=datasets.DEFAULT_DATA)
+    ap.add_argument("--sets", default=None, help="comma-separated set folders (default: all)")
+    ap.add_argument("--thresholds", default="128,%d" % ROBOT_MIN_CONFIDENCE,
+                    help="comma-separated --min-confidence values to report")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--json", default=None)
+    ap.add_argument("--plot", default=None)
+    ap.add_argument("--markdown", action="store_true", help="print the docs/results.md section instead")
+    ap.add_argument("--check", type=int, default=None)
+    a = ap.parse_args(argv)
+    thresholds = [int(t) for t in a.thresholds.split(",") if t]
+    try:
+        rows, set_rows, report = measure(a.tristereo, a.data, a.sets.split(",") if a.sets else None, thresholds,
+                                         extra, a.jobs, a.check)
+    except RuntimeError as e:
+        print("sparsification: %s" % e, file=sys.stderr)
+        return 1
+    if a.plot:
+        plot(set_rows, a.plot)
+    if a.markdown:
+        print("\n".join(markdown(rows, set_rows, report, thresholds, a.plot)))
+    else:
+        if a.check is not None:
+            print("check: --min-confidence %d keeps exactly the pixels of confidence >= %d" % (a.check, a.check))
+        print("options: %s" % (" ".join(extra) if extra else "(defaults)"))
+        print("Per scene (%; meas/fill = error rate of the measured/filled pixels, their share in 'meas %'/'fill %'):")
+        print_table(rows, thresholds)
+        print("\nPer set (pixels pooled):")
+        print_table(set_rows, thresholds)
     if a.json:
         with open(a.json, "w") as f:
             json.dump(report, f, indent=1)
-    if a.plot:
-        plot(set_rows, a.plot)
     return 0
 
 
