@@ -767,9 +767,15 @@ PYBIND11_MODULE(_tristereo, m) {
   m.def(
       "write_mesh_ply",
       [](const py::object& path, const Output& out, const py::array& left, const py::object& camera, bool binary,
-         const py::object& order_arg) {
+         const py::object& order_arg, bool include_filled) {
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
-        const StereoOutput o = out.stereo_output();
+        StereoOutput o = out.stereo_output();
+        if (!include_filled) {
+          const auto state = out.vertex_state.unchecked<1>();
+          for (py::ssize_t i = 0; i < state.shape(0); ++i)
+            if (state(i) != static_cast<std::uint8_t>(SampleState::kMeasured))
+              o.vertex_disp_q4[static_cast<std::size_t>(i)] = kInvalidDispQ4;
+        }
         CameraParams cam{};
         if (!camera.is_none()) cam = camera_of(camera);
         const std::string file = path_of(path);
@@ -784,15 +790,31 @@ PYBIND11_MODULE(_tristereo, m) {
                         py::arg("faces_behind_camera") = r.faces_behind_camera);
       },
       py::arg("path"), py::arg("out"), py::arg("left"), py::arg("camera") = py::none(), py::arg("binary") = true,
-      py::arg("order") = py::none(),
+      py::arg("order") = py::none(), py::arg("include_filled") = false,
       "As match --mesh: the 2.5D mesh as PLY, coloured by the left image; (x, y, d) in pixels without a "
-      "camera, metres with one. Returns the face counts.");
+      "camera, metres with one; faces of measured vertices only unless include_filled (as "
+      "--points-include-filled). Returns the face counts.");
   m.def(
       "write_points_ply",
       [](const py::object& path, const py::array& disp_q4, const py::array& left, const py::object& camera,
-         bool binary, const py::object& order_arg) {
+         bool binary, const py::object& order_arg, const py::object& state_arg) {
         py::array_t<std::int16_t> keep;
-        const auto d = disp_view(disp_q4, &keep);
+        auto d = disp_view(disp_q4, &keep);
+        ImageS16 measured;  // state given: the measured pixels' disparities only
+        if (!state_arg.is_none()) {
+          const auto state = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(state_arg);
+          if (!state || state.ndim() != 2 || state.shape(0) != d.height || state.shape(1) != d.width)
+            throw py::value_error("state must be a uint8 (H, W) array of disp_q4's size (Output.state)");
+          measured = ImageS16(d.width, d.height);
+          const std::uint8_t* s = state.data();
+          for (int y = 0; y < d.height; ++y)
+            for (int x = 0; x < d.width; ++x) {
+              const std::size_t i = static_cast<std::size_t>(y) * d.width + x;
+              measured.pixels[i] =
+                  s[i] == static_cast<std::uint8_t>(SampleState::kMeasured) ? d.row(y)[x] : kInvalidDispQ4;
+            }
+          d = static_cast<const ImageS16&>(measured).view();
+        }
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
         const CameraParams cam = camera_of(camera);
         const std::string file = path_of(path);
@@ -800,8 +822,9 @@ PYBIND11_MODULE(_tristereo, m) {
         return write_points_ply(file, d, colours.view(), cam, binary);
       },
       py::arg("path"), py::arg("disp_q4"), py::arg("left"), py::arg("camera"), py::arg("binary") = true,
-      py::arg("order") = py::none(),
-      "As match --points: one coloured PLY vertex (metres) per valid pixel. Returns the number of points.");
+      py::arg("order") = py::none(), py::arg("state") = py::none(),
+      "As match --points: one coloured PLY vertex (metres) per valid pixel; with state (Output.state), per "
+      "measured pixel, as match --points without --points-include-filled. Returns the number of points.");
 
   py::class_<StereoCalibration>(m, "Calibration")
       .def_readonly("focal_px", &StereoCalibration::focal_px)

@@ -153,6 +153,7 @@ def write_mesh_ply(
     camera: Optional[_Camera] = None,
     binary: bool = True,
     order: _Order = None,
+    include_filled: bool = False,
 ) -> Dict[str, int]: ...
 def write_points_ply(
     path: _Path,
@@ -161,6 +162,7 @@ def write_points_ply(
     camera: _Camera,
     binary: bool = True,
     order: _Order = None,
+    state: Optional[npt.NDArray[np.uint8]] = None,
 ) -> int: ...
 def read_image(path: _Path) -> npt.NDArray[np.uint8]: ...
 
