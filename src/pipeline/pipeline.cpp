@@ -365,15 +365,23 @@ int Pipeline::Impl::settle_states(int n, std::int16_t* disp, std::uint8_t* conf,
   return rejected.load();
 }
 
-// Sparse frames: the pixel state and confidence maps from the vertices',
-// triangles handed out on demand (each pixel has one owner).
+// Sparse frames: the pixel confidence map from the vertices', triangles
+// handed out on demand (each pixel has one owner), then each pixel's state
+// from its confidence, fixed row ranges per worker.
 void Pipeline::Impl::interpolate_states(const Mesh& mesh) {
   triangles.reset(0, static_cast<int>(mesh.triangles.size()), kTrianglesPerChunk);
   pool.run([&](int) {
     int t0 = 0, t1 = 0;
     while (triangles.next(&t0, &t1))
-      interpolate_state_triangles(mesh, out.vertex_state.data(), out.vertex_confidence.data(), t0, t1,
-                                  out.pixel_state.view(), out.pixel_confidence.view());
+      interpolate_confidence_triangles(mesh, out.vertex_confidence.data(), t0, t1, out.pixel_confidence.view());
+  });
+  const int n = static_cast<int>(out.pixel_state.pixels.size());
+  pool.run([&](int w) {
+    int i0 = 0, i1 = 0;
+    ThreadPool::split_range(0, n, pool.size(), w, &i0, &i1);
+    const std::uint8_t* c = out.pixel_confidence.pixels.data();
+    std::uint8_t* s = out.pixel_state.pixels.data();
+    for (int i = i0; i < i1; ++i) s[i] = state_of_confidence(c[i]);
   });
 }
 
