@@ -35,6 +35,7 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.side4_tests_u8 = &Side4TestsU8<xsimd::avx2>::call;
   set.side8_tests_s32 = &Side8TestsS32<xsimd::avx2>::call;
   set.midpoints_row_q4 = &MidpointsRowQ4<xsimd::avx2>::call;
+  set.midpoints_row_conf_q4 = &MidpointsRowConfQ4<xsimd::avx2>::call;
 }
 
 }  // namespace simd

@@ -35,6 +35,7 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.side4_tests_u8 = &Side4TestsU8<xsimd::neon>::call;
   set.side8_tests_s32 = &Side8TestsS32<xsimd::neon>::call;
   set.midpoints_row_q4 = &MidpointsRowQ4<xsimd::neon>::call;
+  set.midpoints_row_conf_q4 = &MidpointsRowConfQ4<xsimd::neon>::call;
 }
 
 }  // namespace simd

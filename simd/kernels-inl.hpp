@@ -1515,5 +1515,89 @@ void MidpointsRowQ4<Arch>::call(const std::int32_t* above, const std::int32_t* r
   if (x < n) run(n - block, masks_at(n - block));
 }
 
+// The same lanes and masks as MidpointsRowQ4, the confidences beside the
+// values (conf_offset points further): each unknown lane takes the minimum of
+// its candidate pair's, selected like the average. Blocks of four registers,
+// so the confidences and states narrow to one register of bytes each (one of
+// int16 disparities per two registers); the last block ends at n, as there.
+template <class Arch>
+void MidpointsRowConfQ4<Arch>::call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                                    std::ptrdiff_t conf_offset, int n, int first_backslash, int frac_bits,
+                                    std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state) {
+  using s32 = xsimd::batch<std::int32_t, Arch>;
+  using u32 = xsimd::batch<std::uint32_t, Arch>;
+  using u8 = xsimd::batch<std::uint8_t, Arch>;
+  using mask = xsimd::batch_bool<std::int32_t, Arch>;
+  constexpr int lanes = static_cast<int>(s32::size);
+  constexpr int block = 4 * lanes;
+  if (n < block) {
+    detail::narrower_or_scalar<MidpointsRowConfQ4, Arch>(&midpoints_row_conf_q4_scalar, above, row, below,
+                                                         conf_offset, n, first_backslash, frac_bits, disp_q4,
+                                                         confidence, state);
+    return;
+  }
+  alignas(64) std::int32_t x_in_block[lanes];
+  for (int k = 0; k < lanes; ++k) x_in_block[k] = k;
+  const s32 iota = s32::load_aligned(x_in_block);
+  const s32 one(1), unknown(kMidpointUnknown), half(std::int32_t{1} << (frac_bits - 1));
+  const s32 byte_max(255);
+  const s32 backslash_pair(first_backslash ? 0 : 1);
+  const std::ptrdiff_t k = conf_offset;
+  struct Masks {
+    mask odd, backslash;
+  };
+  const auto masks_at = [&](int x0) {
+    const s32 x = s32(x0) + iota;
+    return Masks{(x & one) == one, ((x >> 1) & one) == backslash_pair};
+  };
+  const auto load = [](const std::int32_t* p) { return s32::load_unaligned(p); };
+  struct Lane {
+    s32 q4, conf;
+  };
+  // One register of points from x: the known value and confidence, or the
+  // average and the minimum of the pair.
+  const auto points = [&](int x, const Masks& m) {
+    const s32 v = load(row + x);
+    s32 average, least;
+    if (above == nullptr) {
+      average = (load(row + x - 1) + load(row + x + 1)) >> 1;
+      least = xsimd::min(load(row + x - 1 + k), load(row + x + 1 + k));
+    } else {
+      const s32 vertical = (load(above + x) + load(below + x)) >> 1;
+      const s32 backslash = (load(above + x - 1) + load(below + x + 1)) >> 1;
+      const s32 slash = (load(above + x + 1) + load(below + x - 1)) >> 1;
+      average = xsimd::select(m.odd, xsimd::select(m.backslash, backslash, slash), vertical);
+      const s32 c_vertical = xsimd::min(load(above + x + k), load(below + x + k));
+      const s32 c_backslash = xsimd::min(load(above + x - 1 + k), load(below + x + 1 + k));
+      const s32 c_slash = xsimd::min(load(above + x + 1 + k), load(below + x - 1 + k));
+      least = xsimd::select(m.odd, xsimd::select(m.backslash, c_backslash, c_slash), c_vertical);
+    }
+    const auto is_unknown = v == unknown;
+    return Lane{(xsimd::select(is_unknown, average, v) + half) >> frac_bits,
+                xsimd::select(is_unknown, least, load(row + x + k))};
+  };
+  // State 0, 1 or 2 from a confidence c in 0..255: (c + 255) >> 8 is 1 when
+  // c > 0, and c >> 7 adds 1 from 128.
+  const auto state_of = [&](const s32& c) { return ((c + byte_max) >> 8) + (c >> 7); };
+  const auto narrow = [](const s32& a, const s32& b) {
+    return escape::narrow_u32(xsimd::bitwise_cast<u32>(a), xsimd::bitwise_cast<u32>(b));
+  };
+  const auto run = [&](int x, const Masks& m) {
+    Lane p[4];
+    for (int r = 0; r < 4; ++r) p[r] = points(x + r * lanes, m);
+    narrow(p[0].q4, p[1].q4).store_unaligned(reinterpret_cast<std::uint16_t*>(disp_q4 + x));
+    narrow(p[2].q4, p[3].q4).store_unaligned(reinterpret_cast<std::uint16_t*>(disp_q4 + x + 2 * lanes));
+    const u8 c = escape::narrow_u16(narrow(p[0].conf, p[1].conf), narrow(p[2].conf, p[3].conf));
+    c.store_unaligned(confidence + x);
+    const u8 st = escape::narrow_u16(narrow(state_of(p[0].conf), state_of(p[1].conf)),
+                                     narrow(state_of(p[2].conf), state_of(p[3].conf)));
+    st.store_unaligned(state + x);
+  };
+  const Masks from_0 = masks_at(0);
+  int x = 0;
+  for (; x + block <= n; x += block) run(x, from_0);
+  if (x < n) run(n - block, masks_at(n - block));
+}
+
 }  // namespace simd
 }  // namespace tristereo

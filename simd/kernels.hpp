@@ -151,6 +151,13 @@ struct MidpointsRowQ4 {
                    int first_backslash, int frac_bits, std::int16_t* disp_q4);
 };
 
+template <class Arch>
+struct MidpointsRowConfQ4 {
+  static void call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                   std::ptrdiff_t conf_offset, int n, int first_backslash, int frac_bits, std::int16_t* disp_q4,
+                   std::uint8_t* confidence, std::uint8_t* state);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -175,7 +182,8 @@ struct MidpointsRowQ4 {
   KEYWORD template struct BgrToGrayRowU8<ARCH>;                \
   KEYWORD template struct Side4TestsU8<ARCH>;                  \
   KEYWORD template struct Side8TestsS32<ARCH>;                 \
-  KEYWORD template struct MidpointsRowQ4<ARCH>;
+  KEYWORD template struct MidpointsRowQ4<ARCH>;              \
+  KEYWORD template struct MidpointsRowConfQ4<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

@@ -86,7 +86,9 @@ struct StereoOutput {
   std::vector<std::uint8_t> vertex_state;
   std::vector<std::uint8_t> vertex_confidence;
   // Per pixel, like disp_q4: the smallest state and confidence of the vertices
-  // of the pixel's triangle (dense mode: the pixel's own).
+  // the pixel's disparity is interpolated from (its triangle's three inside
+  // it, an edge's two ends on that edge, a vertex's own; 0 when the disparity
+  // is invalid); dense mode: the pixel's own.
   ImageU8 pixel_state;
   ImageU8 pixel_confidence;
   SampleValidity validity;

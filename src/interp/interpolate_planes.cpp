@@ -1,7 +1,6 @@
 #include "src/interp/interpolate_planes.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <string>
 
 #include "src/tritree/fill_rule.hpp"
@@ -148,28 +147,6 @@ inline void plane_of_triangle(const SmallTriangleMasks& masks, const Vertex& a, 
 }
 
 }  // namespace
-
-void fill_triangle_u8(const Vertex& a, const Vertex& b, const Vertex& c, std::uint8_t value,
-                      ImageView<std::uint8_t> map) {
-  const int w = map.width, h = map.height;
-  const int ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
-  const bool small = ux >= -2 && ux <= 2 && uy >= -2 && uy <= 2 && vx >= -2 && vx <= 2 && vy >= -2 && vy <= 2 &&
-                     std::max({a.x, b.x, c.x}) < w - 1 && std::max({a.y, b.y, c.y}) < h - 1;
-  if (small) {
-    // Most triangles of a fine mesh: their pixels from the table, no span walk.
-    std::uint32_t m = small_triangle_masks().mask[small_key(ux, uy, vx, vy)];
-    while (m != 0) {
-      const int bit = __builtin_ctz(m);
-      m &= m - 1;
-      const int x = a.x + bit % 5 - 2, y = a.y + bit / 5 - 2;
-      map.row(y)[x] = value;
-    }
-    return;
-  }
-  for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
-    std::memset(map.row(y) + x0, value, static_cast<std::size_t>(x1 - x0));
-  });
-}
 
 void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::int16_t disp_a,
                           std::int16_t disp_b, std::int16_t disp_c, ImageView<std::int16_t> disp_q4) {

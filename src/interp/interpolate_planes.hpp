@@ -30,9 +30,4 @@ void interpolate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
 void interpolate_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::int16_t disp_a,
                           std::int16_t disp_b, std::int16_t disp_c, ImageView<std::int16_t> disp_q4);
 
-// Writes `value` into `map` (the whole image) at every pixel the triangle
-// (a, b, c), positive orientation, owns. No argument checks.
-void fill_triangle_u8(const Vertex& a, const Vertex& b, const Vertex& c, std::uint8_t value,
-                      ImageView<std::uint8_t> map);
-
 }  // namespace tristereo

@@ -55,7 +55,8 @@ struct Pipeline::Impl {
     UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
-    std::unique_ptr<std::int32_t[]> tile_values;  // interpolation: one row of tiles' grid values
+    // Interpolation: one row of tiles' grid values, then their confidences.
+    std::unique_ptr<std::int32_t[]> tile_values;
   };
   std::vector<Worker> workers;
   WorkChunks rows;       // matching: rows handed out on demand
@@ -86,9 +87,8 @@ struct Pipeline::Impl {
                                    std::uint8_t* sample_conf, std::int64_t* cost_ns, std::int64_t* dp_ns,
                                    SideWork* right_rows = nullptr);
   int settle_states(int n, std::int16_t* disp, std::uint8_t* conf, std::uint8_t* state);
-  void interpolate_states(const Mesh& mesh);
   void interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
-                       ImageView<std::int16_t> out);
+                       ImageView<std::int16_t> out, const ConfidenceMaps* conf = nullptr);
   // The tritree, and for the path optimizer's sparse frames the mesh's
   // predecessors, offered as the leaves are emitted (no scan of the mesh).
   void build_mesh(Tritree& tree, ImageView<const std::uint8_t> gray, Mesh& mesh, SideWork* side = nullptr) {
@@ -134,7 +134,7 @@ std::size_t Pipeline::working_memory_bytes() const {
                       capacity_bytes(m.out.pixel_confidence.pixels);
   for (const Impl::Worker& w : m.workers)
     bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
-             midpoint_band_values(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
+             2 * midpoint_band_values(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
   bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
            capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
            capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
@@ -177,7 +177,7 @@ void Pipeline::configure(const PipelineConfig& config) {
     if (rows_dp) w.matcher.configure(config.max_width, config.params);
     w.census.resize(config.max_width);
     w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
-    w.tile_values.reset(new std::int32_t[midpoint_band_values(m.tritree.tile_side(), config.max_width)]);
+    w.tile_values.reset(new std::int32_t[2 * midpoint_band_values(m.tritree.tile_side(), config.max_width)]());
   }
   const int max_px = config.max_width * config.max_height;
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads, config.schedule_workers);
@@ -365,35 +365,25 @@ int Pipeline::Impl::settle_states(int n, std::int16_t* disp, std::uint8_t* conf,
   return rejected.load();
 }
 
-// Sparse frames: the pixel confidence map from the vertices', triangles
-// handed out on demand (each pixel has one owner), then each pixel's state
-// from its confidence, fixed row ranges per worker.
-void Pipeline::Impl::interpolate_states(const Mesh& mesh) {
-  triangles.reset(0, static_cast<int>(mesh.triangles.size()), kTrianglesPerChunk);
-  pool.run([&](int) {
-    int t0 = 0, t1 = 0;
-    while (triangles.next(&t0, &t1))
-      interpolate_confidence_triangles(mesh, out.vertex_confidence.data(), t0, t1, out.pixel_confidence.view());
-  });
-  const int n = static_cast<int>(out.pixel_state.pixels.size());
-  pool.run([&](int w) {
-    int i0 = 0, i1 = 0;
-    ThreadPool::split_range(0, n, pool.size(), w, &i0, &i1);
-    const std::uint8_t* c = out.pixel_confidence.pixels.data();
-    std::uint8_t* s = out.pixel_state.pixels.data();
-    for (int i = i0; i < i1; ++i) s[i] = state_of_confidence(c[i]);
-  });
-}
-
 // Interpolation by midpoint averages over the tritree's tiles (rows of tiles
 // on demand), then the stretched border leaves, then, only when a vertex is
-// invalid, the triangles that reach one (src/interp/interpolate_midpoints.hpp).
+// invalid, the triangles that reach one (src/interp/interpolate_midpoints.hpp);
+// with `conf`, the pixel confidence and state in the same passes.
 void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
-                                     ImageView<std::int16_t> out) {
+                                     ImageView<std::int16_t> out, const ConfidenceMaps* conf) {
   const TritreeGrid grid = tree.grid();
   const int n_tri = static_cast<int>(mesh.triangles.size());
   if (grid.need == nullptr) {  // a 2-pixel strip: its two triangles
     interpolate_triangles(mesh, vertex_disp, 0, n_tri, out);
+    if (conf == nullptr) return;
+    for (const Triangle& t : mesh.triangles) {
+      const auto vertex = [&](int k) { return mesh.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])]; };
+      confidence_triangle(vertex(0), vertex(1), vertex(2), conf->vertex_confidence[t[0]],
+                          conf->vertex_confidence[t[1]], conf->vertex_confidence[t[2]],
+                          vertex_disp[t[0]] == kInvalidDispQ4 || vertex_disp[t[1]] == kInvalidDispQ4 ||
+                              vertex_disp[t[2]] == kInvalidDispQ4,
+                          *conf);
+    }
     return;
   }
   triangles.reset(0, grid.layout.tiles_y, 1);
@@ -404,17 +394,17 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     std::int32_t* values = this->workers[static_cast<std::size_t>(w)].tile_values.get();
     while (triangles.next(&r0, &r1)) {
       const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
-      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, *kernels, values, out);
+      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, *kernels, values, out, conf);
       if (trace != nullptr) trace->record(w, TraceKind::kInterpolationTiles, t0, monotonic_ns(), r0, r1);
     }
     if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
-  interpolate_stretched_leaves(grid, mesh, vertex_disp, out);
+  interpolate_stretched_leaves(grid, mesh, vertex_disp, out, conf);
   if (!any_invalid.load(std::memory_order_relaxed)) return;
   triangles.reset(0, n_tri, kTrianglesPerChunk);
   pool.run([&](int) {
     int t0 = 0, t1 = 0;
-    while (triangles.next(&t0, &t1)) invalidate_triangles(mesh, vertex_disp, t0, t1, out);
+    while (triangles.next(&t0, &t1)) invalidate_triangles(mesh, vertex_disp, t0, t1, out, conf);
   });
 }
 
@@ -515,8 +505,9 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
       m.out.vertex_confidence[i] = m.out.pixel_confidence.at(x, y);
     }
   } else {
-    m.interpolate_all(m.tritree, mesh, vdisp.data(), dense.view());
-    m.interpolate_states(mesh);
+    const ConfidenceMaps conf{m.out.vertex_confidence.data(), m.out.pixel_confidence.view(),
+                              m.out.pixel_state.view()};
+    m.interpolate_all(m.tritree, mesh, vdisp.data(), dense.view(), &conf);
   }
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);

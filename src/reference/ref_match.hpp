@@ -82,8 +82,11 @@ std::vector<std::int16_t> match_row(const ImageU8& left_gray, const ImageU8& rig
 // by no triangle or by several (the mesh is not a conforming cover).
 ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4);
 
-// Pixel state and confidence maps (docs/model.md section 7): each pixel the
-// smallest of its owning triangle's three vertex values.
+// Pixel state and confidence maps (docs/model.md section 7): 0 for the pixels
+// of a triangle with an invalid vertex; else each pixel the smallest of the
+// values of its owning triangle's vertices whose weight in the plane at the
+// pixel is not zero (all three inside, an edge's two ends on that edge, the
+// vertex alone at a vertex).
 void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& vertex_state,
                         const std::vector<std::uint8_t>& vertex_confidence, ImageU8& state,
                         ImageU8& confidence);
