@@ -154,8 +154,9 @@ struct MidpointsRowQ4 {
 template <class Arch>
 struct MidpointsRowConfQ4 {
   static void call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
-                   std::ptrdiff_t conf_offset, int n, int first_backslash, int frac_bits, std::int16_t* disp_q4,
-                   std::uint8_t* confidence, std::uint8_t* state);
+                   const std::uint8_t* conf_above, const std::uint8_t* conf_row, const std::uint8_t* conf_below,
+                   int n, int first_backslash, int frac_bits, std::int16_t* disp_q4, std::uint8_t* confidence,
+                   std::uint8_t* state);
 };
 
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.

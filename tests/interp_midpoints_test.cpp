@@ -41,9 +41,9 @@ Maps by_midpoints(const Tritree& tree, const Mesh& m, const std::vector<std::int
   const ConfidenceMaps maps{vc.data(), out.confidence.view(), out.state.view()};
   const ConfidenceMaps* conf = vc.empty() ? nullptr : &maps;
   const TritreeGrid g = tree.grid();
-  // Twice the values' band with the confidences; kUnsetConf's bytes where
-  // the kernels read and discard.
-  std::vector<std::int32_t> values(2 * midpoint_band_values(tree.tile_side(), m.width), 0x4D4D4D4D);
+  // The values' band and the confidences' bytes, 0x4D where the kernels
+  // read and discard.
+  std::vector<std::int32_t> values(midpoint_band_values_with_confidence(tree.tile_side(), m.width), 0x4D4D4D4D);
   bool invalid =
       interpolate_midpoint_tiles(g, m, vd.data(), split, g.layout.tiles_y, ks, values.data(), out.disp.view(), conf);
   invalid |= interpolate_midpoint_tiles(g, m, vd.data(), 0, split, ks, values.data(), out.disp.view(), conf);

@@ -859,10 +859,9 @@ TEST_P(SimdKernels, MidpointsRowQ4) {
   for (int k = 0; k < 4; ++k) EXPECT_GT(kinds[k], 1000) << "average kind " << k;
 }
 
-// The same rows with the confidences beside the values (a band
-// conf_offset further, 0..255, few distinct values so that ties occur; the
-// unknown points' own hold garbage the kernel must not keep): disparity,
-// confidence and state equal the scalar twin's.
+// The same rows with their confidences (bytes, index for index, few
+// distinct values so that ties occur): disparity, confidence and state equal
+// the scalar twin's, the disparity midpoints_row_q4's.
 TEST_P(SimdKernels, MidpointsRowConfQ4) {
   int resolved = 0;
   for_each_case(31, [&](int n, int offset, int c, std::mt19937& rng) {
@@ -871,45 +870,46 @@ TEST_P(SimdKernels, MidpointsRowConfQ4) {
     std::uniform_int_distribution<std::int32_t> value(-big, big);
     const int unknown_per_4 = c;
     const std::size_t len = static_cast<std::size_t>(n) + 2;  // x = -1 .. n
-    // Values at [0, len), confidences at [len, 2 len): conf_offset = len.
-    // Garbage only where nothing reads it: the odd row's own unknown points
-    // (their pairs are in the rows above and below).
-    const auto grid_row = [&](bool even, bool garbage) {
-      std::vector<std::int32_t> r(2 * len);
+    const auto grid_row = [&](bool even) {
+      std::vector<std::int32_t> r(len);
       for (int x = -1; x <= n; ++x) {
         const bool may_be_unknown = !even || (x & 1) != 0;
         const bool unknown = may_be_unknown && static_cast<int>(rng() % 4) < unknown_per_4;
-        const std::size_t i = static_cast<std::size_t>(x + 1);
-        r[i] = unknown ? kMidpointUnknown : value(rng);
+        r[static_cast<std::size_t>(x + 1)] = unknown ? kMidpointUnknown : value(rng);
+      }
+      return r;
+    };
+    const auto conf_row = [&] {
+      std::vector<std::uint8_t> r(len);
+      for (std::uint8_t& v : r) {
         const std::uint32_t pick = rng() % 8;
-        r[len + i] = garbage && unknown && pick == 0 ? static_cast<std::int32_t>(rng())  // never kept
-                     : pick < 3          ? static_cast<std::int32_t>(pick * 127)
-                                         : static_cast<std::int32_t>(rng() % 256);
+        v = static_cast<std::uint8_t>(pick < 3 ? pick * 127 : rng() % 256);
       }
       return r;
     };
     for (int odd = 0; odd < 2; ++odd) {
-      const Input<std::int32_t> above(grid_row(true, false), offset), row(grid_row(odd == 0, odd == 1), offset),
-          below(grid_row(true, false), offset);
+      const Input<std::int32_t> above(grid_row(true), offset), row(grid_row(odd == 0), offset),
+          below(grid_row(true), offset);
+      const Input<std::uint8_t> c_above(conf_row(), offset), c_row(conf_row(), offset), c_below(conf_row(), offset);
       const int first_bs = (offset >> 1) & 1;
       const std::int32_t* a = odd ? above.data() + 1 : nullptr;
       const std::int32_t* b = odd ? below.data() + 1 : nullptr;
-      const std::ptrdiff_t k = static_cast<std::ptrdiff_t>(len);
+      const std::uint8_t* ca = odd ? c_above.data() + 1 : nullptr;
+      const std::uint8_t* cb = odd ? c_below.data() + 1 : nullptr;
       Guarded<std::int16_t> disp_simd(std::vector<std::int16_t>(static_cast<std::size_t>(n), 0x5A5A), 0x5A5A);
       Guarded<std::int16_t> disp_scalar = disp_simd;
       Guarded<std::uint8_t> conf_simd(std::vector<std::uint8_t>(static_cast<std::size_t>(n), 0xA5), 0xA5);
       Guarded<std::uint8_t> conf_scalar = conf_simd, state_simd = conf_simd, state_scalar = conf_simd;
-      simd().midpoints_row_conf_q4(a, row.data() + 1, b, k, n, first_bs, frac_bits, disp_simd.data(),
-                                   conf_simd.data(), state_simd.data());
-      scalar().midpoints_row_conf_q4(a, row.data() + 1, b, k, n, first_bs, frac_bits, disp_scalar.data(),
-                                     conf_scalar.data(), state_scalar.data());
+      simd().midpoints_row_conf_q4(a, row.data() + 1, b, ca, c_row.data() + 1, cb, n, first_bs, frac_bits,
+                                   disp_simd.data(), conf_simd.data(), state_simd.data());
+      scalar().midpoints_row_conf_q4(a, row.data() + 1, b, ca, c_row.data() + 1, cb, n, first_bs, frac_bits,
+                                     disp_scalar.data(), conf_scalar.data(), state_scalar.data());
       const std::string what = "n=" + std::to_string(n) + " offset=" + std::to_string(offset) +
                                " odd row=" + std::to_string(odd) + " first_backslash=" + std::to_string(first_bs) +
                                " frac_bits=" + std::to_string(frac_bits);
       ASSERT_EQ(diff(disp_simd, disp_scalar), "") << what;
       ASSERT_EQ(diff(conf_simd, conf_scalar), "") << what;
       ASSERT_EQ(diff(state_simd, state_scalar), "") << what;
-      // The disparities are midpoints_row_q4's.
       Guarded<std::int16_t> plain(std::vector<std::int16_t>(static_cast<std::size_t>(n), 0x5A5A), 0x5A5A);
       scalar().midpoints_row_q4(a, row.data() + 1, b, n, first_bs, frac_bits, plain.data());
       ASSERT_EQ(diff(plain, disp_scalar), "") << what;

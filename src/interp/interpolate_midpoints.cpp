@@ -22,16 +22,21 @@ inline std::int32_t midpoint(std::int32_t a, std::int32_t b) {
   return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) + static_cast<std::uint32_t>(b)) >> 1;
 }
 
-// The grid point v from a and b, the points it averages when unknown; with
-// kConf, its confidence (k further) too: the smaller of theirs. Whether a
-// grid point is a vertex is close to a coin toss, so the choice is a mask,
-// not a branch (the compiler made it a branch).
+// The grid point i from ia and ib, the points it averages, when unknown
+// (indices into `values`); with kConf, its confidence too (the same indices
+// into `conf`): the smaller of theirs. Whether a grid point is a vertex is
+// close to a coin toss, so the choice is a mask, not a branch (the compiler
+// made it a branch).
 template <bool kConf>
-inline void resolve(std::int32_t* v, const std::int32_t* a, const std::int32_t* b, std::ptrdiff_t k) {
-  const std::int32_t m = midpoint(*a, *b), old = *v;
+inline void resolve(std::int32_t* values, std::uint8_t* conf, std::ptrdiff_t i, std::ptrdiff_t ia,
+                    std::ptrdiff_t ib) {
+  const std::int32_t m = midpoint(values[ia], values[ib]), old = values[i];
   const std::int32_t unknown = -static_cast<std::int32_t>(old == kUnknown);  // all ones or zero
-  *v = (m & unknown) | (old & ~unknown);
-  if constexpr (kConf) v[k] = (std::min(a[k], b[k]) & unknown) | (v[k] & ~unknown);
+  values[i] = (m & unknown) | (old & ~unknown);
+  if constexpr (kConf) {
+    const std::int32_t c = std::min(conf[ia], conf[ib]);
+    conf[i] = static_cast<std::uint8_t>((c & unknown) | (conf[i] & ~unknown));
+  }
 }
 
 }  // namespace
@@ -40,33 +45,31 @@ namespace {
 
 // Square centres, then side midpoints, at level s, then the levels below
 // down to side 4, of the tile whose corner is values[0] (rows `n` apart;
-// confidences k further with kConf; s and S known at compile time: the short
-// rows unroll).
+// with kConf its confidences from conf[0], laid out alike; s and S known at
+// compile time: the short rows unroll).
 template <int S, int s, bool kConf>
-inline void resolve_levels(std::int32_t* values, std::ptrdiff_t n, std::ptrdiff_t k, int x0, int y0, int nx,
+inline void resolve_levels(std::int32_t* values, std::uint8_t* conf, std::ptrdiff_t n, int x0, int y0, int nx,
                            int ny) {
   static_assert(s >= 4, "side 2 goes along whole rows (resolve_level2)");
   constexpr int h = s / 2;
   for (int j = 0; j + h <= ny; j += s) {
-    const std::int32_t* top = values + j * n;
-    const std::int32_t* bottom = top + s * n;
-    std::int32_t* centre = values + (j + h) * n + h;
+    const std::ptrdiff_t top = j * n, bottom = top + s * n, centre = (j + h) * n + h;
     // The diagonals alternate along a row of squares.
     bool bs = RtinLayout::backslash(x0, y0 + j, s);
     for (int i = 0; i + h <= nx; i += s, bs = !bs) {
-      if (bs) resolve<kConf>(centre + i, top + i, bottom + i + s, k);
-      else resolve<kConf>(centre + i, top + i + s, bottom + i, k);
+      if (bs) resolve<kConf>(values, conf, centre + i, top + i, bottom + i + s);
+      else resolve<kConf>(values, conf, centre + i, top + i + s, bottom + i);
     }
   }
   for (int j = 0; j <= ny; j += s) {  // horizontal sides
-    std::int32_t* v = values + j * n;
-    for (int i = h; i <= nx; i += s) resolve<kConf>(v + i, v + i - h, v + i + h, k);
+    const std::ptrdiff_t r = j * n;
+    for (int i = h; i <= nx; i += s) resolve<kConf>(values, conf, r + i, r + i - h, r + i + h);
   }
   for (int j = h; j <= ny; j += s) {  // vertical sides
-    std::int32_t* v = values + j * n;
-    for (int i = 0; i <= nx; i += s) resolve<kConf>(v + i, v + i - h * n, v + i + h * n, k);
+    const std::ptrdiff_t r = j * n;
+    for (int i = 0; i <= nx; i += s) resolve<kConf>(values, conf, r + i, r + i - h * n, r + i + h * n);
   }
-  if constexpr (s > 4) resolve_levels<S, s / 2, kConf>(values, n, k, x0, y0, nx, ny);
+  if constexpr (s > 4) resolve_levels<S, s / 2, kConf>(values, conf, n, x0, y0, nx, ny);
 }
 
 // A row of tiles at a time: its grid values in one buffer (S + 1 rows of the
@@ -74,8 +77,9 @@ inline void resolve_levels(std::int32_t* values, std::ptrdiff_t n, std::ptrdiff_
 // row's vertices (a walk per tile row and tile ended at a data-dependent
 // vertex: a mispredicted exit for every tile row of every tile). Tiles side
 // by side share their common column, which both resolve alike. With kConf
-// the confidences go along, in a band k = midpoint_band_values(S, width)
-// further (never cleared: every point a kept result reads is written first).
+// the confidences go along, a byte per point after the values' band (never
+// cleared: every point whose confidence a kept result reads is written
+// first, as its value is).
 template <int S, bool kConf>
 bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                     int tile_row_begin, int tile_row_end, const KernelSet& kernels, std::int32_t* scratch,
@@ -88,7 +92,9 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
   const std::int32_t one = std::int32_t{1} << F;
   const Vertex* vertices = mesh.vertices.data();
   const int last_x = L.width - 1;
-  const std::ptrdiff_t k = kConf ? static_cast<std::ptrdiff_t>(midpoint_band_values(S, L.width)) : 0;
+  // conf[i] is the confidence of values[i] (from i = -1 too).
+  std::uint8_t* const conf_values =
+      kConf ? reinterpret_cast<std::uint8_t*>(scratch + midpoint_band_values(S, L.width)) + 1 : nullptr;
   const std::uint8_t* vertex_conf = kConf ? conf->vertex_confidence : nullptr;
   unsigned invalid = 0;
   for (int ty = tile_row_begin; ty < tile_row_end; ++ty) {
@@ -107,9 +113,9 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
       const std::int32_t end = mesh.row_start[y + 1];
       for (std::int32_t id = mesh.row_start[y]; id < end; ++id) {
         const int x = vertices[id].x;
-        std::int32_t* p = v + (x == last_x ? L.vw : x);
-        *p = vertex_disp_q4[id] * one;
-        if constexpr (kConf) p[k] = vertex_conf[id];
+        const int gx = x == last_x ? L.vw : x;
+        v[gx] = vertex_disp_q4[id] * one;
+        if constexpr (kConf) conf_values[j * n + gx] = vertex_conf[id];
       }
     }
     // Apart, so that it vectorises: whether any of them is invalid.
@@ -121,7 +127,7 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
     if constexpr (S >= 4) {
       for (int tx = 0; tx < L.tiles_x; ++tx) {
         const int x0 = tx * S;
-        resolve_levels<S, S, kConf>(values + x0, n, k, x0, y0, std::min(S, L.vw - x0), ny);
+        resolve_levels<S, S, kConf>(values + x0, kConf ? conf_values + x0 : nullptr, n, x0, y0, std::min(S, L.vw - x0), ny);
       }
     }
     // Side 2 (three quarters of the grid points, each the average of two
@@ -144,9 +150,13 @@ bool midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_
         const int yr = L.real_y(y0 + j);
         std::uint8_t* c = conf->confidence.row(yr);
         std::uint8_t* st = conf->state.row(yr);
-        kernels.midpoints_row_conf_q4(above, v, below, k, L.vw, first_bs, F, out, c, st);
-        kernels.midpoints_row_conf_q4(odd ? above + L.vw : nullptr, v + L.vw, odd ? below + L.vw : nullptr, k, 1,
-                                      0, F, out + xl, c + xl, st + xl);
+        const std::uint8_t* cv = conf_values + j * n;
+        const std::uint8_t* ca = odd ? cv - n : nullptr;
+        const std::uint8_t* cb = odd ? cv + n : nullptr;
+        kernels.midpoints_row_conf_q4(above, v, below, ca, cv, cb, L.vw, first_bs, F, out, c, st);
+        kernels.midpoints_row_conf_q4(odd ? above + L.vw : nullptr, v + L.vw, odd ? below + L.vw : nullptr,
+                                      odd ? ca + L.vw : nullptr, cv + L.vw, odd ? cb + L.vw : nullptr, 1, 0, F,
+                                      out + xl, c + xl, st + xl);
       } else {
         kernels.midpoints_row_q4(above, v, below, L.vw, first_bs, F, out);
         kernels.midpoints_row_q4(odd ? above + L.vw : nullptr, v + L.vw, odd ? below + L.vw : nullptr, 1, 0, F,

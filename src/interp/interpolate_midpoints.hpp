@@ -36,10 +36,17 @@ namespace tristereo {
 
 // Scratch of one row of tiles of an image up to max_width wide: its grid
 // values, S + 1 rows of at most max_width points, S more and one before,
-// int32. Twice this with the confidence maps (their band follows).
+// int32.
 inline std::size_t midpoint_band_values(int tile_side, int max_width) {
   return static_cast<std::size_t>(tile_side + 1) * static_cast<std::size_t>(max_width) +
          static_cast<std::size_t>(tile_side) + 1;
+}
+
+// The same with the confidence maps: the values, then a byte per point (in
+// int32 units, rounded up).
+inline std::size_t midpoint_band_values_with_confidence(int tile_side, int max_width) {
+  const std::size_t n = midpoint_band_values(tile_side, max_width);
+  return n + (n + 3) / 4;
 }
 
 // Fractional bits of the grid values beyond Q4: log2 of the largest leaf's area2.
@@ -57,7 +64,7 @@ inline int midpoint_fraction_bits(int tile_side) { return 2 * __builtin_ctz(stat
 // whether invalidate_triangles() is needed). Precondition: grid.need !=
 // nullptr (not a 2-pixel strip). With `conf`, the same pixels of its maps
 // too, in the same pass (`kernels`' midpoints_row_conf_q4), and scratch
-// holds twice midpoint_band_values(S, width).
+// holds midpoint_band_values_with_confidence(S, width).
 bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                                 int tile_row_begin, int tile_row_end, const KernelSet& kernels,
                                 std::int32_t* scratch, ImageView<std::int16_t> disp_q4,

@@ -20,7 +20,7 @@ inline std::int32_t midpoint(std::int32_t a, std::int32_t b) {
 
 // Pixel state from its confidence: 0 invalid, 1..127 filled, 128..255
 // measured (src/select/confidence.hpp's state_of_confidence).
-inline std::uint8_t state_of(std::int32_t c) {
+inline std::uint8_t state_of(std::uint8_t c) {
   return static_cast<std::uint8_t>((c != 0 ? 1 : 0) + (c >> 7));
 }
 
@@ -44,25 +44,31 @@ void midpoints_row_q4_scalar(const std::int32_t* above, const std::int32_t* row,
 }
 
 void midpoints_row_conf_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
-                                  std::ptrdiff_t conf_offset, int n, int first_backslash, int frac_bits,
+                                  const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                                  const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
                                   std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state) {
   const std::int32_t half = std::int32_t{1} << (frac_bits - 1);
   const int backslash_pair = first_backslash ? 0 : 1;
-  const std::ptrdiff_t k = conf_offset;
   for (int x = 0; x < n; ++x) {
-    std::int32_t v = row[x], c = row[x + k];
-    if (v == kMidpointUnknown) {
-      // The two points it averages, and the smaller of their confidences.
-      const std::int32_t *a, *b;
-      if (above == nullptr) a = row + x - 1, b = row + x + 1;
-      else if ((x & 1) == 0) a = above + x, b = below + x;
-      else if (((x >> 1) & 1) == backslash_pair) a = above + x - 1, b = below + x + 1;
-      else a = above + x + 1, b = below + x - 1;
-      v = midpoint(*a, *b);
-      c = std::min(a[k], b[k]);
+    std::int32_t v = row[x];
+    std::uint8_t c = conf_row[x];
+    if (v == kMidpointUnknown) {  // the two points it averages, and the smaller of their confidences
+      if (above == nullptr) {
+        v = midpoint(row[x - 1], row[x + 1]);
+        c = std::min(conf_row[x - 1], conf_row[x + 1]);
+      } else if ((x & 1) == 0) {
+        v = midpoint(above[x], below[x]);
+        c = std::min(conf_above[x], conf_below[x]);
+      } else if (((x >> 1) & 1) == backslash_pair) {
+        v = midpoint(above[x - 1], below[x + 1]);
+        c = std::min(conf_above[x - 1], conf_below[x + 1]);
+      } else {
+        v = midpoint(above[x + 1], below[x - 1]);
+        c = std::min(conf_above[x + 1], conf_below[x - 1]);
+      }
     }
     disp_q4[x] = static_cast<std::int16_t>((v + half) >> frac_bits);
-    confidence[x] = static_cast<std::uint8_t>(c);
+    confidence[x] = c;
     state[x] = state_of(c);
   }
 }

@@ -208,15 +208,16 @@ struct KernelSet {
                            int n, int first_backslash, int frac_bits, std::int16_t* disp_q4) = nullptr;
 
   // midpoints_row_q4 and, in the same pass, the pixel confidence and state
-  // (docs/model.md section 7): every grid point p (row, above, below) has its
-  // confidence at p[conf_offset] (int32, 0..255, a band laid out like the
-  // values'). A known point keeps its own; an unknown one takes the minimum
-  // of the confidences of the two points it averages. Then
-  // confidence[x] = that value and state[x] = 0 when it is 0, 1 below 128,
-  // else 2. Same reads (index -1 to n) and precondition as midpoints_row_q4;
-  // the discarded candidates' confidences may be anything.
+  // (docs/model.md section 7): conf_above, conf_row and conf_below hold the
+  // confidences (0..255) of the points of above, row and below, index for
+  // index (conf_above and conf_below null with above and below). A known
+  // point keeps its own; an unknown one takes the smaller of the two points'
+  // it averages. Then confidence[x] = that value and state[x] = 0 when it is
+  // 0, 1 below 128, else 2. Same reads (index -1 to n) and precondition as
+  // midpoints_row_q4.
   void (*midpoints_row_conf_q4)(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
-                                std::ptrdiff_t conf_offset, int n, int first_backslash, int frac_bits,
+                                const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                                const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
                                 std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state) = nullptr;
 
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):

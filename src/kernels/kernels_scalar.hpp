@@ -66,7 +66,8 @@ void side8_tests_s32_scalar(const std::int32_t* const* quad_sums, std::size_t qu
 void midpoints_row_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below, int n,
                              int first_backslash, int frac_bits, std::int16_t* disp_q4);
 void midpoints_row_conf_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
-                                  std::ptrdiff_t conf_offset, int n, int first_backslash, int frac_bits,
+                                  const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                                  const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
                                   std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state);
 
 }  // namespace tristereo

@@ -134,7 +134,7 @@ std::size_t Pipeline::working_memory_bytes() const {
                       capacity_bytes(m.out.pixel_confidence.pixels);
   for (const Impl::Worker& w : m.workers)
     bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
-             2 * midpoint_band_values(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
+             midpoint_band_values_with_confidence(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
   bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
            capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
            capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
@@ -177,7 +177,8 @@ void Pipeline::configure(const PipelineConfig& config) {
     if (rows_dp) w.matcher.configure(config.max_width, config.params);
     w.census.resize(config.max_width);
     w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
-    w.tile_values.reset(new std::int32_t[2 * midpoint_band_values(m.tritree.tile_side(), config.max_width)]());
+    w.tile_values.reset(
+        new std::int32_t[midpoint_band_values_with_confidence(m.tritree.tile_side(), config.max_width)]());
   }
   const int max_px = config.max_width * config.max_height;
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads, config.schedule_workers);
