@@ -7,6 +7,7 @@
 
 #include "src/interp/interpolate_planes.hpp"
 #include "src/kernels/kernel_set.hpp"
+#include "src/tritree/fill_rule.hpp"
 #include "tristereo/fixed_point.hpp"
 
 namespace tristereo {
@@ -216,8 +217,21 @@ void invalidate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4, 
     const Vertex& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
     const Vertex& b = mesh.vertices[static_cast<std::size_t>(tri[1])];
     const Vertex& c = mesh.vertices[static_cast<std::size_t>(tri[2])];
-    interpolate_triangle(a, b, c, da, db, dc, disp_q4);
-    if (conf != nullptr) confidence_triangle(a, b, c, 0, 0, 0, true, *conf);
+    if (conf == nullptr) {
+      interpolate_triangle(a, b, c, da, db, dc, disp_q4);
+      continue;
+    }
+    // One walk for the three maps (spans of a pixel or two: no memset calls).
+    for_each_owned_span(a, b, c, disp_q4.width, disp_q4.height, [&](int y, int x0, int x1) {
+      std::int16_t* d = disp_q4.row(y);
+      std::uint8_t* cf = conf->confidence.row(y);
+      std::uint8_t* st = conf->state.row(y);
+      for (int x = x0; x < x1; ++x) {
+        d[x] = kInvalidDispQ4;
+        cf[x] = 0;
+        st[x] = 0;
+      }
+    });
   }
 }
 

@@ -1,7 +1,6 @@
 #include "src/interp/interpolate_state.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 #include "src/select/confidence.hpp"
 #include "src/tritree/fill_rule.hpp"
@@ -23,8 +22,9 @@ void confidence_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std:
   const int w = maps.confidence.width, h = maps.confidence.height;
   if (invalid) {
     for_each_owned_span(a, b, c, w, h, [&](int y, int x0, int x1) {
-      std::memset(maps.confidence.row(y) + x0, 0, static_cast<std::size_t>(x1 - x0));
-      std::memset(maps.state.row(y) + x0, 0, static_cast<std::size_t>(x1 - x0));
+      std::uint8_t* conf = maps.confidence.row(y);
+      std::uint8_t* state = maps.state.row(y);
+      for (int x = x0; x < x1; ++x) conf[x] = state[x] = 0;
     });
     return;
   }
