@@ -18,12 +18,16 @@ Printed per scene and per set (the set's pixels pooled):
   mean, as for a random order), its area (the mean over the fractions) and
   the oracle's area (the same errors, removed worst first);
 - for each --min-confidence threshold C asked for (--thresholds): the pixels
-  a run with --min-confidence C keeps (exactly those whose confidence is >= C
-  in the run without it, since a pixel's confidence is the smallest of its
-  vertices'), their share and error rate, and that rate over the all rate.
+  a run with --min-confidence C keeps (one more run per scene), their share
+  and error rate, and that rate over the all rate. These are the pixels of
+  confidence >= C in the run without it except those on a triangle's edge
+  whose third vertex is below C (that vertex does not weigh on the pixel's
+  disparity, hence not on its confidence, but makes its triangle invalid;
+  docs/model.md section 7).
 
---check C also runs one scene per set with --min-confidence C and checks that
-its valid pixels are exactly those of confidence >= C.
+--check C also runs one scene per set with --min-confidence C, checks that
+every pixel it keeps has confidence >= C, and prints the share of those
+pixels it does not keep.
 
 Usage: scripts/sparsification.py --tristereo build/tristereo [--data DIR]
        [--sets a,b] [--thresholds 128,144] [--json OUT] [--plot OUT.png]
@@ -110,10 +114,17 @@ def match_scene(exe, scene, extra, workdir, min_confidence=None):
             cv2.imread(paths["confidence"], cv2.IMREAD_UNCHANGED))
 
 
-def score_scene(exe, scene, extra, workdir):
+def score_scene(exe, scene, extra, workdir, thresholds=()):
+    """Errors, states and confidences of the known-GT pixels, and for each
+    threshold C the pixels a run with --min-confidence C keeps (their
+    disparities are the run's without it, docs/model.md section 7)."""
     disp, state, conf = match_scene(exe, scene, extra, workdir)
     gt, known = read_gt(scene)
-    return {"bad": errors(scene, disp, gt, known), "state": state[known], "conf": conf[known]}
+    kept = {}
+    for c in thresholds:
+        disp_c, _, _ = match_scene(exe, scene, extra, workdir, c)
+        kept[c] = np.isfinite(disp_c)[known]
+    return {"bad": errors(scene, disp, gt, known), "state": state[known], "conf": conf[known], "kept": kept}
 
 
 def curve(bad, conf):
@@ -142,7 +153,7 @@ def oracle_curve(bad):
     return np.maximum(0.0, k - (n - e)) / k
 
 
-def summarise(bad, state, conf, thresholds):
+def summarise(bad, state, conf, thresholds, kept_at):
     n = len(bad)
     out = {"pixels": int(n), "all": float(np.mean(bad))}
     for name, s in (("measured", 2), ("filled", 1), ("invalid", 0)):
@@ -158,7 +169,7 @@ def summarise(bad, state, conf, thresholds):
     out["at_65"] = float(cv[64])
     out["thresholds"] = {}
     for c in thresholds:
-        kept = conf >= c
+        kept = kept_at[c]
         share = float(np.mean(kept))
         rate = float(np.mean(bad[kept])) if np.any(kept) else None
         out["thresholds"][str(c)] = {"share": share, "rate": rate,
@@ -224,7 +235,7 @@ def measure(exe, data, sets, thresholds, extra, jobs=2, check=None):
     scenes = datasets.scenes(data, sets)
     with tempfile.TemporaryDirectory(prefix="sparsification_") as work:
         with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-            futures = [pool.submit(score_scene, exe, s, extra, work) for s in scenes]
+            futures = [pool.submit(score_scene, exe, s, extra, work, thresholds) for s in scenes]
             results = [f.result() for f in futures]
         if check is not None:
             seen = set()
@@ -234,12 +245,17 @@ def measure(exe, data, sets, thresholds, extra, jobs=2, check=None):
                 seen.add(s.set)
                 disp, _, _ = match_scene(exe, s, extra, work, check)
                 gt, known = read_gt(s)
-                if not np.array_equal(np.isfinite(disp)[known], r["conf"] >= check):
-                    raise RuntimeError("%s with --min-confidence %d keeps other pixels than confidence >= %d"
+                kept, above = np.isfinite(disp)[known], r["conf"] >= check
+                if np.any(kept & ~above):
+                    raise RuntimeError("%s with --min-confidence %d keeps pixels of confidence below %d"
                                        % (s.id, check, check))
+                print("check: %s with --min-confidence %d keeps %d of the %d known-GT pixels of confidence >= %d"
+                      " (%.2f %% dropped: on edges of triangles with a vertex below it)"
+                      % (s.id, check, int(np.count_nonzero(kept)), int(np.count_nonzero(above)), check,
+                         100.0 * (1 - np.count_nonzero(kept) / max(1, np.count_nonzero(above)))), file=sys.stderr)
     rows, set_rows, report = [], [], {"options": extra, "scenes": {}, "sets": {}}
     for s, r in zip(scenes, results):
-        summary = summarise(r["bad"], r["state"], r["conf"], thresholds)
+        summary = summarise(r["bad"], r["state"], r["conf"], thresholds, r["kept"])
         rows.append((s.id, metric_of(s), summary))
         report["scenes"][s.id] = summary
     for set_name, label, _ in datasets.SETS:
@@ -247,7 +263,8 @@ def measure(exe, data, sets, thresholds, extra, jobs=2, check=None):
         if not members:
             continue
         pooled = [np.concatenate([r[k] for _, r in members]) for k in ("bad", "state", "conf")]
-        summary = summarise(pooled[0], pooled[1], pooled[2], thresholds)
+        kept_at = {c: np.concatenate([r["kept"][c] for _, r in members]) for c in thresholds}
+        summary = summarise(pooled[0], pooled[1], pooled[2], thresholds, kept_at)
         set_rows.append((label, metric_of(members[0][0]), summary))
         report["sets"][set_name] = summary
     return rows, set_rows, report
@@ -335,7 +352,7 @@ def main(argv):
         print("\n".join(markdown(rows, set_rows, report, thresholds, a.plot)))
     else:
         if a.check is not None:
-            print("check: --min-confidence %d keeps exactly the pixels of confidence >= %d" % (a.check, a.check))
+            print("check: --min-confidence %d keeps only pixels of confidence >= %d" % (a.check, a.check))
         print("options: %s" % (" ".join(extra) if extra else "(defaults)"))
         print("Per scene (%; meas/fill = error rate of the measured/filled pixels, their share in 'meas %'/'fill %'):")
         print_table(rows, thresholds)
