@@ -58,6 +58,15 @@ together once every one is complete):
                             0 keeps every d + doffs > 0
   --min-depth M, --max-depth M  the metric outputs keep depths in [M, M'] metres (default:
                             no depth limit)
+  --points-include-filled   --points and --mesh keep only measured pixels and vertices
+                            (those that passed the uniqueness and left-right tests) unless
+                            this is given; filled ones are a neighbour's guess
+  --valid OUT.png           8-bit state per pixel: 0 invalid, 1 filled (a neighbour's
+                            disparity), 2 measured (docs/model.md section 7)
+  --confidence OUT.png      8-bit confidence per pixel: 0 invalid, 1..127 filled (fewer
+                            the farther from a measured sample), 128..255 measured (more
+                            the clearer the best match); --min-confidence C turns every
+                            pixel and sample below C invalid in all outputs
   --samples OUT.csv         the samples (mesh vertices): x,y,disparity (for eval --samples)
   --stats OUT.json          sizes, sample fraction, forced splits, per-stage milliseconds,
                             and the run's own (run_ms: reading both inputs, configure,
@@ -85,8 +94,8 @@ int cmd_match(int argc, char** argv) {
   const Clock::time_point t_start = Clock::now();
   std::set<std::string> values = {"disp",   "disp-color", "mesh",       "camera", "calib",
                                   "calib-format", "disp-format", "calib-unit", "depth", "points", "samples",
-                                  "stats", "min-disparity", "min-depth", "max-depth"};
-  std::set<std::string> flags = {"reference", "mesh-ascii", "help"};
+                                  "stats", "min-disparity", "min-depth", "max-depth", "valid", "confidence"};
+  std::set<std::string> flags = {"reference", "mesh-ascii", "points-include-filled", "help"};
   add_stereo_options(values, flags);
   add_rig_options(values);
   Args args(argc, argv, values, flags);
@@ -106,6 +115,7 @@ int cmd_match(int argc, char** argv) {
       {"min-depth", {"calib", "camera", "rig"}, nullptr, "it limits the metric outputs, which need a camera"},
       {"max-depth", {"calib", "camera", "rig"}, nullptr, "it limits the metric outputs, which need a camera"},
       {"rig-right", {"rig"}, nullptr, "it is the right camera's file of a --rig pair"},
+      {"points-include-filled", {"points", "mesh"}, nullptr, "it keeps filled pixels and vertices in their PLY files"},
   };
   check_option_needs(args, kNeeds);
   // A rig brings its own rectified camera: a second one would contradict it.

@@ -75,6 +75,29 @@ std::string lower_ext(const std::string& path) {
   return e;
 }
 
+// Pixels of each state (a SampleState map).
+struct StateCounts {
+  long long measured = 0, filled = 0, invalid = 0;
+};
+StateCounts count_states(const ImageU8& state) {
+  StateCounts c;
+  for (std::uint8_t s : state.pixels) {
+    if (s == static_cast<std::uint8_t>(SampleState::kMeasured)) ++c.measured;
+    else if (s == static_cast<std::uint8_t>(SampleState::kFilled)) ++c.filled;
+    else ++c.invalid;
+  }
+  return c;
+}
+
+// The disparities with every one whose state is not measured made invalid.
+std::vector<std::int16_t> measured_only(const std::vector<std::int16_t>& disp_q4,
+                                        const std::vector<std::uint8_t>& state) {
+  std::vector<std::int16_t> out(disp_q4);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (state[i] != static_cast<std::uint8_t>(SampleState::kMeasured)) out[i] = kInvalidDispQ4;
+  return out;
+}
+
 // Bounding box of the valid pixels (ROS DisparityImage.valid_window).
 struct Window {
   int x = 0, y = 0, w = 0, h = 0;
@@ -184,9 +207,10 @@ void write_samples_csv(const std::string& path, const StereoOutput& out) {
 
 void write_stats_json(const std::string& path, const MatchRun& run) {
   const StereoOutput& o = run.out();
+  const StateCounts counts = count_states(o.pixel_state);
   const StereoParams& p = run.config.params;
   const double pixels = static_cast<double>(o.mesh.width) * o.mesh.height;
-  char buf[2048];
+  char buf[2560];
   std::snprintf(buf, sizeof buf,
                 "{\n"
                 "  \"implementation\": \"%s\",\n"
@@ -202,7 +226,9 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                 "\"paths\": %d, \"p1_q4\": %d, \"p2_q4\": %d, \"p2_edge\": %d, \"lr_max_diff_q4\": %d, "
                 "\"lr_source\": \"%s\", \"uniqueness_pct\": %d, \"fill\": \"%s\"},\n"
                 "  \"validity\": {\"samples\": %d, \"uniqueness_rejected\": %d, \"lr_rejected\": %d, "
-                "\"invalid_fraction\": %.6f, \"filled\": %d},\n"
+                "\"invalid_fraction\": %.6f, \"filled\": %d, \"min_confidence\": %d, "
+                "\"min_confidence_rejected\": %d},\n"
+                "  \"pixels\": {\"measured\": %lld, \"filled\": %lld, \"invalid\": %lld},\n"
                 "  \"ms\": {\"tritree\": %.3f, \"cost_aggregation\": %.3f, \"dp\": %.3f, "
                 "\"right_pass\": %.3f, \"fill\": %.3f, \"interpolation\": %.3f, \"total\": %.3f}\n"
                 "}\n",
@@ -222,7 +248,8 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                     ? static_cast<double>(o.validity.uniqueness_rejected + o.validity.lr_rejected) /
                           o.validity.samples
                     : 0.0,
-                o.validity.filled, ms(run.timings.tritree_ns),
+                o.validity.filled, p.validity.min_confidence, o.validity.min_confidence_rejected,
+                counts.measured, counts.filled, counts.invalid, ms(run.timings.tritree_ns),
                 ms(run.timings.cost_aggregation_ns), ms(run.timings.dp_ns),
                 ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns));
@@ -244,9 +271,12 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
                   "\"cx_px\": %.9g, \"cy_px\": %.9g, \"doffs_px\": %.9g},\n"
                   "  \"disparity_image\": {\"f\": %.9g, \"T\": %.9g, \"min_disparity\": %d, "
                   "\"max_disparity\": %d, \"delta_d\": 0.0625, \"valid_window\": {\"x_offset\": %d, "
-                  "\"y_offset\": %d, \"width\": %d, \"height\": %d}}\n}\n",
+                  "\"y_offset\": %d, \"width\": %d, \"height\": %d}, "
+                  "\"invalid\": \"any disparity below min_disparity\", \"invalid_value\": %d, "
+                  "\"invalid_pixels\": %lld}\n}\n",
                   run.camera_source.c_str(), c.focal_px, c.baseline, c.cx, c.cy, c.doffs, c.focal_px,
-                  c.baseline, p.d_min, p.d_min + p.num_disp - 1, w.x, w.y, w.w, w.h);
+                  c.baseline, p.d_min, p.d_min + p.num_disp - 1, w.x, w.y, w.w, w.h, p.d_min - 1,
+                  counts.invalid);
     text.resize(text.size() - 3);  // drop "\n}\n": the object goes on
     text += buf;
     // How many valid pixels the metric outputs leave out by the depth limits.
@@ -285,7 +315,7 @@ const std::vector<OutputOption>& match_output_options() {
   static const std::vector<OutputOption> kOutputs = {
       {"disp", {".pfm", ".png"}},   {"disp-color", {".png"}}, {"mesh", {".ply"}},
       {"depth", {".pfm", ".png"}},  {"points", {".ply"}},     {"samples", {".csv"}},
-      {"stats", {".json"}}};
+      {"stats", {".json"}},         {"valid", {".png"}},      {"confidence", {".png"}}};
   return kOutputs;
 }
 
@@ -303,38 +333,65 @@ void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& 
       write_disparity_color(path, o.disp_q4.view(), run.config.params.d_min, run.config.params.num_disp);
     });
   const CameraParams* cam = run.camera ? &*run.camera : nullptr;
-  // The metric outputs see the disparities within the depth limits only.
-  ImageS16 metric_disp_q4;
-  std::vector<std::int16_t> metric_vertex_disp_q4;
-  std::int64_t vertices_beyond_limits = 0;
-  if (cam) {
-    if (args.has("depth") || args.has("points")) {
-      metric_disp_q4 = o.disp_q4;
-      apply_depth_limits(metric_disp_q4.view(), *cam, run.depth_limits);
-    }
-    if (args.has("mesh")) {
-      metric_vertex_disp_q4 = o.vertex_disp_q4;
-      const int n = static_cast<int>(metric_vertex_disp_q4.size());
-      if (n > 0)
-        vertices_beyond_limits = apply_depth_limits(
-            {metric_vertex_disp_q4.data(), n, 1, 1, static_cast<std::ptrdiff_t>(n) * 2}, *cam, run.depth_limits);
+  // --points and --mesh: measured pixels and vertices only, unless
+  // --points-include-filled (a filled disparity is a neighbour's guess).
+  const bool include_filled = args.flag("points-include-filled");
+  std::vector<std::int16_t> mesh_disp;
+  std::size_t faces_filled = 0;  // faces left out only because a vertex is filled
+  if (args.has("mesh")) {
+    mesh_disp = include_filled ? o.vertex_disp_q4 : measured_only(o.vertex_disp_q4, o.vertex_state);
+    if (!include_filled) {
+      for (const Triangle& t : o.mesh.triangles) {
+        bool valid = true, measured = true;
+        for (std::int32_t v : t) {
+          valid = valid && o.vertex_disp_q4[static_cast<std::size_t>(v)] != kInvalidDispQ4;
+          measured = measured && mesh_disp[static_cast<std::size_t>(v)] != kInvalidDispQ4;
+        }
+        if (valid && !measured) ++faces_filled;
+      }
     }
   }
+  // The metric outputs see the disparities within the depth limits only.
+  std::int64_t vertices_beyond_limits = 0;
+  const auto limit = [&](std::int16_t* values, int width, int height) {
+    return width > 0 && height > 0
+               ? apply_depth_limits({values, width, height, 1, static_cast<std::ptrdiff_t>(width) * 2}, *cam,
+                                    run.depth_limits)
+               : std::int64_t{0};
+  };
+  if (cam && args.has("mesh"))
+    vertices_beyond_limits = limit(mesh_disp.data(), static_cast<int>(mesh_disp.size()), 1);
   MeshWriteReport mesh_report;
   if (args.has("mesh"))
     outputs.add("--mesh", args.get("mesh", ""), [&](const std::string& path) {
-      mesh_report = write_mesh_ply(path, o.mesh, cam ? metric_vertex_disp_q4 : o.vertex_disp_q4, left.view(), cam,
-                                   !args.flag("mesh-ascii"));
+      mesh_report = write_mesh_ply(path, o.mesh, mesh_disp, left.view(), cam, !args.flag("mesh-ascii"));
     });
+  ImageS16 depth_disp;
+  if (args.has("depth") && cam) {
+    depth_disp = o.disp_q4;
+    limit(depth_disp.pixels.data(), depth_disp.width, depth_disp.height);
+  }
   DepthWriteReport depth_report;
   if (args.has("depth") && cam)
     outputs.add("--depth", args.get("depth", ""), [&](const std::string& path) {
-      depth_report = write_depth(path, depth_m_from_disp_q4(metric_disp_q4.view(), *cam).view());
+      depth_report = write_depth(path, depth_m_from_disp_q4(depth_disp.view(), *cam).view());
     });
+  ImageS16 points_disp;
+  if (args.has("points") && cam) {
+    points_disp = o.disp_q4;
+    if (!include_filled) points_disp.pixels = measured_only(o.disp_q4.pixels, o.pixel_state.pixels);
+    limit(points_disp.pixels.data(), points_disp.width, points_disp.height);
+  }
   if (args.has("points") && cam)
     outputs.add("--points", args.get("points", ""), [&](const std::string& path) {
-      write_points_ply(path, metric_disp_q4.view(), left.view(), *cam, !args.flag("mesh-ascii"));
+      write_points_ply(path, points_disp.view(), left.view(), *cam, !args.flag("mesh-ascii"));
     });
+  if (args.has("valid"))
+    outputs.add("--valid", args.get("valid", ""),
+                [&](const std::string& path) { write_png_u8(path, o.pixel_state.view()); });
+  if (args.has("confidence"))
+    outputs.add("--confidence", args.get("confidence", ""),
+                [&](const std::string& path) { write_png_u8(path, o.pixel_confidence.view()); });
   if (args.has("samples"))
     outputs.add("--samples", args.get("samples", ""), [&](const std::string& path) { write_samples_csv(path, o); });
   if (args.has("stats"))
@@ -342,12 +399,14 @@ void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& 
   outputs.commit();
 
   // What the writers reported, once every output is in place.
-  const std::size_t dropped = mesh_report.faces_without_disparity + mesh_report.faces_behind_camera;
+  // Faces of filled vertices are left out by design (not a warning).
+  const std::size_t without = mesh_report.faces_without_disparity - faces_filled;
+  const std::size_t dropped = without + mesh_report.faces_behind_camera;
   if (dropped > 0) {
     std::cerr << "warning: --mesh " << args.get("mesh", "") << ": " << dropped << " of "
               << o.mesh.triangles.size() << " faces left out";
-    if (mesh_report.faces_without_disparity > 0) {
-      std::cerr << "; " << mesh_report.faces_without_disparity << " touch a vertex without a valid disparity";
+    if (without > 0) {
+      std::cerr << "; " << without << " touch a vertex without a valid disparity";
       if (vertices_beyond_limits > 0)
         std::cerr << " or one of the " << vertices_beyond_limits
                   << " vertices outside the depth limits (d + doffs < --min-disparity "
@@ -376,7 +435,8 @@ void print_match_summary(std::ostream& os, const MatchRun& run) {
                 "%lld forced splits\n"
                 "time: tritree %.2f ms, cost aggregation %.2f ms, %s %.2f ms, right view %.2f ms, "
                 "fill %.2f ms, interpolation %.2f ms, total %.2f ms\n"
-                "invalid samples: %d by uniqueness, %d by the left-right check (of %d); %d filled\n",
+                "invalid samples: %d by uniqueness, %d by the left-right check (of %d); %d filled; "
+                "%d below the minimum confidence\n",
                 o.mesh.width, o.mesh.height, run.config.params.num_disp, run.implementation.c_str(),
                 run.config.params.dense ? "dense" : "sparse", o.mesh.vertices.size(),
                 100.0 * static_cast<double>(o.mesh.vertices.size()) / pixels,
@@ -386,7 +446,7 @@ void print_match_summary(std::ostream& os, const MatchRun& run) {
                 ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns),
                 o.validity.uniqueness_rejected, o.validity.lr_rejected, o.validity.samples,
-                o.validity.filled);
+                o.validity.filled, o.validity.min_confidence_rejected);
   os << buf;
 }
 

@@ -51,7 +51,8 @@ DepthLimits depth_limits_from_args(const Args& args);
 // check_output_paths, before computing).
 const std::vector<OutputOption>& match_output_options();
 
-// Honors --disp, --disp-color, --mesh (+ --mesh-ascii; metric with a camera),
+// Honors --disp, --disp-color, --mesh (+ --mesh-ascii; metric with a camera;
+// measured vertices only without --points-include-filled), --valid, --confidence,
 // --depth, --points, --samples, --stats.
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run);
 void write_stats_json(const std::string& path, const MatchRun& run);

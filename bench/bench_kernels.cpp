@@ -1,7 +1,7 @@
 // Kernel micro-benchmarks: the cost and DP entries of KernelSet x every kernel
 // set this CPU can run x D in {16, 64, 128, 256}, named kernel/set/D (e.g.
 // dp_step/avx2/64); the tritree's side4_tests_u8 and side8_tests_s32 per set and number of squares,
-// and the interpolation's midpoints_row_q4 per set, row kind and width.
+// and the interpolation's midpoints_row_q4 (and midpoints_row_conf_q4) per set, row kind and width.
 // items_per_second counts disparity evaluations (one element of the kernel's n).
 //
 //   bench_kernels --benchmark_filter='accumulate.*/64$'
@@ -279,6 +279,36 @@ void bench_midpoints_row(benchmark::State& state, const KernelSet* ks, int n, bo
   state.SetItemsProcessed(state.iterations() * n);
 }
 
+// The same rows with their confidences (a byte per point), through
+// midpoints_row_conf_q4: disparity, confidence and state.
+void bench_midpoints_row_conf(benchmark::State& state, const KernelSet* ks, int n, bool odd) {
+  std::mt19937 rng(9);
+  const std::size_t len = static_cast<std::size_t>(n) + 2;
+  std::vector<std::vector<std::int32_t>> rows(3, std::vector<std::int32_t>(len));
+  std::vector<std::vector<std::uint8_t>> conf_rows(3, std::vector<std::uint8_t>(len));
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t i = 0; i < len; ++i) {
+      const bool even_row = r != 1 || !odd, even_x = (i & 1) != 0;  // i = x + 1
+      rows[r][i] = !(even_row && even_x) && rng() % 2 ? kMidpointUnknown : static_cast<std::int32_t>(rng() % (1u << 20));
+      conf_rows[r][i] = static_cast<std::uint8_t>(rng() % 256);
+    }
+  std::vector<std::int16_t> out(static_cast<std::size_t>(n));
+  std::vector<std::uint8_t> conf(static_cast<std::size_t>(n)), st(static_cast<std::size_t>(n));
+  const std::int32_t* above = odd ? rows[0].data() + 1 : nullptr;
+  const std::int32_t* below = odd ? rows[2].data() + 1 : nullptr;
+  const std::uint8_t* conf_above = odd ? conf_rows[0].data() + 1 : nullptr;
+  const std::uint8_t* conf_below = odd ? conf_rows[2].data() + 1 : nullptr;
+  for (auto _ : state) {
+    ks->midpoints_row_conf_q4(above, rows[1].data() + 1, below, conf_above, conf_rows[1].data() + 1, conf_below, n,
+                              1, 7, out.data(), conf.data(), st.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::DoNotOptimize(conf.data());
+    benchmark::DoNotOptimize(st.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
 void register_tritree_kernels() {
   for (KernelChoice set : available_kernel_sets()) {
     const KernelSet* ks = &kernel_set_for(set);
@@ -295,6 +325,9 @@ void register_tritree_kernels() {
         const std::string name = std::string("midpoints_row_q4/") + to_string(set) + (odd ? "/odd/" : "/even/") +
                                  std::to_string(n);
         benchmark::RegisterBenchmark(name.c_str(), bench_midpoints_row, ks, n, odd);
+        const std::string conf_name = std::string("midpoints_row_conf_q4/") + to_string(set) +
+                                      (odd ? "/odd/" : "/even/") + std::to_string(n);
+        benchmark::RegisterBenchmark(conf_name.c_str(), bench_midpoints_row_conf, ks, n, odd);
       }
     }
   }

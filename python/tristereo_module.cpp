@@ -337,6 +337,8 @@ struct Output {
   py::array_t<std::int32_t> vertices;
   py::array_t<std::int32_t> triangles;
   py::array_t<std::int16_t> vertex_disp_q4;
+  py::array_t<std::uint8_t> state, confidence;                  // (H, W)
+  py::array_t<std::uint8_t> vertex_state, vertex_confidence;    // (N,)
   py::dict timings_ms;
   std::int64_t forced_splits = 0;
   std::int64_t criterion_splits = 0;
@@ -383,11 +385,15 @@ void copy_mesh(const StereoOutput& o, const FrameTimings& t, Output& r) {
   r.vertices = py::array_t<std::int32_t>({nv, py::ssize_t{2}});
   r.triangles = py::array_t<std::int32_t>({nt, py::ssize_t{3}});
   r.vertex_disp_q4 = py::array_t<std::int16_t>(nv);
+  r.vertex_state = py::array_t<std::uint8_t>(nv);
+  r.vertex_confidence = py::array_t<std::uint8_t>(nv);
   static_assert(sizeof(Vertex) == 2 * sizeof(std::int32_t) && sizeof(Triangle) == 3 * sizeof(std::int32_t),
                 "the mesh's arrays are copied as packed int32 rows");
   if (nv > 0) {
     std::memcpy(r.vertices.mutable_data(), o.mesh.vertices.data(), nv * sizeof(Vertex));
     std::memcpy(r.vertex_disp_q4.mutable_data(), o.vertex_disp_q4.data(), nv * sizeof(std::int16_t));
+    std::memcpy(r.vertex_state.mutable_data(), o.vertex_state.data(), static_cast<std::size_t>(nv));
+    std::memcpy(r.vertex_confidence.mutable_data(), o.vertex_confidence.data(), static_cast<std::size_t>(nv));
   }
   if (nt > 0) std::memcpy(r.triangles.mutable_data(), o.mesh.triangles.data(), nt * sizeof(Triangle));
   r.timings_ms["tritree"] = t.tritree_ns / 1e6;
@@ -532,11 +538,15 @@ class PyPipeline {
     // New arrays, if needed, join `res` only when the frame succeeded: a
     // failed call leaves the caller's output as it was (refilled arrays are
     // written only after the frame, the last step that can fail).
-    const bool reuse = fits(res.disp_q4) && fits(res.disparity);
+    const bool reuse = fits(res.disp_q4) && fits(res.disparity) && fits(res.state) && fits(res.confidence);
     py::array_t<std::int16_t> q_array = reuse ? res.disp_q4 : py::array_t<std::int16_t>({h, w});
     py::array_t<float> f_array = reuse ? res.disparity : py::array_t<float>({h, w});
+    py::array_t<std::uint8_t> s_array = reuse ? res.state : py::array_t<std::uint8_t>({h, w});
+    py::array_t<std::uint8_t> c_array = reuse ? res.confidence : py::array_t<std::uint8_t>({h, w});
     std::int16_t* q = q_array.mutable_data();
     float* f = f_array.mutable_data();
+    std::uint8_t* st = s_array.mutable_data();
+    std::uint8_t* cf = c_array.mutable_data();
     std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
     const StereoOutput* out = nullptr;
     FrameTimings timings;
@@ -562,9 +572,13 @@ class PyPipeline {
       out = &pipeline_.process(lv, rv);
       timings = pipeline_.last_timings();
       copy_dense(out->disp_q4, q, f);
+      std::memcpy(st, out->pixel_state.pixels.data(), out->pixel_state.pixels.size());
+      std::memcpy(cf, out->pixel_confidence.pixels.data(), out->pixel_confidence.pixels.size());
     }
     res.disp_q4 = q_array;
     res.disparity = f_array;
+    res.state = s_array;
+    res.confidence = c_array;
     res.digest.clear();
     copy_mesh(*out, timings, res);
     return result;
@@ -629,6 +643,14 @@ PYBIND11_MODULE(_tristereo, m) {
       .def_readonly("vertices", &Output::vertices, "int32 (N, 2): x, y of the mesh vertices (the samples)")
       .def_readonly("triangles", &Output::triangles, "int32 (M, 3): vertex indices")
       .def_readonly("vertex_disp_q4", &Output::vertex_disp_q4, "int16 (N,): the samples' disparities * 16")
+      .def_readonly("state", &Output::state,
+                    "uint8 (H, W): 0 invalid, 1 filled (a neighbour's disparity), 2 measured, as `tristereo "
+                    "match --valid` writes it (docs/model.md section 7)")
+      .def_readonly("confidence", &Output::confidence,
+                    "uint8 (H, W): 0 invalid, 1..127 filled, 128..255 measured, as `tristereo match "
+                    "--confidence` writes it")
+      .def_readonly("vertex_state", &Output::vertex_state, "uint8 (N,): each sample's state, as `state`")
+      .def_readonly("vertex_confidence", &Output::vertex_confidence, "uint8 (N,): each sample's confidence")
       .def_readonly("timings_ms", &Output::timings_ms, "per-stage wall time of this frame, ms")
       .def_readonly("forced_splits", &Output::forced_splits, "tritree splits made only to keep the mesh conforming")
       .def_readonly("criterion_splits", &Output::criterion_splits, "tritree splits the PSNR/area criterion asked for")
@@ -643,6 +665,9 @@ PYBIND11_MODULE(_tristereo, m) {
       .def_property_readonly(
           "filled", [](const Output& o) { return o.validity.filled; },
           "invalid samples given a neighbour's disparity by the fill")
+      .def_property_readonly(
+          "min_confidence_rejected", [](const Output& o) { return o.validity.min_confidence_rejected; },
+          "samples made invalid by min_confidence after the fill")
       .def_property_readonly("digest", &Output::get_digest,
                              "64-bit FNV-1a digest of mesh, samples and dense map (hex), as `tristereo verify` prints");
 
@@ -742,9 +767,15 @@ PYBIND11_MODULE(_tristereo, m) {
   m.def(
       "write_mesh_ply",
       [](const py::object& path, const Output& out, const py::array& left, const py::object& camera, bool binary,
-         const py::object& order_arg) {
+         const py::object& order_arg, bool include_filled) {
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
-        const StereoOutput o = out.stereo_output();
+        StereoOutput o = out.stereo_output();
+        if (!include_filled) {
+          const auto state = out.vertex_state.unchecked<1>();
+          for (py::ssize_t i = 0; i < state.shape(0); ++i)
+            if (state(i) != static_cast<std::uint8_t>(SampleState::kMeasured))
+              o.vertex_disp_q4[static_cast<std::size_t>(i)] = kInvalidDispQ4;
+        }
         CameraParams cam{};
         if (!camera.is_none()) cam = camera_of(camera);
         const std::string file = path_of(path);
@@ -759,15 +790,31 @@ PYBIND11_MODULE(_tristereo, m) {
                         py::arg("faces_behind_camera") = r.faces_behind_camera);
       },
       py::arg("path"), py::arg("out"), py::arg("left"), py::arg("camera") = py::none(), py::arg("binary") = true,
-      py::arg("order") = py::none(),
+      py::arg("order") = py::none(), py::arg("include_filled") = false,
       "As match --mesh: the 2.5D mesh as PLY, coloured by the left image; (x, y, d) in pixels without a "
-      "camera, metres with one. Returns the face counts.");
+      "camera, metres with one; faces of measured vertices only unless include_filled (as "
+      "--points-include-filled). Returns the face counts.");
   m.def(
       "write_points_ply",
       [](const py::object& path, const py::array& disp_q4, const py::array& left, const py::object& camera,
-         bool binary, const py::object& order_arg) {
+         bool binary, const py::object& order_arg, const py::object& state_arg) {
         py::array_t<std::int16_t> keep;
-        const auto d = disp_view(disp_q4, &keep);
+        auto d = disp_view(disp_q4, &keep);
+        ImageS16 measured;  // state given: the measured pixels' disparities only
+        if (!state_arg.is_none()) {
+          const auto state = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(state_arg);
+          if (!state || state.ndim() != 2 || state.shape(0) != d.height || state.shape(1) != d.width)
+            throw py::value_error("state must be a uint8 (H, W) array of disp_q4's size (Output.state)");
+          measured = ImageS16(d.width, d.height);
+          const std::uint8_t* s = state.data();
+          for (int y = 0; y < d.height; ++y)
+            for (int x = 0; x < d.width; ++x) {
+              const std::size_t i = static_cast<std::size_t>(y) * d.width + x;
+              measured.pixels[i] =
+                  s[i] == static_cast<std::uint8_t>(SampleState::kMeasured) ? d.row(y)[x] : kInvalidDispQ4;
+            }
+          d = static_cast<const ImageS16&>(measured).view();
+        }
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
         const CameraParams cam = camera_of(camera);
         const std::string file = path_of(path);
@@ -775,8 +822,9 @@ PYBIND11_MODULE(_tristereo, m) {
         return write_points_ply(file, d, colours.view(), cam, binary);
       },
       py::arg("path"), py::arg("disp_q4"), py::arg("left"), py::arg("camera"), py::arg("binary") = true,
-      py::arg("order") = py::none(),
-      "As match --points: one coloured PLY vertex (metres) per valid pixel. Returns the number of points.");
+      py::arg("order") = py::none(), py::arg("state") = py::none(),
+      "As match --points: one coloured PLY vertex (metres) per valid pixel; with state (Output.state), per "
+      "measured pixel, as match --points without --points-include-filled. Returns the number of points.");
 
   py::class_<StereoCalibration>(m, "Calibration")
       .def_readonly("focal_px", &StereoCalibration::focal_px)

@@ -19,6 +19,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 import datasets  # noqa: E402
 import score_all  # noqa: E402
+import sparsification  # noqa: E402
 
 
 def run(cmd):
@@ -103,6 +104,20 @@ def every_set_section(exe, data, w):
         w("")
 
 
+def confidence_section(exe, data, w):
+    """State shares, measured and filled error rates, sparsification curves
+    (scripts/sparsification.py) and their plot."""
+    thresholds = [128, sparsification.ROBOT_MIN_CONFIDENCE]
+    rows, set_rows, report = sparsification.measure(exe, data, None, thresholds, [], jobs=1)
+    plot = os.path.join(ROOT, "docs", "img", "sparsification.png")
+    try:
+        sparsification.plot(set_rows, plot)
+    except ImportError:
+        plot = None
+    for line in sparsification.markdown(rows, set_rows, report, thresholds, plot):
+        w(line)
+
+
 def match(exe, scene_dir, ndisp, tmp, tag, extra, repeats):
     """Runs match `repeats` times; returns (stats of the median-total run, paths)."""
     disp = os.path.join(tmp, tag + ".pfm")
@@ -155,6 +170,7 @@ def main():
       "Data: ../shared/data (its README cites the sources; research evaluation use only).\n")
     w("Machine and build (`tristereo info`):\n\n```\n" + info.strip() + "\n```\n")
     every_set_section(exe, a.data, w)
+    confidence_section(exe, a.data, w)
     w("## Middlebury v2 in detail\n")
     w("Bad-pixel rates Middlebury v2 style: percentage of pixels of the mask whose disparity "
       "error exceeds 0.5 / 1 / 2 px; invalid counts as bad.\n")

@@ -36,6 +36,7 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.side8_tests_s32 = &Side8TestsS32<xsimd::neon>::call;
   set.midpoints_row_q4 = &MidpointsRowQ4<xsimd::neon>::call;
   set.remap_bilinear_row_u8 = &RemapBilinearRowU8<xsimd::neon>::call;
+  set.midpoints_row_conf_q4 = &MidpointsRowConfQ4<xsimd::neon>::call;
 }
 
 }  // namespace simd

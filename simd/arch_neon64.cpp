@@ -36,6 +36,7 @@ void fill_kernel_set_neon64(KernelSet& set) {
   set.side8_tests_s32 = &Side8TestsS32<xsimd::neon64>::call;
   set.midpoints_row_q4 = &MidpointsRowQ4<xsimd::neon64>::call;
   set.remap_bilinear_row_u8 = &RemapBilinearRowU8<xsimd::neon64>::call;
+  set.midpoints_row_conf_q4 = &MidpointsRowConfQ4<xsimd::neon64>::call;
 }
 
 }  // namespace simd

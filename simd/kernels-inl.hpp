@@ -1547,5 +1547,120 @@ void RemapBilinearRowU8<Arch>::call(const std::uint8_t* src, std::size_t stride,
   if (x < n) remap_bilinear_row_u8_scalar(src, stride, xy + 2 * x, frac + x, n - x, out + x);
 }
 
+namespace detail {
+
+// MidpointsRowConfQ4's blocks, of an even or an odd grid row (the row kind a
+// template parameter, so that the loop carries no test of it).
+template <class Arch, bool kOdd>
+void midpoints_conf_blocks(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                           const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                           const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
+                           std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state) {
+  using s32 = xsimd::batch<std::int32_t, Arch>;
+  using u32 = xsimd::batch<std::uint32_t, Arch>;
+  using u8 = xsimd::batch<std::uint8_t, Arch>;
+  using s8 = xsimd::batch<std::int8_t, Arch>;
+  using mask = xsimd::batch_bool<std::int32_t, Arch>;
+  using mask8 = xsimd::batch_bool<std::uint8_t, Arch>;
+  constexpr int lanes = static_cast<int>(s32::size);
+  constexpr int block = 4 * lanes;  // = u8::size
+  static_assert(block == static_cast<int>(u8::size), "four int32 registers narrow to one of bytes");
+  alignas(64) std::int32_t x_in_block[lanes];
+  for (int j = 0; j < lanes; ++j) x_in_block[j] = j;
+  const s32 iota = s32::load_aligned(x_in_block);
+  const s32 one(1), unknown(kMidpointUnknown), half(std::int32_t{1} << (frac_bits - 1));
+  const s32 backslash_pair(first_backslash ? 0 : 1), all_ones(-1), zero(0);
+  // The parity and quarter masks for a block from x0, in int32 lanes (for
+  // the values) and in bytes (for the confidences).
+  struct Masks {
+    mask odd, backslash;
+    mask8 odd8, backslash8;
+  };
+  const auto masks_at = [&](int x0) {
+    const s32 x = s32(x0) + iota;
+    alignas(64) std::uint8_t odd_bytes[block], backslash_bytes[block];
+    for (int j = 0; j < block; ++j) {
+      odd_bytes[j] = ((x0 + j) & 1) != 0 ? 0xFF : 0;
+      backslash_bytes[j] = (((x0 + j) >> 1) & 1) == (first_backslash ? 0 : 1) ? 0xFF : 0;
+    }
+    return Masks{(x & one) == one, ((x >> 1) & one) == backslash_pair,
+                 u8::load_aligned(odd_bytes) != u8(0), u8::load_aligned(backslash_bytes) != u8(0)};
+  };
+  const auto load = [](const std::int32_t* p) { return s32::load_unaligned(p); };
+  const auto load8 = [](const std::uint8_t* p) { return u8::load_unaligned(p); };
+  const auto narrow = [](const s32& a, const s32& b) {
+    return escape::narrow_u32(xsimd::bitwise_cast<u32>(a), xsimd::bitwise_cast<u32>(b));
+  };
+  const auto run = [&](int x0, const Masks& m) {
+    s32 q4[4], unknown_lanes[4];
+    for (int r = 0; r < 4; ++r) {
+      const int x = x0 + r * lanes;
+      const s32 v = load(row + x);
+      s32 average;
+      if constexpr (!kOdd) {
+        average = (load(row + x - 1) + load(row + x + 1)) >> 1;
+      } else {
+        const s32 vertical = (load(above + x) + load(below + x)) >> 1;
+        const s32 backslash = (load(above + x - 1) + load(below + x + 1)) >> 1;
+        const s32 slash = (load(above + x + 1) + load(below + x - 1)) >> 1;
+        average = xsimd::select(m.odd, xsimd::select(m.backslash, backslash, slash), vertical);
+      }
+      const auto is_unknown = v == unknown;
+      q4[r] = (xsimd::select(is_unknown, average, v) + half) >> frac_bits;
+      unknown_lanes[r] = xsimd::select(is_unknown, all_ones, zero);
+    }
+    narrow(q4[0], q4[1]).store_unaligned(reinterpret_cast<std::uint16_t*>(disp_q4 + x0));
+    narrow(q4[2], q4[3]).store_unaligned(reinterpret_cast<std::uint16_t*>(disp_q4 + x0 + 2 * lanes));
+    // The confidences, a register of bytes for the whole block.
+    const mask8 unknown8 = escape::narrow_u16(narrow(unknown_lanes[0], unknown_lanes[1]),
+                                              narrow(unknown_lanes[2], unknown_lanes[3])) != u8(0);
+    u8 least;
+    if constexpr (!kOdd) {
+      least = escape::min_u8(load8(conf_row + x0 - 1), load8(conf_row + x0 + 1));
+    } else {
+      const u8 vertical = escape::min_u8(load8(conf_above + x0), load8(conf_below + x0));
+      const u8 backslash = escape::min_u8(load8(conf_above + x0 - 1), load8(conf_below + x0 + 1));
+      const u8 slash = escape::min_u8(load8(conf_above + x0 + 1), load8(conf_below + x0 - 1));
+      least = xsimd::select(m.odd8, xsimd::select(m.backslash8, backslash, slash), vertical);
+    }
+    const u8 c = xsimd::select(unknown8, least, load8(conf_row + x0));
+    c.store_unaligned(confidence + x0);
+    // State 0, 1 or 2: 2 from 128 (negative as int8), else 1 unless 0.
+    const s8 c8 = xsimd::bitwise_cast<s8>(c);
+    const s8 st = xsimd::select(c8 < s8(0), s8(2), xsimd::select(c8 == s8(0), s8(0), s8(1)));
+    st.store_unaligned(reinterpret_cast<std::int8_t*>(state + x0));
+  };
+  const Masks from_0 = masks_at(0);
+  int x = 0;
+  for (; x + block <= n; x += block) run(x, from_0);
+  if (x < n) run(n - block, masks_at(n - block));
+}
+
+}  // namespace detail
+
+// The same lanes and masks as MidpointsRowQ4 for the values; the
+// confidences in bytes beside them, each unknown point's the minimum of its
+// pair's, selected like the average (by the values' unknown lanes, narrowed
+// to bytes). Blocks of four int32 registers, one register of bytes; the last
+// block ends at n, as there.
+template <class Arch>
+void MidpointsRowConfQ4<Arch>::call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                                    const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                                    const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
+                                    std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state) {
+  constexpr int block = 4 * static_cast<int>(xsimd::batch<std::int32_t, Arch>::size);
+  if (n < block) {
+    detail::narrower_or_scalar<MidpointsRowConfQ4, Arch>(&midpoints_row_conf_q4_scalar, above, row, below,
+                                                         conf_above, conf_row, conf_below, n, first_backslash,
+                                                         frac_bits, disp_q4, confidence, state);
+  } else if (above == nullptr) {
+    detail::midpoints_conf_blocks<Arch, false>(above, row, below, conf_above, conf_row, conf_below, n,
+                                               first_backslash, frac_bits, disp_q4, confidence, state);
+  } else {
+    detail::midpoints_conf_blocks<Arch, true>(above, row, below, conf_above, conf_row, conf_below, n,
+                                              first_backslash, frac_bits, disp_q4, confidence, state);
+  }
+}
+
 }  // namespace simd
 }  // namespace tristereo

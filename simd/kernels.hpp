@@ -157,6 +157,14 @@ struct RemapBilinearRowU8 {
                    int n, std::uint8_t* out);
 };
 
+template <class Arch>
+struct MidpointsRowConfQ4 {
+  static void call(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                   const std::uint8_t* conf_above, const std::uint8_t* conf_row, const std::uint8_t* conf_below,
+                   int n, int first_backslash, int frac_bits, std::int16_t* disp_q4, std::uint8_t* confidence,
+                   std::uint8_t* state);
+};
+
 // The instantiations live in simd/arch_<arch>.cpp; nobody else may instantiate.
 #define TRISTEREO_SIMD_KERNELS_FOR_ARCH(KEYWORD, ARCH)        \
   KEYWORD template struct AccumulateAbsDiffU16<ARCH>;         \
@@ -182,7 +190,8 @@ struct RemapBilinearRowU8 {
   KEYWORD template struct Side4TestsU8<ARCH>;                  \
   KEYWORD template struct Side8TestsS32<ARCH>;                 \
   KEYWORD template struct MidpointsRowQ4<ARCH>;               \
-  KEYWORD template struct RemapBilinearRowU8<ARCH>;
+  KEYWORD template struct RemapBilinearRowU8<ARCH>;           \
+  KEYWORD template struct MidpointsRowConfQ4<ARCH>;
 
 #if defined(__x86_64__) || defined(_M_X64)
 TRISTEREO_SIMD_KERNELS_FOR_ARCH(extern, xsimd::sse2)

@@ -3,7 +3,8 @@
 // plane per triangle: random images, sizes (3 x N, primes, stretched sides,
 // partial tiles, 4096 wide), areas and thresholds, random disparities over the
 // whole Q4 range with invalid vertices, tile rows in any split; and the
-// Middlebury meshes.
+// Middlebury meshes. With the confidence maps too (docs/model.md section 7),
+// against the reference's: random vertex confidences, 0 at invalid vertices.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -23,32 +24,69 @@ namespace {
 
 constexpr std::int16_t kUnset = 12345;
 
+constexpr std::uint8_t kUnsetConf = 77;
+
+struct Maps {
+  ImageS16 disp;
+  ImageU8 confidence, state;
+};
+
 // The pipeline's order: tiles (in two parts, as two workers would take them),
-// the stretched leaves, then the triangles that reach an invalid vertex.
-ImageS16 by_midpoints(const Tritree& tree, const Mesh& m, const std::vector<std::int16_t>& vd, int split,
-                      const KernelSet& ks) {
-  ImageS16 out(m.width, m.height, 1, kUnset);
+// the stretched leaves, then the triangles that reach an invalid vertex; with
+// vertex confidences (vc not empty), the confidence maps in the same passes.
+Maps by_midpoints(const Tritree& tree, const Mesh& m, const std::vector<std::int16_t>& vd, int split,
+                  const KernelSet& ks, const std::vector<std::uint8_t>& vc = {}) {
+  Maps out{ImageS16(m.width, m.height, 1, kUnset), ImageU8(m.width, m.height, 1, kUnsetConf),
+           ImageU8(m.width, m.height, 1, kUnsetConf)};
+  const ConfidenceMaps maps{vc.data(), out.confidence.view(), out.state.view()};
+  const ConfidenceMaps* conf = vc.empty() ? nullptr : &maps;
   const TritreeGrid g = tree.grid();
-  std::vector<std::int32_t> values(midpoint_band_values(tree.tile_side(), m.width));
-  bool invalid = interpolate_midpoint_tiles(g, m, vd.data(), split, g.layout.tiles_y, ks, values.data(), out.view());
-  invalid |= interpolate_midpoint_tiles(g, m, vd.data(), 0, split, ks, values.data(), out.view());
+  // The values' band and the confidences' bytes, 0x4D where the kernels
+  // read and discard.
+  std::vector<std::int32_t> values(midpoint_band_values_with_confidence(tree.tile_side(), m.width), 0x4D4D4D4D);
+  bool invalid =
+      interpolate_midpoint_tiles(g, m, vd.data(), split, g.layout.tiles_y, ks, values.data(), out.disp.view(), conf);
+  invalid |= interpolate_midpoint_tiles(g, m, vd.data(), 0, split, ks, values.data(), out.disp.view(), conf);
   // The tiles read every vertex, so they tell whether one is invalid (the
   // pipeline skips the triangles' pass when none is).
   bool any = false;
   for (const std::int16_t d : vd) any |= d == kInvalidDispQ4;
   EXPECT_EQ(invalid, any);
-  interpolate_stretched_leaves(g, m, vd.data(), out.view());
-  invalidate_triangles(m, vd.data(), 0, static_cast<int>(m.triangles.size()), out.view());
+  interpolate_stretched_leaves(g, m, vd.data(), out.disp.view(), conf);
+  invalidate_triangles(m, vd.data(), 0, static_cast<int>(m.triangles.size()), out.disp.view(), conf);
   return out;
 }
 
+std::uint8_t state_of(std::uint8_t c) { return c == 0 ? 0 : c < kMinMeasuredConfidence ? 1 : 2; }
+
+// Confidence 0 exactly at the invalid vertices, any of 1..255 elsewhere
+// (mostly few distinct values, so that ties occur).
+std::vector<std::uint8_t> random_confidences(test::Rng& rng, const std::vector<std::int16_t>& vd) {
+  std::vector<std::uint8_t> vc(vd.size());
+  const bool few = rng.uniform(0, 1) == 0;
+  for (std::size_t i = 0; i < vd.size(); ++i)
+    vc[i] = vd[i] == kInvalidDispQ4 ? 0 : static_cast<std::uint8_t>(few ? 1 + 127 * rng.uniform(0, 2) : rng.uniform(1, 255));
+  return vc;
+}
+
 void expect_same_as_reference(const Tritree& tree, const Mesh& m, const std::vector<std::int16_t>& vd,
-                              int split, const KernelSet& ks, const std::string& what) {
+                              int split, const KernelSet& ks, const std::string& what,
+                              const std::vector<std::uint8_t>& vc = {}) {
   const ImageS16 ref = reference::interpolate(m, vd);
-  const ImageS16 out = by_midpoints(tree, m, vd, split, ks);
+  const Maps out = by_midpoints(tree, m, vd, split, ks, vc);
   for (int y = 0; y < m.height; ++y)
     for (int x = 0; x < m.width; ++x)
-      ASSERT_EQ(out.at(x, y), ref.at(x, y)) << what << " pixel " << x << "," << y;
+      ASSERT_EQ(out.disp.at(x, y), ref.at(x, y)) << what << " pixel " << x << "," << y;
+  if (vc.empty()) return;
+  std::vector<std::uint8_t> vs(vc.size());
+  for (std::size_t i = 0; i < vc.size(); ++i) vs[i] = state_of(vc[i]);
+  ImageU8 ref_state, ref_conf;
+  reference::interpolate_states(m, vs, vc, ref_state, ref_conf);
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) {
+      ASSERT_EQ(out.confidence.at(x, y), ref_conf.at(x, y)) << what << " confidence at " << x << "," << y;
+      ASSERT_EQ(out.state.at(x, y), ref_state.at(x, y)) << what << " state at " << x << "," << y;
+    }
 }
 
 std::vector<std::int16_t> random_disparities(test::Rng& rng, std::size_t n, int invalid_per_mille) {
@@ -87,10 +125,13 @@ TEST_P(InterpolateMidpoints, RandomImagesSizesAndParameters) {
       tree.build(img.view(), m);
       const std::vector<std::int16_t> vd = random_disparities(rng, m.vertices.size(), rng.uniform(0, 1) * 30);
       const int split = rng.uniform(0, tree.grid().layout.tiles_y);
+      // Every other case with the confidence maps.
+      const std::vector<std::uint8_t> vc = round % 2 == 0 ? random_confidences(rng, vd) : std::vector<std::uint8_t>{};
       expect_same_as_reference(tree, m, vd, split, ks(),
                                std::to_string(w) + "x" + std::to_string(h) + " A_max " +
                                    std::to_string(tp.max_area_px2) + " A_min " + std::to_string(tp.min_area_px2) +
-                                   " eps " + std::to_string(tp.psnr_deci_db));
+                                   " eps " + std::to_string(tp.psnr_deci_db) + (vc.empty() ? "" : " with confidence"),
+                               vc);
       if (HasFatalFailure()) return;
       ++cases;
     }
@@ -110,7 +151,7 @@ TEST_P(InterpolateMidpoints, MiddleburyMeshes) {
       for (int invalid : {0, 20}) {
         const std::vector<std::int16_t> vd = random_disparities(rng, m.vertices.size(), invalid);
         expect_same_as_reference(tree, m, vd, tree.grid().layout.tiles_y / 2, ks(),
-                                 scene + " A_max " + std::to_string(area));
+                                 scene + " A_max " + std::to_string(area), random_confidences(rng, vd));
         if (HasFatalFailure()) return;
       }
     }
@@ -128,8 +169,10 @@ TEST_P(InterpolateMidpoints, WritesEveryPixel) {
     Mesh m;
     tree.build(img.view(), m);
     const std::vector<std::int16_t> vd(m.vertices.size(), 16 * 5);
-    const ImageS16 out = by_midpoints(tree, m, vd, 0, ks());
-    for (std::int16_t v : out.pixels) ASSERT_EQ(v, 16 * 5);
+    const Maps out = by_midpoints(tree, m, vd, 0, ks(), std::vector<std::uint8_t>(m.vertices.size(), 200));
+    for (std::int16_t v : out.disp.pixels) ASSERT_EQ(v, 16 * 5);
+    for (std::uint8_t c : out.confidence.pixels) ASSERT_EQ(c, 200);
+    for (std::uint8_t st : out.state.pixels) ASSERT_EQ(st, 2);
   }
 }
 

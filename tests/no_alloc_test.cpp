@@ -43,6 +43,8 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
         // Adaptive weights run the paper's AD cost; box runs the defaults
         // (census, paths, left-right check, fill).
         if (w == Weights::kAdaptive) c.params.cost.kind = CostKind::kAd;
+        // The minimum confidence's pass too (it makes samples invalid after the fill).
+        if (threads == 3) c.params.validity.min_confidence = 140;
         c.threads = threads;
         c.pin_threads = false;
         Pipeline pipe;
@@ -63,6 +65,9 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
                         << " traced=" << traced;
         // The frames really were processed, and traced when asked.
         EXPECT_GT(pipe.last_timings().total_ns, 0);
+        const StereoOutput& last = pipe.process(rgb_l.view(), rgb_r.view());
+        EXPECT_EQ(last.pixel_confidence.pixels.size(), rgb_l.pixels.size() / 3);
+        EXPECT_EQ(last.vertex_state.size(), last.mesh.vertices.size());
         EXPECT_EQ(trace.workers() > 0 && trace.track(FrameTrace::kPipelineTrack).size() >= 9, traced);
         EXPECT_EQ(trace.dropped(), 0u);
        }
@@ -125,6 +130,34 @@ TEST(NoAlloc, RawFramesDoNotAllocate) {
       EXPECT_GT(pipe.last_timings().rectify_ns, 0);
       EXPECT_EQ(trace.dropped(), 0u);
     }
+  }
+}
+
+// The paper's row DP with the mirrored left-right pass: its measured samples'
+// confidence, the right view's fill and the minimum confidence.
+TEST(NoAlloc, RowDpWithMirroredCheckAndMinConfidenceDoesNotAllocate) {
+  SynthParams sp;
+  sp.width = 160;
+  sp.height = 120;
+  sp.num_disp = 24;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  for (int threads : {1, 3}) {
+    PipelineConfig c;
+    c.max_width = 160;
+    c.max_height = 120;
+    c.params = paper_params();
+    c.params.num_disp = 24;
+    c.params.validity.lr_max_diff_q4 = 16;
+    c.params.validity.lr_source = LrSource::kMirroredPass;
+    c.params.validity.min_confidence = 128;  // every filled sample
+    c.threads = threads;
+    c.pin_threads = false;
+    Pipeline pipe;
+    pipe.configure(c);
+    test::start_counting_allocations();
+    for (int f = 0; f < 3; ++f) pipe.process(s.left.view(), s.right.view());
+    EXPECT_EQ(test::stop_counting_allocations(), 0) << "threads=" << threads;
+    EXPECT_GT(pipe.process(s.left.view(), s.right.view()).validity.min_confidence_rejected, 0);
   }
 }
 

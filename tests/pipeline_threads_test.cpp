@@ -95,12 +95,15 @@ TEST(PipelineThreads, EveryDataSceneIdenticalFromOneToSixteenWorkers) {
     const PipelineConfig one = test::unpinned_config(scene.left.width, scene.left.height, p, 1);
     Pipeline base;
     base.configure(one);
-    const std::string expected = digest_hex(base.process(scene.left.view(), scene.right.view()));
+    const StereoOutput& first = base.process(scene.left.view(), scene.right.view());
+    const std::string expected = digest_hex(first);
+    const std::string expected_states = state_digest_hex(first);
     for (int threads : {3, 16}) {
       Pipeline pipe;
       pipe.configure(test::unpinned_config(scene.left.width, scene.left.height, p, threads));
-      EXPECT_EQ(digest_hex(pipe.process(scene.left.view(), scene.right.view())), expected)
-          << scene.set << "/" << scene.name << " threads=" << threads;
+      const StereoOutput& got = pipe.process(scene.left.view(), scene.right.view());
+      EXPECT_EQ(digest_hex(got), expected) << scene.set << "/" << scene.name << " threads=" << threads;
+      EXPECT_EQ(state_digest_hex(got), expected_states) << scene.set << "/" << scene.name << " threads=" << threads;
     }
   }
 }
@@ -114,11 +117,15 @@ TEST(PipelineThreads, RandomParametersIdenticalFromOneToSixteenWorkers) {
     const ImageU8 right = test::shifted_view(rng, left, static_cast<int>(rng.next() % 12), 6);
     Pipeline base;
     base.configure(test::unpinned_config(w, h, p, 1));
-    const std::string expected = digest_hex(base.process(left.view(), right.view()));
+    const StereoOutput& first = base.process(left.view(), right.view());
+    const std::string expected = digest_hex(first);
+    const std::string expected_states = state_digest_hex(first);
     const int threads = 2 + static_cast<int>(rng.next() % 15);
     Pipeline pipe;
     pipe.configure(test::unpinned_config(w, h, p, threads));
-    EXPECT_EQ(digest_hex(pipe.process(left.view(), right.view())), expected)
+    const StereoOutput& got = pipe.process(left.view(), right.view());
+    EXPECT_EQ(digest_hex(got), expected) << "round " << round << " " << w << "x" << h << " threads=" << threads;
+    EXPECT_EQ(state_digest_hex(got), expected_states)
         << "round " << round << " " << w << "x" << h << " threads=" << threads;
   }
 }

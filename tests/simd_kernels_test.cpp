@@ -128,6 +128,7 @@ TEST_P(SimdKernels, DispatchGivesTheSetsOwnTable) {
   EXPECT_NE(s.dp_step_u16, scalar().dp_step_u16);
   EXPECT_NE(s.dp_pointer_u16, scalar().dp_pointer_u16);
   EXPECT_NE(s.midpoints_row_q4, scalar().midpoints_row_q4);
+  EXPECT_NE(s.midpoints_row_conf_q4, scalar().midpoints_row_conf_q4);
 }
 
 TEST_P(SimdKernels, EnvironmentOverridesAuto) {
@@ -856,6 +857,66 @@ TEST_P(SimdKernels, MidpointsRowQ4) {
     }
   });
   for (int k = 0; k < 4; ++k) EXPECT_GT(kinds[k], 1000) << "average kind " << k;
+}
+
+// The same rows with their confidences (bytes, index for index, few
+// distinct values so that ties occur): disparity, confidence and state equal
+// the scalar twin's, the disparity midpoints_row_q4's.
+TEST_P(SimdKernels, MidpointsRowConfQ4) {
+  int resolved = 0;
+  for_each_case(31, [&](int n, int offset, int c, std::mt19937& rng) {
+    const int frac_bits = 1 + (offset + 3 * c) % 11;
+    const std::int32_t big = std::int32_t{1} << (15 + frac_bits);
+    std::uniform_int_distribution<std::int32_t> value(-big, big);
+    const int unknown_per_4 = c;
+    const std::size_t len = static_cast<std::size_t>(n) + 2;  // x = -1 .. n
+    const auto grid_row = [&](bool even) {
+      std::vector<std::int32_t> r(len);
+      for (int x = -1; x <= n; ++x) {
+        const bool may_be_unknown = !even || (x & 1) != 0;
+        const bool unknown = may_be_unknown && static_cast<int>(rng() % 4) < unknown_per_4;
+        r[static_cast<std::size_t>(x + 1)] = unknown ? kMidpointUnknown : value(rng);
+      }
+      return r;
+    };
+    const auto conf_row = [&] {
+      std::vector<std::uint8_t> r(len);
+      for (std::uint8_t& v : r) {
+        const std::uint32_t pick = rng() % 8;
+        v = static_cast<std::uint8_t>(pick < 3 ? pick * 127 : rng() % 256);
+      }
+      return r;
+    };
+    for (int odd = 0; odd < 2; ++odd) {
+      const Input<std::int32_t> above(grid_row(true), offset), row(grid_row(odd == 0), offset),
+          below(grid_row(true), offset);
+      const Input<std::uint8_t> c_above(conf_row(), offset), c_row(conf_row(), offset), c_below(conf_row(), offset);
+      const int first_bs = (offset >> 1) & 1;
+      const std::int32_t* a = odd ? above.data() + 1 : nullptr;
+      const std::int32_t* b = odd ? below.data() + 1 : nullptr;
+      const std::uint8_t* ca = odd ? c_above.data() + 1 : nullptr;
+      const std::uint8_t* cb = odd ? c_below.data() + 1 : nullptr;
+      Guarded<std::int16_t> disp_simd(std::vector<std::int16_t>(static_cast<std::size_t>(n), 0x5A5A), 0x5A5A);
+      Guarded<std::int16_t> disp_scalar = disp_simd;
+      Guarded<std::uint8_t> conf_simd(std::vector<std::uint8_t>(static_cast<std::size_t>(n), 0xA5), 0xA5);
+      Guarded<std::uint8_t> conf_scalar = conf_simd, state_simd = conf_simd, state_scalar = conf_simd;
+      simd().midpoints_row_conf_q4(a, row.data() + 1, b, ca, c_row.data() + 1, cb, n, first_bs, frac_bits,
+                                   disp_simd.data(), conf_simd.data(), state_simd.data());
+      scalar().midpoints_row_conf_q4(a, row.data() + 1, b, ca, c_row.data() + 1, cb, n, first_bs, frac_bits,
+                                     disp_scalar.data(), conf_scalar.data(), state_scalar.data());
+      const std::string what = "n=" + std::to_string(n) + " offset=" + std::to_string(offset) +
+                               " odd row=" + std::to_string(odd) + " first_backslash=" + std::to_string(first_bs) +
+                               " frac_bits=" + std::to_string(frac_bits);
+      ASSERT_EQ(diff(disp_simd, disp_scalar), "") << what;
+      ASSERT_EQ(diff(conf_simd, conf_scalar), "") << what;
+      ASSERT_EQ(diff(state_simd, state_scalar), "") << what;
+      Guarded<std::int16_t> plain(std::vector<std::int16_t>(static_cast<std::size_t>(n), 0x5A5A), 0x5A5A);
+      scalar().midpoints_row_q4(a, row.data() + 1, b, n, first_bs, frac_bits, plain.data());
+      ASSERT_EQ(diff(plain, disp_scalar), "") << what;
+      for (int x = 0; x < n; ++x) resolved += row.data()[x + 1] == kMidpointUnknown ? 1 : 0;
+    }
+  });
+  EXPECT_GT(resolved, 4000);
 }
 
 INSTANTIATE_TEST_SUITE_P(Sets, SimdKernels, ::testing::ValuesIn(test::simd_kernel_params()),

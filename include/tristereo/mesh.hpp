@@ -53,17 +53,44 @@ struct SampleValidity {
   std::int32_t uniqueness_rejected = 0;   // failed the uniqueness test
   std::int32_t lr_rejected = 0;           // failed the left-right check
   std::int32_t filled = 0;                // invalid samples given a neighbour's disparity
+  // Measured or filled samples below StereoParams::validity.min_confidence,
+  // made invalid after the fill.
+  std::int32_t min_confidence_rejected = 0;
   bool operator==(const SampleValidity& o) const {
     return samples == o.samples && uniqueness_rejected == o.uniqueness_rejected &&
-           lr_rejected == o.lr_rejected && filled == o.filled;
+           lr_rejected == o.lr_rejected && filled == o.filled &&
+           min_confidence_rejected == o.min_confidence_rejected;
   }
 };
+
+// Where a sample's or a pixel's disparity comes from (docs/model.md section 7).
+// The values are those of the state maps and of `tristereo match --valid`.
+enum class SampleState : std::uint8_t {
+  kInvalid = 0,   // no disparity (kInvalidDispQ4)
+  kFilled = 1,    // a neighbour's disparity, given by the fill
+  kMeasured = 2,  // matched, and passed the uniqueness test and the left-right check
+};
+
+// Confidence, 0..255 (docs/model.md section 7): 0 = invalid, 1..127 = filled
+// (lower the more fill rounds away from a measured sample), 128..255 =
+// measured (higher the larger the margin between the best summed cost and
+// the best one two or more disparities away). So the state follows from it.
+constexpr int kMinMeasuredConfidence = 128;
 
 // Everything one frame produces.
 struct StereoOutput {
   Mesh mesh;
   std::vector<std::int16_t> vertex_disp_q4;  // one per mesh vertex, kInvalidDispQ4 = invalid
   ImageS16 disp_q4;                          // dense map, kInvalidDispQ4 = invalid
+  // Per mesh vertex, like vertex_disp_q4: a SampleState value and the confidence.
+  std::vector<std::uint8_t> vertex_state;
+  std::vector<std::uint8_t> vertex_confidence;
+  // Per pixel, like disp_q4: the smallest state and confidence of the vertices
+  // the pixel's disparity is interpolated from (its triangle's three inside
+  // it, an edge's two ends on that edge, a vertex's own; 0 when the disparity
+  // is invalid); dense mode: the pixel's own.
+  ImageU8 pixel_state;
+  ImageU8 pixel_confidence;
   SampleValidity validity;
 };
 

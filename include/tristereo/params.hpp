@@ -109,6 +109,10 @@ struct ValidityParams {
   // every cost two or more disparities away. 0 = off.
   int uniqueness_pct = 10;
   FillMode fill = FillMode::kBackground;
+  // After the fill, samples whose confidence (docs/model.md section 7) is
+  // below this become invalid, 0..255. 0 = off; 1 changes nothing; 128 keeps
+  // measured samples only.
+  int min_confidence = 0;
 };
 
 struct StereoParams {

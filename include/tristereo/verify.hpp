@@ -35,7 +35,11 @@ TRISTEREO_API VerifyReport verify_bit_exact(const ImageU8& left, const ImageU8& 
 struct StereoOutput;
 TRISTEREO_API std::string first_difference(const StereoOutput& expected, const StereoOutput& actual);
 
-// 64-bit FNV-1a digests of the outputs, in hex (stable across platforms).
+// 64-bit FNV-1a digests of the outputs, in hex (stable across platforms):
+// digest_hex of the mesh, sample disparities and dense map; state_digest_hex
+// of the vertex and pixel state and confidence (docs/model.md section 7).
+// first_difference compares all of them and the validity counts.
 TRISTEREO_API std::string digest_hex(const StereoOutput& out);
+TRISTEREO_API std::string state_digest_hex(const StereoOutput& out);
 
 }  // namespace tristereo

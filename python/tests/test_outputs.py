@@ -42,7 +42,9 @@ def test_writers_write_the_programs_files(tmp_path, ascii_ply):
         same_files(c / depth, p / depth)
     tristereo.write_disparity_color(p / "c.png", out.disp_q4, 0, 24)
     faces = tristereo.write_mesh_ply(p / "m.ply", out, left, camera=CAMERA, binary=not ascii_ply)
-    points = tristereo.write_points_ply(p / "p.ply", out.disp_q4, left, CAMERA, binary=not ascii_ply)
+    # The program writes measured pixels and vertices only (no --points-include-filled).
+    points = tristereo.write_points_ply(p / "p.ply", out.disp_q4, left, CAMERA, binary=not ascii_ply,
+                                        state=out.state)
     for name in ("c.png", "m.ply", "p.ply"):
         same_files(c / name, p / name)
     assert faces["faces_written"] > 0 and points > 0
@@ -86,3 +88,57 @@ def test_writer_arguments_are_checked(tmp_path):
     assert not os.path.exists(tmp_path / "d.tiff")
     with pytest.raises(OSError):
         tristereo.write_disparity(tmp_path / "missing" / "d.png", out.disp_q4)
+
+
+@pytest.mark.parametrize("min_confidence", [0, 144])
+def test_state_and_confidence_are_the_programs_pngs_on_a_real_pair(tmp_path, min_confidence):
+    """Output.state and Output.confidence equal `match --valid/--confidence`
+    on KITTI 2015 000000, with and without a minimum confidence."""
+    folder = require_data("kitti2015")
+    lp, rp = os.path.join(folder, "000000", "left.png"), os.path.join(folder, "000000", "right.png")
+    left, right = tristereo.read_image(lp), tristereo.read_image(rp)
+    h, w = left.shape[:2]
+    out = tristereo.Pipeline(w, h, ndisp=80, threads=2, min_confidence=min_confidence).process(
+        left, right, order="rgb")
+    cli("match", lp, rp, "--ndisp", 80, "--threads", 1, "--min-confidence", min_confidence,
+        "--valid", tmp_path / "v.png", "--confidence", tmp_path / "c.png", "--disp", tmp_path / "d.pfm")
+    import cv2
+    valid = cv2.imread(str(tmp_path / "v.png"), cv2.IMREAD_UNCHANGED)
+    conf = cv2.imread(str(tmp_path / "c.png"), cv2.IMREAD_UNCHANGED)
+    assert valid.dtype == np.uint8 and valid.shape == (h, w)
+    assert np.array_equal(out.state, valid)
+    assert np.array_equal(out.confidence, conf)
+    # The disparity is invalid exactly where the state says so.
+    assert np.array_equal(np.isinf(read_pfm(tmp_path / "d.pfm")), out.state == 0)
+    assert np.array_equal(np.isnan(out.disparity), out.state == 0)
+    # Every state occurs without the minimum; with 144 none is filled and
+    # every valid pixel is at least that confident.
+    counts = np.bincount(out.state.ravel(), minlength=3)
+    if min_confidence == 0:
+        assert counts[1] > 0 and counts[2] > counts[1]
+        assert out.filled > 0 and out.min_confidence_rejected == 0
+        assert np.count_nonzero(out.vertex_state == 1) == out.filled
+    else:
+        assert counts[1] == 0 and counts[2] > 0
+        assert out.min_confidence_rejected > 0
+        assert np.all(out.confidence[out.state != 0] >= min_confidence)
+    assert np.array_equal(out.state, np.where(out.confidence == 0, 0, np.where(out.confidence < 128, 1, 2)))
+
+
+def test_mesh_and_points_keep_filled_ones_only_when_asked(tmp_path):
+    cli("synth", tmp_path, "--width", 160, "--height", 120, "--ndisp", 24, "--seed", 5)
+    lp, rp = tmp_path / "left.png", tmp_path / "right.png"
+    left, right = tristereo.read_image(lp), tristereo.read_image(rp)
+    out = tristereo.Pipeline(160, 120, ndisp=24, threads=1).process(left, right)
+    cli("match", lp, rp, "--ndisp", 24, "--threads", 1, "--camera", CAMERA_ARG, "--mesh", tmp_path / "m.ply",
+        "--points", tmp_path / "p.ply", "--points-include-filled")
+    all_faces = tristereo.write_mesh_ply(tmp_path / "pm.ply", out, left, camera=CAMERA, include_filled=True)
+    all_points = tristereo.write_points_ply(tmp_path / "pp.ply", out.disp_q4, left, CAMERA)
+    same_files(tmp_path / "m.ply", tmp_path / "pm.ply")
+    same_files(tmp_path / "p.ply", tmp_path / "pp.ply")
+    measured_faces = tristereo.write_mesh_ply(tmp_path / "mm.ply", out, left, camera=CAMERA)
+    measured_points = tristereo.write_points_ply(tmp_path / "mp.ply", out.disp_q4, left, CAMERA, state=out.state)
+    assert measured_points == np.count_nonzero(out.state == 2) < all_points
+    assert 0 < measured_faces["faces_written"] < all_faces["faces_written"]
+    with pytest.raises(ValueError, match="state must be a uint8"):
+        tristereo.write_points_ply(tmp_path / "x.ply", out.disp_q4, left, CAMERA, state=out.state[:10])

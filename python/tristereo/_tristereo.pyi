@@ -25,6 +25,10 @@ class Output:
     vertices: npt.NDArray[np.int32]
     triangles: npt.NDArray[np.int32]
     vertex_disp_q4: npt.NDArray[np.int16]
+    state: npt.NDArray[np.uint8]
+    confidence: npt.NDArray[np.uint8]
+    vertex_state: npt.NDArray[np.uint8]
+    vertex_confidence: npt.NDArray[np.uint8]
     timings_ms: Dict[str, float]
     forced_splits: int
     criterion_splits: int
@@ -32,6 +36,7 @@ class Output:
     uniqueness_rejected: int
     lr_rejected: int
     filled: int
+    min_confidence_rejected: int
     digest: str
 
 class Pipeline:
@@ -67,6 +72,7 @@ class Pipeline:
         lr_source: Literal["costs", "mirror"] = ...,
         uniqueness: int = ...,
         fill: Literal["background", "none"] = ...,
+        min_confidence: int = ...,
         subpixel: bool = ...,
         dense: bool = ...,
         threads: int = ...,
@@ -128,6 +134,7 @@ def verify(
     lr_source: Literal["costs", "mirror"] = ...,
     uniqueness: int = ...,
     fill: Literal["background", "none"] = ...,
+    min_confidence: int = ...,
     subpixel: bool = ...,
     dense: bool = ...,
 ) -> VerifyReport: ...
@@ -146,6 +153,7 @@ def write_mesh_ply(
     camera: Optional[_Camera] = None,
     binary: bool = True,
     order: _Order = None,
+    include_filled: bool = False,
 ) -> Dict[str, int]: ...
 def write_points_ply(
     path: _Path,
@@ -154,6 +162,7 @@ def write_points_ply(
     camera: _Camera,
     binary: bool = True,
     order: _Order = None,
+    state: Optional[npt.NDArray[np.uint8]] = None,
 ) -> int: ...
 def read_image(path: _Path) -> npt.NDArray[np.uint8]: ...
 

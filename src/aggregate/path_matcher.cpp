@@ -12,6 +12,7 @@
 #include "src/memory/capacity_bytes.hpp"
 #include "src/tritree/rtin_layout.hpp"
 #include "src/dp/subpixel.hpp"
+#include "src/select/confidence.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
 
@@ -650,12 +651,12 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
 
 void PathMatcher::aggregate(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                             ThreadPool& pool) {
-  (void)aggregate_rows(samples, left_gray, pool, nullptr);
+  (void)aggregate_rows(samples, left_gray, pool, nullptr, nullptr);
 }
 
 PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
                                                   ImageView<const std::uint8_t> left_gray, ThreadPool& pool,
-                                                  std::int16_t* disp_q4) {
+                                                  std::int16_t* disp_q4, std::uint8_t* confidence) {
   if (samples.dense()) {
     bounds_ = predecessor_bounds(samples);
   } else if (preds_for_ != samples.mesh) {
@@ -682,7 +683,7 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
   const std::int64_t t_passes = trace_ != nullptr ? monotonic_ns() : 0;
   RejectedSum rejected;
   pool.run([&](int w) {
-    RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4);
+    RowDecider decide(*this, samples, workers_[static_cast<std::size_t>(w)], disp_q4, confidence);
     const int own = w & 1;  // even workers begin forward, odd ones backward
     // A pass cut into whole rows is one chain: a second worker on it would
     // only wait for the first and pull its rows across the cores, so with
@@ -727,8 +728,8 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
 }
 
 PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
-                                         ThreadPool& pool, std::int16_t* disp_q4) {
-  return aggregate_rows(samples, left_gray, pool, disp_q4);
+                                         ThreadPool& pool, std::int16_t* disp_q4, std::uint8_t* confidence) {
+  return aggregate_rows(samples, left_gray, pool, disp_q4, confidence);
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {
@@ -736,8 +737,8 @@ void PathMatcher::summed_costs(int i, std::uint16_t* out) const {
 }
 
 PathMatcher::RowDecider::RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk,
-                                    std::int16_t* disp_q4)
-    : pm_(pm), samples_(samples), wk_(wk), disp_q4_(disp_q4),
+                                    std::int16_t* disp_q4, std::uint8_t* confidence)
+    : pm_(pm), samples_(samples), wk_(wk), disp_q4_(disp_q4), confidence_(confidence),
       lr_(pm.params_.validity.lr_max_diff_q4 >= 0 && pm.params_.validity.lr_source == LrSource::kSummedCosts) {}
 
 void PathMatcher::RowDecider::row(int y) {
@@ -765,7 +766,9 @@ void PathMatcher::RowDecider::sample(int i, const std::uint16_t* s_row) {
     lr_cost = wk_.lr_cost.data() + base;
     lr_k = wk_.lr_k.data() + base;
   }
-  const int k = pm_.kernels_->winner_u16(s_row, d, uniq > 0 ? &other : nullptr, lr_cost, lr_k);
+  const bool need_rival = uniq > 0 || confidence_ != nullptr;
+  const int k = pm_.kernels_->winner_u16(s_row, d, need_rival ? &other : nullptr, lr_cost, lr_k);
+  if (confidence_ != nullptr) confidence_[i] = measured_confidence(s_row[k], other);
   if (lr_) wk_.row_k[static_cast<std::size_t>(i - v0_)] = static_cast<std::uint16_t>(k);
   // Unique when every S(k') with |k' - k| > 1 has 100 S(k') > (100 + U) S(k):
   // the smallest of them (other) decides.
@@ -807,12 +810,12 @@ void PathMatcher::RowDecider::end_row() {
 // one row); within a row the samples are taken left to right, so that
 // winner_u16's `<` keeps the smallest k among equal costs at a right pixel.
 PathMatcher::Rejected PathMatcher::select(const SampleLayout& samples, ThreadPool& pool,
-                                          std::int16_t* disp_q4) {
+                                          std::int16_t* disp_q4, std::uint8_t* confidence) {
   RejectedSum rejected;
   rows_.reset(0, samples.height, samples.dense() ? 4 : 16);
   pool.run([&](int wi) {
     Worker& wk = workers_[static_cast<std::size_t>(wi)];
-    RowDecider decide(*this, samples, wk, disp_q4);
+    RowDecider decide(*this, samples, wk, disp_q4, confidence);
     int y0 = 0, y1 = 0;
     while (rows_.next(&y0, &y1))
       for (int y = y0; y < y1; ++y) decide.row(y);

@@ -72,17 +72,20 @@ class PathMatcher {
   // disp_q4[i] = 16 (d_min + k) + sub-pixel offset for the smallest argmin k
   // of S(i, .), or kInvalidDispQ4 where the uniqueness test or (lr_source =
   // costs) the left-right check fails. Returns how many each rejected.
+  // confidence (optional): every sample's measured_confidence() from its
+  // best and rival summed costs (src/select/confidence.hpp), rejected or not.
   struct Rejected {
     int uniqueness = 0;
     int left_right = 0;
   };
-  Rejected select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4);
+  Rejected select(const SampleLayout& samples, ThreadPool& pool, std::int16_t* disp_q4,
+                  std::uint8_t* confidence = nullptr);
   // aggregate() then select(), with the same result, but each row decided as
   // soon as its S is complete, by the worker that completed it (while the
   // row's sums are still in its cache: a separate select() reads all of S back
   // from memory).
   Rejected match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
-                 ThreadPool& pool, std::int16_t* disp_q4);
+                 ThreadPool& pool, std::int16_t* disp_q4, std::uint8_t* confidence = nullptr);
 
   // Work items and passes go to `trace` (null = none; not owned).
   void set_trace(FrameTrace* trace) { trace_ = trace; }
@@ -121,7 +124,8 @@ class PathMatcher {
   // Samples are offered left to right between begin_row and end_row.
   class RowDecider {
    public:
-    RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk, std::int16_t* disp_q4);
+    RowDecider(const PathMatcher& pm, const SampleLayout& samples, Worker& wk, std::int16_t* disp_q4,
+               std::uint8_t* confidence);
     // Every sample of image row y from its complete S.
     void row(int y);
     void begin_row(int y);
@@ -135,6 +139,7 @@ class PathMatcher {
     const SampleLayout& samples_;
     Worker& wk_;
     std::int16_t* disp_q4_;
+    std::uint8_t* confidence_;
     bool lr_;
     int v0_ = 0, v1_ = 0;
   };
@@ -167,7 +172,7 @@ class PathMatcher {
                 int band, int col, int worker, int add);
   // aggregate(), deciding the rows on the way when disp_q4 is given.
   Rejected aggregate_rows(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
-                          ThreadPool& pool, std::int16_t* disp_q4);
+                          ThreadPool& pool, std::int16_t* disp_q4, std::uint8_t* confidence);
 
   StereoParams params_;
   const KernelSet* kernels_ = nullptr;

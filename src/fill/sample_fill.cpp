@@ -5,6 +5,7 @@
 
 #include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
+#include "src/select/confidence.hpp"
 #include "tristereo/fixed_point.hpp"
 
 namespace tristereo {
@@ -26,15 +27,19 @@ LargeArray<T> untouched(std::size_t n) {
 // The end of a round: writes each pending sample's candidate (cand_of(j, i)
 // for pending[j] = sample i, INT_MAX for none) after the whole scan, so a
 // round only sees the previous round's values; keeps the samples still
-// unfilled in pending[0, *count). Returns how many it filled.
+// unfilled in pending[0, *count). Returns how many it filled. `confidence`
+// (optional) gets round `round`'s filled_confidence().
 template <class CandOf>
-int write_round(std::int32_t* pending, int* count, std::int16_t* disp_q4, CandOf cand_of) {
+int write_round(std::int32_t* pending, int* count, std::int16_t* disp_q4, std::uint8_t* confidence, int round,
+                CandOf cand_of) {
+  const std::uint8_t c = filled_confidence(round);
   int kept = 0, now = 0;
   for (int j = 0; j < *count; ++j) {
     const int i = pending[j];
     const int v = cand_of(j, i);
     if (v != INT_MAX) {
       disp_q4[i] = static_cast<std::int16_t>(v);
+      if (confidence != nullptr) confidence[i] = c;
       ++now;
     } else {
       pending[kept++] = i;
@@ -58,7 +63,8 @@ void SampleFill::configure(int max_samples, int max_triangles, int workers) {
   chunk_live_.assign(static_cast<std::size_t>(max_triangles / kLiveTrianglesPerChunk + 1), 0);
 }
 
-int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool) {
+int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool,
+                     std::uint8_t* confidence) {
   const int n = samples.count();
   // Without a branch on the data: a quarter of the samples or so are
   // invalid, spread out, and the branch mispredicted at every other one.
@@ -69,10 +75,12 @@ int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadP
     pending += disp_q4[i] == kInvalidDispQ4 ? 1 : 0;
   }
   if (pending == 0) return 0;
-  return samples.dense() ? fill_grid(samples, disp_q4, pool, pending) : fill_mesh(samples, disp_q4, pool, pending);
+  return samples.dense() ? fill_grid(samples, disp_q4, pool, pending, confidence)
+                         : fill_mesh(samples, disp_q4, pool, pending, confidence);
 }
 
-int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending) {
+int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending,
+                          std::uint8_t* confidence) {
   std::int32_t* cand = candidate_.get();
   const int w = samples.width, h = samples.height;
   // Candidates from the 8 neighbours valid at the start of the round, for pending[j0, j1).
@@ -92,7 +100,7 @@ int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, Th
     }
   };
   int filled = 0;
-  for (;;) {
+  for (int round = 1;; ++round) {
     if (pool != nullptr && pool->size() > 1 && pending >= 2 * kPendingPerChunk) {
       chunks_.reset(0, pending, kPendingPerChunk);
       pool->run([&](int wk) {
@@ -110,14 +118,16 @@ int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, Th
       candidates(0, pending);
       trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), 0, pending, kPendingPerChunk);
     }
-    const int now = write_round(pending_.get(), &pending, disp_q4, [cand](int j, int) { return cand[j]; });
+    const int now = write_round(pending_.get(), &pending, disp_q4, confidence, round,
+                                [cand](int j, int) { return cand[j]; });
     filled += now;
     if (now == 0 || pending == 0) break;
   }
   return filled;
 }
 
-int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending) {
+int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending,
+                          std::uint8_t* confidence) {
   const Triangle* tris = samples.mesh->triangles.data();
   const auto n_tris = static_cast<std::int32_t>(samples.mesh->triangles.size());
   std::int32_t* live = live_.get();
@@ -211,14 +221,14 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   int n_live = trace_ == nullptr ? walk_round(false, n_tris, kTrianglesPerChunk)
                                  : traced_round(false, n_tris, kTrianglesPerChunk);
   int filled = 0;
-  for (;;) {
+  for (int round = 1;; ++round) {
     const auto smallest_offer = [&](int, int i) {
       int v = cand[i];
       if (workers_ready)
         for (int w = 1; w < workers; ++w) v = std::min(v, worker_candidate_[static_cast<std::size_t>(w - 1)][static_cast<std::size_t>(i)]);
       return v;
     };
-    const int now = write_round(pending_.get(), &pending, disp_q4, smallest_offer);
+    const int now = write_round(pending_.get(), &pending, disp_q4, confidence, round, smallest_offer);
     filled += now;
     if (now == 0 || pending == 0) break;
     n_live = trace_ == nullptr ? walk_round(true, n_live, kLiveTrianglesPerChunk)

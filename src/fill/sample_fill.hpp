@@ -36,7 +36,10 @@ class SampleFill {
   // round's walk (meshes, once it has two chunks of triangles) or each
   // round's candidates (dense grids) are shared by its workers in chunks. The
   // result is the same for any pool.
-  int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr);
+  // confidence (optional): each filled sample's filled_confidence() of the
+  // round that filled it (src/select/confidence.hpp); others untouched.
+  int fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool = nullptr,
+           std::uint8_t* confidence = nullptr);
   // The walks' chunks go to `trace` as work items (null = none; not owned).
   void set_trace(FrameTrace* trace) { trace_ = trace; }
   // Heap bytes the configured fill holds.
@@ -48,8 +51,10 @@ class SampleFill {
 
  private:
   FrameTrace* trace_ = nullptr;
-  int fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending);
-  int fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending);
+  int fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending,
+                std::uint8_t* confidence);
+  int fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending,
+                std::uint8_t* confidence);
   int max_samples_ = 0;
   int max_triangles_ = 0;
   WorkChunks chunks_;                   // a round's pending samples, handed out on demand

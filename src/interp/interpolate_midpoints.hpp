@@ -16,10 +16,17 @@
 // row (their planes do not meet the grid's midpoints), and a leaf with an
 // invalid vertex (the model invalidates every pixel it owns, which depends on
 // the fill rule, not on f).
+//
+// The pixel confidence (docs/model.md section 7) goes down the same
+// hierarchy, the minimum taking the average's place: a grid point that is not
+// a vertex gets the smaller confidence of the two points it averages, so each
+// pixel the smallest confidence of the vertices its disparity depends on.
+// The same two cases are left to the triangles (src/interp/interpolate_state.hpp).
 #pragma once
 
 #include <cstdint>
 
+#include "src/interp/interpolate_state.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "src/tritree/tritree.hpp"
 #include "tristereo/image.hpp"
@@ -35,6 +42,13 @@ inline std::size_t midpoint_band_values(int tile_side, int max_width) {
          static_cast<std::size_t>(tile_side) + 1;
 }
 
+// The same with the confidence maps: the values, then a byte per point (in
+// int32 units, rounded up).
+inline std::size_t midpoint_band_values_with_confidence(int tile_side, int max_width) {
+  const std::size_t n = midpoint_band_values(tile_side, max_width);
+  return n + (n + 3) / 4;
+}
+
 // Fractional bits of the grid values beyond Q4: log2 of the largest leaf's area2.
 inline int midpoint_fraction_bits(int tile_side) { return 2 * __builtin_ctz(static_cast<unsigned>(tile_side)) - 1; }
 
@@ -48,18 +62,24 @@ inline int midpoint_fraction_bits(int tile_side) { return 2 * __builtin_ctz(stat
 // write disjoint pixels. Returns true when some vertex it read was invalid
 // (every vertex lies in some tile, so the tiles of all rows together say
 // whether invalidate_triangles() is needed). Precondition: grid.need !=
-// nullptr (not a 2-pixel strip).
+// nullptr (not a 2-pixel strip). With `conf`, the same pixels of its maps
+// too, in the same pass (`kernels`' midpoints_row_conf_q4), and scratch
+// holds midpoint_band_values_with_confidence(S, width).
 bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                                 int tile_row_begin, int tile_row_end, const KernelSet& kernels,
-                                std::int32_t* scratch, ImageView<std::int16_t> disp_q4);
+                                std::int32_t* scratch, ImageView<std::int16_t> disp_q4,
+                                const ConfidenceMaps* conf = nullptr);
 
-// After every tile: the stretched leaves, by their planes.
+// After every tile: the stretched leaves, by their planes (and their
+// pixels' confidence by confidence_triangle).
 void interpolate_stretched_leaves(const TritreeGrid& grid, const Mesh& mesh,
-                                  const std::int16_t* vertex_disp_q4, ImageView<std::int16_t> disp_q4);
+                                  const std::int16_t* vertex_disp_q4, ImageView<std::int16_t> disp_q4,
+                                  const ConfidenceMaps* conf = nullptr);
 
 // Then, when some vertex is invalid: every pixel owned by a triangle of
-// [tri_begin, tri_end) with an invalid vertex becomes kInvalidDispQ4.
+// [tri_begin, tri_end) with an invalid vertex becomes kInvalidDispQ4 (and
+// confidence and state 0).
 void invalidate_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4, int tri_begin,
-                          int tri_end, ImageView<std::int16_t> disp_q4);
+                          int tri_end, ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf = nullptr);
 
 }  // namespace tristereo

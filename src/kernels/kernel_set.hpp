@@ -207,6 +207,19 @@ struct KernelSet {
   void (*midpoints_row_q4)(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
                            int n, int first_backslash, int frac_bits, std::int16_t* disp_q4) = nullptr;
 
+  // midpoints_row_q4 and, in the same pass, the pixel confidence and state
+  // (docs/model.md section 7): conf_above, conf_row and conf_below hold the
+  // confidences (0..255) of the points of above, row and below, index for
+  // index (conf_above and conf_below null with above and below). A known
+  // point keeps its own; an unknown one takes the smaller of the two points'
+  // it averages. Then confidence[x] = that value and state[x] = 0 when it is
+  // 0, 1 below 128, else 2. Same reads (index -1 to n) and precondition as
+  // midpoints_row_q4.
+  void (*midpoints_row_conf_q4)(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                                const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                                const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
+                                std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state) = nullptr;
+
   // One row of colour to gray (docs/model.md section 0, include/tristereo/gray.hpp):
   // gray[x] = (77 R + 150 G + 29 B + 128) >> 8 for the RGB triplet x, x in [0, n).
   void (*rgb_to_gray_row_u8)(const std::uint8_t* rgb, int n, std::uint8_t* gray) = nullptr;

@@ -32,6 +32,7 @@ const KernelSet& scalar_kernel_set() {
     s.side8_tests_s32 = side8_tests_s32_scalar;
     s.midpoints_row_q4 = midpoints_row_q4_scalar;
     s.remap_bilinear_row_u8 = remap_bilinear_row_u8_scalar;
+    s.midpoints_row_conf_q4 = midpoints_row_conf_q4_scalar;
     return s;
   }();
   return set;

@@ -68,5 +68,9 @@ void remap_bilinear_row_u8_scalar(const std::uint8_t* src, std::size_t stride, c
 // In src/interp/midpoints_row_scalar.cpp.
 void midpoints_row_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below, int n,
                              int first_backslash, int frac_bits, std::int16_t* disp_q4);
+void midpoints_row_conf_q4_scalar(const std::int32_t* above, const std::int32_t* row, const std::int32_t* below,
+                                  const std::uint8_t* conf_above, const std::uint8_t* conf_row,
+                                  const std::uint8_t* conf_below, int n, int first_backslash, int frac_bits,
+                                  std::int16_t* disp_q4, std::uint8_t* confidence, std::uint8_t* state);
 
 }  // namespace tristereo

@@ -195,6 +195,11 @@ const std::vector<ModelOption> kOptions = {
      "invalid samples: filled from the background side, or left invalid", nullptr, nullptr, nullptr,
      [](const P& p) { return std::string(to_string(p.validity.fill)); },
      [](P& p, S t, S shown) { p.validity.fill = parse_choice(shown, [&] { return parse_fill_mode(t); }); }},
+    {"min-confidence", "min_confidence", K::kInt, "C", 0, 255, false, nullptr,
+     "samples with a confidence below C become invalid after the fill (0 = off; 128 = measured only; "
+     "docs/model.md section 7)",
+     nullptr, nullptr, "validity.min_confidence", [](const P& p) { return std::to_string(p.validity.min_confidence); },
+     [](P& p, S t, S shown) { p.validity.min_confidence = parse_int_text(shown, t); }},
     {"no-subpixel", "subpixel", K::kFlag, "", 0, 1, false, nullptr,
      "integer disparities only (Python: subpixel=False)", nullptr, nullptr, nullptr,
      [](const P& p) { return std::string(p.dp.subpixel ? "0" : "1"); },

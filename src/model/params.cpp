@@ -81,6 +81,7 @@ void validate_params(const StereoParams& p) {
   check_range("validity.uniqueness_pct", p.validity.uniqueness_pct, 0, 100);
   if (p.validity.fill != FillMode::kNone && p.validity.fill != FillMode::kBackground)
     bad("validity.fill is not a FillMode value");
+  check_range("validity.min_confidence", p.validity.min_confidence, 0, 255);
 }
 
 int max_cost_q4(const CostParams& c) {

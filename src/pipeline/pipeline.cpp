@@ -19,10 +19,12 @@
 #include "src/aggregate/path_matcher.hpp"
 #include "src/cost/match_context.hpp"
 #include "src/fill/sample_fill.hpp"
+#include "src/select/confidence.hpp"
 #include "src/select/lr_check.hpp"
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_midpoints.hpp"
 #include "src/interp/interpolate_planes.hpp"
+#include "src/interp/interpolate_state.hpp"
 #include "src/kernels/dispatch.hpp"
 #include "src/memory/capacity_bytes.hpp"
 #include "src/memory/large_array.hpp"
@@ -54,7 +56,8 @@ struct Pipeline::Impl {
     UntouchedVector<std::int32_t> xs;  // sample x of the row being matched
     std::int64_t cost_ns = 0;
     std::int64_t dp_ns = 0;
-    std::unique_ptr<std::int32_t[]> tile_values;  // interpolation: one row of tiles' grid values
+    // Interpolation: one row of tiles' grid values, then their confidences.
+    std::unique_ptr<std::int32_t[]> tile_values;
   };
   std::vector<Worker> workers;
   WorkChunks rows;       // matching: rows handed out on demand
@@ -83,9 +86,11 @@ struct Pipeline::Impl {
   }
   PathMatcher::Rejected match_view(ImageView<const std::uint8_t> lg, ImageView<const std::uint8_t> rg,
                                    const SampleLayout& samples, std::int16_t* sample_disp,
-                                   std::int64_t* cost_ns, std::int64_t* dp_ns, SideWork* right_rows = nullptr);
+                                   std::uint8_t* sample_conf, std::int64_t* cost_ns, std::int64_t* dp_ns,
+                                   SideWork* right_rows = nullptr);
+  int settle_states(int n, std::int16_t* disp, std::uint8_t* conf, std::uint8_t* state);
   void interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
-                       ImageView<std::int16_t> out);
+                       ImageView<std::int16_t> out, const ConfidenceMaps* conf = nullptr);
   // The tritree, and for the path optimizer's sparse frames the mesh's
   // predecessors, offered as the leaves are emitted (no scan of the mesh).
   void build_mesh(Tritree& tree, ImageView<const std::uint8_t> gray, Mesh& mesh, SideWork* side = nullptr) {
@@ -126,11 +131,13 @@ std::size_t Pipeline::working_memory_bytes() const {
                       capacity_bytes(m.left_gray.pixels) + capacity_bytes(m.right_gray.pixels) +
                       capacity_bytes(m.out.mesh.vertices) + capacity_bytes(m.out.mesh.triangles) +
                       capacity_bytes(m.out.mesh.row_start) + capacity_bytes(m.out.vertex_disp_q4) +
-                      capacity_bytes(m.out.disp_q4.pixels) + capacity_bytes(m.rect_left.pixels) +
+                      capacity_bytes(m.out.disp_q4.pixels) + capacity_bytes(m.out.vertex_state) +
+                      capacity_bytes(m.out.vertex_confidence) + capacity_bytes(m.out.pixel_state.pixels) +
+                      capacity_bytes(m.out.pixel_confidence.pixels) + capacity_bytes(m.rect_left.pixels) +
                       capacity_bytes(m.rect_right.pixels) + (m.config.rectify ? m.config.rectify->memory_bytes() : 0);
   for (const Impl::Worker& w : m.workers)
     bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
-             midpoint_band_values(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
+             midpoint_band_values_with_confidence(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
   bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
            capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
            capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
@@ -185,7 +192,8 @@ void Pipeline::configure(const PipelineConfig& config) {
     if (rows_dp) w.matcher.configure(config.max_width, config.params);
     w.census.resize(config.max_width);
     w.xs.resize(static_cast<std::size_t>(config.max_width));  // untouched until a row fills it
-    w.tile_values.reset(new std::int32_t[midpoint_band_values(m.tritree.tile_side(), config.max_width)]);
+    w.tile_values.reset(
+        new std::int32_t[midpoint_band_values_with_confidence(m.tritree.tile_side(), config.max_width)]());
   }
   const int max_px = config.max_width * config.max_height;
   if (!rows_dp) m.paths.configure(config.max_width, config.max_height, sp, kernels, threads, config.schedule_workers);
@@ -233,6 +241,12 @@ void Pipeline::configure(const PipelineConfig& config) {
   m.out.vertex_disp_q4.reserve(max_px_size);
   m.out.disp_q4.channels = 1;
   m.out.disp_q4.pixels.reserve(max_px_size);
+  m.out.vertex_state.reserve(max_px_size);
+  m.out.vertex_confidence.reserve(max_px_size);
+  m.out.pixel_state.channels = 1;
+  m.out.pixel_state.pixels.reserve(max_px_size);
+  m.out.pixel_confidence.channels = 1;
+  m.out.pixel_confidence.pixels.reserve(max_px_size);
   // The large reserved outputs and copies fault in 2 MiB at a time where THP is on.
   advise_huge_pages(m.out.mesh.vertices.data(), m.out.mesh.vertices.capacity() * sizeof(Vertex));
   advise_huge_pages(m.out.mesh.triangles.data(), m.out.mesh.triangles.capacity() * sizeof(Triangle));
@@ -276,7 +290,8 @@ ImageView<const std::uint8_t> as_gray(ImageView<const std::uint8_t> in, ImageU8&
 PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> lg,
                                                  ImageView<const std::uint8_t> rg,
                                                  const SampleLayout& samples, std::int16_t* sample_disp,
-                                                 std::int64_t* cost_ns, std::int64_t* dp_ns, SideWork* right_rows) {
+                                                 std::uint8_t* sample_conf, std::int64_t* cost_ns,
+                                                 std::int64_t* dp_ns, SideWork* right_rows) {
   const std::int64_t t0 = monotonic_ns();
   const int workers = pool.size();
   const int height = lg.height;
@@ -296,7 +311,7 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
     paths.compute_costs(match, samples, pool);
     const std::int64_t t_costs = monotonic_ns();
     span(TraceKind::kCosts, t0, t_costs);
-    const PathMatcher::Rejected rejected = paths.match(samples, lg, pool, sample_disp);
+    const PathMatcher::Rejected rejected = paths.match(samples, lg, pool, sample_disp, sample_conf);
     *cost_ns += t_costs - t0;
     *dp_ns += monotonic_ns() - t_costs;
     return rejected;
@@ -341,18 +356,57 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
       both > 0 ? static_cast<std::int64_t>(static_cast<double>(match_wall) * cost_sum / both) : match_wall;
   *cost_ns += (t_prepared - t0) + cost_part;
   *dp_ns += match_wall - cost_part;
+  if (sample_conf != nullptr)
+    std::fill_n(sample_conf, samples.count(), static_cast<std::uint8_t>(kRowDpMeasuredConfidence));
   return {};
+}
+
+// After the fill: a sample still invalid gets confidence 0 (the one the
+// matcher gave it was its margin before a rejection); then those below the
+// minimum confidence become invalid, and every state follows from the
+// confidence (src/select/confidence.hpp). Returns how many the minimum made
+// invalid. Fixed ranges per worker (a sample reads only itself).
+int Pipeline::Impl::settle_states(int n, std::int16_t* disp, std::uint8_t* conf, std::uint8_t* state) {
+  const int min_conf = config.params.validity.min_confidence;
+  std::atomic<int> rejected{0};
+  pool.run([&](int w) {
+    int i0 = 0, i1 = 0;
+    ThreadPool::split_range(0, n, pool.size(), w, &i0, &i1);
+    int own = 0;
+    for (int i = i0; i < i1; ++i) {
+      std::uint8_t c = disp[i] == kInvalidDispQ4 ? std::uint8_t{0} : conf[i];
+      if (c != 0 && c < min_conf) {
+        disp[i] = kInvalidDispQ4;
+        c = 0;
+        ++own;
+      }
+      conf[i] = c;
+      state[i] = state_of_confidence(c);
+    }
+    rejected.fetch_add(own, std::memory_order_relaxed);
+  });
+  return rejected.load();
 }
 
 // Interpolation by midpoint averages over the tritree's tiles (rows of tiles
 // on demand), then the stretched border leaves, then, only when a vertex is
-// invalid, the triangles that reach one (src/interp/interpolate_midpoints.hpp).
+// invalid, the triangles that reach one (src/interp/interpolate_midpoints.hpp);
+// with `conf`, the pixel confidence and state in the same passes.
 void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
-                                     ImageView<std::int16_t> out) {
+                                     ImageView<std::int16_t> out, const ConfidenceMaps* conf) {
   const TritreeGrid grid = tree.grid();
   const int n_tri = static_cast<int>(mesh.triangles.size());
   if (grid.need == nullptr) {  // a 2-pixel strip: its two triangles
     interpolate_triangles(mesh, vertex_disp, 0, n_tri, out);
+    if (conf == nullptr) return;
+    for (const Triangle& t : mesh.triangles) {
+      const auto vertex = [&](int k) { return mesh.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])]; };
+      confidence_triangle(vertex(0), vertex(1), vertex(2), conf->vertex_confidence[t[0]],
+                          conf->vertex_confidence[t[1]], conf->vertex_confidence[t[2]],
+                          vertex_disp[t[0]] == kInvalidDispQ4 || vertex_disp[t[1]] == kInvalidDispQ4 ||
+                              vertex_disp[t[2]] == kInvalidDispQ4,
+                          *conf);
+    }
     return;
   }
   triangles.reset(0, grid.layout.tiles_y, 1);
@@ -363,17 +417,17 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     std::int32_t* values = this->workers[static_cast<std::size_t>(w)].tile_values.get();
     while (triangles.next(&r0, &r1)) {
       const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
-      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, *kernels, values, out);
+      invalid |= interpolate_midpoint_tiles(grid, mesh, vertex_disp, r0, r1, *kernels, values, out, conf);
       if (trace != nullptr) trace->record(w, TraceKind::kInterpolationTiles, t0, monotonic_ns(), r0, r1);
     }
     if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
-  interpolate_stretched_leaves(grid, mesh, vertex_disp, out);
+  interpolate_stretched_leaves(grid, mesh, vertex_disp, out, conf);
   if (!any_invalid.load(std::memory_order_relaxed)) return;
   triangles.reset(0, n_tri, kTrianglesPerChunk);
   pool.run([&](int) {
     int t0 = 0, t1 = 0;
-    while (triangles.next(&t0, &t1)) invalidate_triangles(mesh, vertex_disp, t0, t1, out);
+    while (triangles.next(&t0, &t1)) invalidate_triangles(mesh, vertex_disp, t0, t1, out, conf);
   });
 }
 
@@ -441,14 +495,24 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   dense.pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
   std::vector<std::int16_t>& vdisp = m.out.vertex_disp_q4;
   vdisp.resize(mesh.vertices.size());  // within capacity
+  m.out.vertex_state.resize(mesh.vertices.size());       // within capacity
+  m.out.vertex_confidence.resize(mesh.vertices.size());  // within capacity
+  for (ImageU8* map : {&m.out.pixel_state, &m.out.pixel_confidence}) {
+    map->width = width;
+    map->height = height;
+    map->pixels.resize(static_cast<std::size_t>(width) * height);  // within capacity
+  }
   SampleValidity& validity = m.out.validity;
   validity = SampleValidity{};
   const SampleLayout samples{params.dense ? nullptr : &mesh, width, height};
   std::int16_t* sample_disp = params.dense ? dense.pixels.data() : vdisp.data();
+  std::uint8_t* sample_conf = params.dense ? m.out.pixel_confidence.pixels.data() : m.out.vertex_confidence.data();
+  std::uint8_t* sample_state = params.dense ? m.out.pixel_state.pixels.data() : m.out.vertex_state.data();
   validity.samples = samples.count();
 
   std::int64_t cost_ns = 0, dp_ns = 0;
-  const PathMatcher::Rejected rejected = m.match_view(lg, rg, samples, sample_disp, &cost_ns, &dp_ns, &right_rows);
+  const PathMatcher::Rejected rejected =
+      m.match_view(lg, rg, samples, sample_disp, sample_conf, &cost_ns, &dp_ns, &right_rows);
   validity.uniqueness_rejected = rejected.uniqueness;
   validity.lr_rejected = rejected.left_right;
   const std::int64_t t_matched = monotonic_ns();
@@ -473,22 +537,30 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     }
     const SampleLayout rs{params.dense ? nullptr : &m.right_mesh, width, height};
     std::int64_t unused_cost = 0, unused_dp = 0;
-    m.match_view(ml, mr, rs, right_samples, &unused_cost, &unused_dp);
+    m.match_view(ml, mr, rs, right_samples, nullptr, &unused_cost, &unused_dp);
     if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples, &m.pool);
     if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, rd.view());
     validity.lr_rejected = lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp);
   }
   const std::int64_t t_right = monotonic_ns();
-  if (params.validity.fill != FillMode::kNone) validity.filled = m.fill.fill(samples, sample_disp, &m.pool);
+  if (params.validity.fill != FillMode::kNone)
+    validity.filled = m.fill.fill(samples, sample_disp, &m.pool, sample_conf);
+  validity.min_confidence_rejected = m.settle_states(samples.count(), sample_disp, sample_conf, sample_state);
   const std::int64_t t_filled = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, true);
 
   // 4. Dense map from the mesh (sparse mode) or sample disparities from the map (dense mode).
   if (params.dense) {
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-      vdisp[i] = dense.at(mesh.vertices[i].x, mesh.vertices[i].y);
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const int x = mesh.vertices[i].x, y = mesh.vertices[i].y;
+      vdisp[i] = dense.at(x, y);
+      m.out.vertex_state[i] = m.out.pixel_state.at(x, y);
+      m.out.vertex_confidence[i] = m.out.pixel_confidence.at(x, y);
+    }
   } else {
-    m.interpolate_all(m.tritree, mesh, vdisp.data(), dense.view());
+    const ConfidenceMaps conf{m.out.vertex_confidence.data(), m.out.pixel_confidence.view(),
+                              m.out.pixel_state.view()};
+    m.interpolate_all(m.tritree, mesh, vdisp.data(), dense.view(), &conf);
   }
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);

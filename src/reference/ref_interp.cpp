@@ -90,5 +90,54 @@ ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_d
   return out;
 }
 
+void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& vertex_state,
+                        const std::vector<std::uint8_t>& vertex_confidence, ImageU8& state,
+                        ImageU8& confidence) {
+  const int w = mesh.width, h = mesh.height;
+  state = ImageU8(w, h, 1, 0);
+  confidence = ImageU8(w, h, 1, 0);
+  for (const Triangle& t : mesh.triangles) {
+    Eigen::Vector2d corner[3];
+    std::uint8_t s[3], conf[3];
+    bool invalid = false;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t id = static_cast<std::size_t>(t[k]);
+      const Vertex& v = mesh.vertices.at(id);
+      corner[k] = Eigen::Vector2d(v.x, v.y);
+      s[k] = vertex_state.at(id);
+      conf[k] = vertex_confidence.at(id);
+      invalid = invalid || s[k] == static_cast<std::uint8_t>(SampleState::kInvalid);
+    }
+    const Vertex& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    const Vertex& b = mesh.vertices[static_cast<std::size_t>(t[1])];
+    const Vertex& c = mesh.vertices[static_cast<std::size_t>(t[2])];
+    for (int y = std::max(0, std::min({a.y, b.y, c.y})); y <= std::min(h - 1, std::max({a.y, b.y, c.y})); ++y)
+      for (int x = std::max(0, std::min({a.x, b.x, c.x})); x <= std::min(w - 1, std::max({a.x, b.x, c.x})); ++x) {
+        if (!(edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) && edge_keeps(c, a, x, y, w, h)))
+          continue;
+        if (invalid) {  // the pixel's disparity is invalid (section 4)
+          state.at(x, y) = 0;
+          confidence.at(x, y) = 0;
+          continue;
+        }
+        // Vertex k's barycentric weight at P is the signed area of P and the
+        // opposite edge over the triangle's (integers below 2^26: exact).
+        const Eigen::Vector2d p(x, y);
+        std::uint8_t st = 255, cf = 255;
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Vector2d& u = corner[(k + 1) % 3];
+          const Eigen::Vector2d& v = corner[(k + 2) % 3];
+          const Eigen::Vector2d e = v - u, q = p - u;
+          const double weight_area2 = e.x() * q.y() - e.y() * q.x();
+          if (weight_area2 == 0.0) continue;  // P on the edge opposite vertex k: no weight
+          st = std::min(st, s[k]);
+          cf = std::min(cf, conf[k]);
+        }
+        state.at(x, y) = st;
+        confidence.at(x, y) = cf;
+      }
+  }
+}
+
 }  // namespace reference
 }  // namespace tristereo

@@ -42,12 +42,18 @@ Samples make_samples(const Mesh* mesh, int width, int height);
 
 // Path aggregation, winner, sub-pixel and uniqueness at every sample (Q4,
 // kInvalidDispQ4 where uniqueness rejects). *uniqueness_rejected counts those.
+// confidence (optional): every sample's measured confidence from its summed
+// costs (docs/model.md section 7), rejected or not.
 std::vector<std::int16_t> match_paths(const ImageU8& left_gray, const ImageU8& right_gray,
                                       const Samples& samples, const StereoParams& params,
-                                      int* uniqueness_rejected, int* lr_rejected);
+                                      int* uniqueness_rejected, int* lr_rejected,
+                                      std::vector<std::uint8_t>* confidence = nullptr);
 
-// Background fill (docs/model.md section 6); returns the number of samples filled.
-int fill_background(const Samples& samples, std::vector<std::int16_t>& disp_q4);
+// Background fill (docs/model.md section 6); returns the number of samples
+// filled. confidence (optional): a filled sample's confidence from its round
+// (section 7); the others' untouched.
+int fill_background(const Samples& samples, std::vector<std::int16_t>& disp_q4,
+                    std::vector<std::uint8_t>* confidence = nullptr);
 
 // P(g) = round(lambda * tau(g)) with halves up, via exact rational arithmetic.
 std::int64_t gap_penalty(const DpParams& dp, int gap);
@@ -75,6 +81,15 @@ std::vector<std::int16_t> match_row(const ImageU8& left_gray, const ImageU8& rig
 // (ownership by direct edge-function tests). Throws Error when a pixel is owned
 // by no triangle or by several (the mesh is not a conforming cover).
 ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4);
+
+// Pixel state and confidence maps (docs/model.md section 7): 0 for the pixels
+// of a triangle with an invalid vertex; else each pixel the smallest of the
+// values of its owning triangle's vertices whose weight in the plane at the
+// pixel is not zero (all three inside, an edge's two ends on that edge, the
+// vertex alone at a vertex).
+void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& vertex_state,
+                        const std::vector<std::uint8_t>& vertex_confidence, ImageU8& state,
+                        ImageU8& confidence);
 
 }  // namespace reference
 }  // namespace tristereo

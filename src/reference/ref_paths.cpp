@@ -2,6 +2,7 @@
 // (docs/model.md sections 3b and 6), transcribed with plain loops and int64.
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <set>
 
@@ -50,7 +51,8 @@ Samples make_samples(const Mesh* mesh, int width, int height) {
 
 std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
                                       const Samples& samples, const StereoParams& params,
-                                      int* uniqueness_rejected, int* lr_rejected) {
+                                      int* uniqueness_rejected, int* lr_rejected,
+                                      std::vector<std::uint8_t>* confidence) {
   const int n = static_cast<int>(samples.points.size());
   const int nd = params.num_disp;
   const PathParams& pp = params.paths;
@@ -133,6 +135,21 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
   for (int i = 0; i < n; ++i) {
     const std::vector<std::int64_t>& s = total[static_cast<std::size_t>(i)];
     const int k = static_cast<int>(std::min_element(s.begin(), s.end()) - s.begin());  // first minimum
+    if (confidence != nullptr) {
+      if (confidence->size() != static_cast<std::size_t>(n)) confidence->assign(static_cast<std::size_t>(n), 0);
+      // Measured confidence: 128 + floor(127 (rival - best) / rival), rival the
+      // smallest S two or more disparities from k (65535 when none), 128 when
+      // rival = 0. The numerator is an integer below 2^23 and so is rival: a
+      // quotient that is not an integer is at least 2^-23 from one, far more
+      // than the division's rounding error, so the floor is exact.
+      std::int64_t rival = 65535;
+      for (int j = 0; j < nd; ++j)
+        if (std::abs(j - k) > 1) rival = std::min(rival, s[static_cast<std::size_t>(j)]);
+      const double best = static_cast<double>(s[static_cast<std::size_t>(k)]);
+      (*confidence)[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(
+          rival == 0 ? 128 : 128 + static_cast<int>(std::floor(127.0 * (static_cast<double>(rival) - best) /
+                                                               static_cast<double>(rival))));
+    }
     bool unique = true;
     if (params.validity.uniqueness_pct > 0)
       for (int j = 0; j < nd; ++j)
@@ -192,9 +209,10 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
   return disp;
 }
 
-int fill_background(const Samples& samples, std::vector<std::int16_t>& disp) {
+int fill_background(const Samples& samples, std::vector<std::int16_t>& disp,
+                    std::vector<std::uint8_t>* confidence) {
   int filled = 0;
-  for (;;) {
+  for (int round = 1;; ++round) {
     std::vector<std::int16_t> next = disp;
     int now = 0;
     for (std::size_t i = 0; i < disp.size(); ++i) {
@@ -204,6 +222,8 @@ int fill_background(const Samples& samples, std::vector<std::int16_t>& disp) {
         if (disp[static_cast<std::size_t>(q)] != kInvalidDispQ4) best = std::min(best, static_cast<int>(disp[static_cast<std::size_t>(q)]));
       if (best != INT_MAX) {
         next[i] = static_cast<std::int16_t>(best);
+        // The nearest measured sample is `round` edges away.
+        if (confidence != nullptr) (*confidence)[i] = static_cast<std::uint8_t>(std::max(1, 128 - 8 * round));
         ++now;
       }
     }

@@ -36,14 +36,17 @@ ImageU8 mirrored(const ImageU8& g) {
 // Sample disparities of one view (the left image is the reference): the
 // configured optimizer, and for the paths uniqueness and the left-right check
 // from the summed costs (lr_source = costs).
+// confidence (optional): each sample's measured confidence (docs/model.md
+// section 7): from the summed costs, or 255 with the row DP.
 std::vector<std::int16_t> match_view(const ImageU8& lg, const ImageU8& rg,
                                      const reference::Samples& samples,
                                      const StereoParams& params, int* uniqueness_rejected,
-                                     int* lr_rejected) {
+                                     int* lr_rejected, std::vector<std::uint8_t>* confidence = nullptr) {
   *uniqueness_rejected = 0;
   *lr_rejected = 0;
   if (params.optimizer == Optimizer::kPaths)
-    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected, lr_rejected);
+    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected, lr_rejected, confidence);
+  if (confidence != nullptr) confidence->assign(samples.points.size(), 255);
   std::vector<std::int16_t> disp;
   for (int y = 0; y < lg.height; ++y) {
     std::vector<int> xs;
@@ -68,8 +71,9 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
   out.mesh = reference::build_tritree(lg, params.tritree);
   const Mesh& mesh = out.mesh;
   const reference::Samples samples = reference::make_samples(params.dense ? nullptr : &mesh, w, h);
-  std::vector<std::int16_t> disp =
-      match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected, &out.validity.lr_rejected);
+  std::vector<std::uint8_t> conf;
+  std::vector<std::int16_t> disp = match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected,
+                                              &out.validity.lr_rejected, &conf);
   out.validity.samples = static_cast<std::int32_t>(disp.size());
 
   // Left-right check by a second pass: the right view is the left view of the mirrored pair.
@@ -104,18 +108,50 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
     }
   }
   if (params.validity.fill != FillMode::kNone)
-    out.validity.filled = reference::fill_background(samples, disp);
+    out.validity.filled = reference::fill_background(samples, disp, &conf);
+
+  // Section 7: invalid samples have confidence 0; those below the minimum
+  // confidence become invalid; the state follows from the confidence.
+  std::vector<std::uint8_t> state(disp.size());
+  for (std::size_t i = 0; i < disp.size(); ++i) {
+    if (disp[i] == kInvalidDispQ4) conf[i] = 0;
+    if (conf[i] != 0 && conf[i] < params.validity.min_confidence) {
+      disp[i] = kInvalidDispQ4;
+      conf[i] = 0;
+      ++out.validity.min_confidence_rejected;
+    }
+    state[i] = static_cast<std::uint8_t>(conf[i] == 0     ? SampleState::kInvalid
+                                         : conf[i] < 128 ? SampleState::kFilled
+                                                         : SampleState::kMeasured);
+  }
 
   if (params.dense) {
     out.disp_q4 = ImageS16(w, h, 1, kInvalidDispQ4);
+    out.pixel_state = ImageU8(w, h, 1, 0);
+    out.pixel_confidence = ImageU8(w, h, 1, 0);
     for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) out.disp_q4.at(x, y) = disp[static_cast<std::size_t>(y * w + x)];
+      for (int x = 0; x < w; ++x) {
+        const auto i = static_cast<std::size_t>(y * w + x);
+        out.disp_q4.at(x, y) = disp[i];
+        out.pixel_state.at(x, y) = state[i];
+        out.pixel_confidence.at(x, y) = conf[i];
+      }
     out.vertex_disp_q4.resize(mesh.vertices.size());
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-      out.vertex_disp_q4[i] = out.disp_q4.at(mesh.vertices[i].x, mesh.vertices[i].y);
+    out.vertex_state.resize(mesh.vertices.size());
+    out.vertex_confidence.resize(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const int x = mesh.vertices[i].x, y = mesh.vertices[i].y;
+      out.vertex_disp_q4[i] = out.disp_q4.at(x, y);
+      out.vertex_state[i] = out.pixel_state.at(x, y);
+      out.vertex_confidence[i] = out.pixel_confidence.at(x, y);
+    }
   } else {
     out.vertex_disp_q4 = disp;
+    out.vertex_state = state;
+    out.vertex_confidence = conf;
     out.disp_q4 = reference::interpolate(mesh, out.vertex_disp_q4);
+    reference::interpolate_states(mesh, out.vertex_state, out.vertex_confidence, out.pixel_state,
+                                  out.pixel_confidence);
   }
   return out;
 }

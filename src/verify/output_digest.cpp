@@ -56,6 +56,20 @@ std::string digest_hex(const StereoOutput& out) {
   return hex64(h.value());
 }
 
+std::string state_digest_hex(const StereoOutput& out) {
+  Fnv1a64 h;
+  for (const std::vector<std::uint8_t>* v : {&out.vertex_state, &out.vertex_confidence}) {
+    h.add_i64(static_cast<std::int64_t>(v->size()));
+    for (std::uint8_t b : *v) h.add_u8(b);
+  }
+  for (const ImageU8* m : {&out.pixel_state, &out.pixel_confidence}) {
+    h.add_i64(m->width);
+    h.add_i64(m->height);
+    for (std::uint8_t b : m->pixels) h.add_u8(b);
+  }
+  return hex64(h.value());
+}
+
 std::string first_difference(const StereoOutput& e, const StereoOutput& a) {
   const Mesh& me = e.mesh;
   const Mesh& ma = a.mesh;
@@ -94,6 +108,39 @@ std::string first_difference(const StereoOutput& e, const StereoOutput& a) {
       if (e.disp_q4.at(x, y) != a.disp_q4.at(x, y))
         return fmt("dense map differs at (%lld, %lld): %lld vs %lld (Q4)", x, y, e.disp_q4.at(x, y),
                    a.disp_q4.at(x, y));
+  const struct {
+    const char* what;
+    const std::vector<std::uint8_t>& e;
+    const std::vector<std::uint8_t>& a;
+  } per_vertex[] = {{"vertex state", e.vertex_state, a.vertex_state},
+                    {"vertex confidence", e.vertex_confidence, a.vertex_confidence}};
+  for (const auto& v : per_vertex) {
+    if (v.e.size() != v.a.size())
+      return std::string(v.what) + " count differs: " + std::to_string(v.e.size()) + " vs " +
+             std::to_string(v.a.size());
+    for (std::size_t i = 0; i < v.e.size(); ++i)
+      if (v.e[i] != v.a[i])
+        return std::string(v.what) + " differs at vertex " + std::to_string(i) + ": " + std::to_string(v.e[i]) +
+               " vs " + std::to_string(v.a[i]);
+  }
+  const struct {
+    const char* what;
+    const ImageU8& e;
+    const ImageU8& a;
+  } per_pixel[] = {{"pixel state", e.pixel_state, a.pixel_state},
+                   {"pixel confidence", e.pixel_confidence, a.pixel_confidence}};
+  for (const auto& m : per_pixel) {
+    if (m.e.width != m.a.width || m.e.height != m.a.height) return std::string(m.what) + " map size differs";
+    for (int y = 0; y < m.e.height; ++y)
+      for (int x = 0; x < m.e.width; ++x)
+        if (m.e.at(x, y) != m.a.at(x, y))
+          return m.what + fmt(" differs at (%lld, %lld): %lld vs %lld", x, y, m.e.at(x, y), m.a.at(x, y));
+  }
+  if (!(e.validity == a.validity))
+    return "validity counts differ: filled " + std::to_string(e.validity.filled) + " vs " +
+           std::to_string(a.validity.filled) + ", below the minimum confidence " +
+           std::to_string(e.validity.min_confidence_rejected) + " vs " +
+           std::to_string(a.validity.min_confidence_rejected);
   return "";
 }
 

@@ -124,6 +124,17 @@ run error 2 'option --dense given twice' "a flag given twice" "$M --ndisp 16 --d
 run error 2 'option --disp needs a value, but the option --stats follows it' "an output option missing its file" \
   "$M --ndisp 16 --disp --stats s.json" "test ! -e s.json" "nothing written"
 run error 2 '--mesh-ascii has no effect without --mesh or --points' "ASCII without a PLY output" "$M --ndisp 16 --mesh-ascii"
+run error 2 '--points-include-filled has no effect without --points or --mesh' "filled points without a PLY output" \
+  "$M --ndisp 16 --points-include-filled --valid v.png" "test ! -e v.png" "nothing written"
+run error 2 '--min-confidence 256 is out of range \[0, 255\]' "minimum confidence above 255" "$M --ndisp 16 --min-confidence 256"
+run error 2 '--min-confidence -1 is out of range \[0, 255\]' "negative minimum confidence" "$M --ndisp 16 --min-confidence -1"
+run error 2 "--min-confidence: 'high' is not an integer" "minimum confidence not a number" "$M --ndisp 16 --min-confidence high"
+run error 2 "--valid v.pfm: extension '.pfm' is not written; the file must end in .png" "state map not a PNG" \
+  "$M --ndisp 16 --valid v.pfm"
+run error 2 "--confidence c.tif: extension '.tif' is not written; the file must end in .png" "confidence map not a PNG" \
+  "$M --ndisp 16 --confidence c.tif"
+run error 2 '--confidence vc.png is also the --valid output' "state and confidence into one file" \
+  "$M --ndisp 16 --valid vc.png --confidence vc.png" "test ! -e vc.png" "nothing written"
 run error 2 '--gamma-color has no effect without --weights adaptive' "adaptive weight scale with box weights" \
   "$M --ndisp 16 --gamma-color 5"
 run error 2 '--calib-unit mm has no effect: --calib calib.txt is a middlebury calibration' \

@@ -120,6 +120,9 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
                              : LrSource::kMirroredPass;
   p.validity.uniqueness_pct = rng.uniform(0, 1) ? 0 : rng.uniform(1, 30);
   p.validity.fill = rng.uniform(0, 3) == 0 ? FillMode::kNone : FillMode::kBackground;
+  // A third of the cases cut at a minimum confidence: filled ones (below
+  // 128), measured ones, or both.
+  p.validity.min_confidence = rng.uniform(0, 2) == 0 ? rng.uniform(1, 255) : 0;
   return p;
 }
 
