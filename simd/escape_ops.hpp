@@ -45,6 +45,11 @@ inline std::uint32_t min_key_lane(std::uint32_t a, std::uint32_t b) { return a <
 inline std::uint16_t narrow_u32_lane(std::uint32_t a) { return static_cast<std::uint16_t>(a); }
 inline std::uint8_t narrow_u16_lane(std::uint16_t a) { return static_cast<std::uint8_t>(a); }
 inline std::uint16_t min_u16_lane(std::uint16_t a, std::uint16_t b) { return a < b ? a : b; }
+// The dot product of a u32 lane's two u16 halves with b's. Exact (and equal to
+// SSE2's signed pmaddwd) while every half is below 2^15: madd_u16's contract.
+inline std::uint32_t madd_u16_lane(std::uint32_t a, std::uint32_t b) {
+  return (a & 0xFFFF) * (b & 0xFFFF) + (a >> 16) * (b >> 16);
+}
 }  // namespace
 
 // Lane shifts of u16 batches for the u16 DP scans: lane i takes lane i - S
@@ -89,6 +94,14 @@ template <class A>
 batch<std::uint16_t, A> mullo_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b, const xsimd::generic&) {
   return a * b;  // native on AVX2 and NEON
+}
+// ---- pairwise 16-bit multiply-add into u32 lanes (madd_u16_lane), from 32-bit
+// multiplies: native on NEON; the x86 overrides use pmaddwd
+template <class A>
+batch<std::uint32_t, A> madd_u16(const batch<std::uint32_t, A>& a, const batch<std::uint32_t, A>& b,
+                                 const xsimd::generic&) {
+  const batch<std::uint32_t, A> low(0xFFFFu);
+  return (a & low) * (b & low) + (a >> 16) * (b >> 16);
 }
 // ---- 16-bit multiply, high half
 template <class A>
@@ -191,6 +204,12 @@ batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b, const xsimd::sse2&) {
   return _mm_mulhi_epu16(a, b);
 }
+// pmaddwd multiplies signed halves: the same as unsigned below 2^15 (the contract).
+template <class A>
+batch<std::uint32_t, A> madd_u16(const batch<std::uint32_t, A>& a, const batch<std::uint32_t, A>& b,
+                                 const xsimd::sse2&) {
+  return _mm_madd_epi16(a, b);
+}
 // SSE2 has no 32-bit min at all (pminud is SSE4.1) and xsimd 8.1 builds the
 // unsigned one from two sign flips and a <= made of < and ==. DP keys stay below
 // 2^31 (value < 2^23 before the 8-bit index; the kernel adds at most 4 steps
@@ -251,6 +270,11 @@ template <class A>
 batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b, const xsimd::avx2&) {
   return _mm256_mulhi_epu16(a, b);
+}
+template <class A>
+batch<std::uint32_t, A> madd_u16(const batch<std::uint32_t, A>& a, const batch<std::uint32_t, A>& b,
+                                 const xsimd::avx2&) {
+  return _mm256_madd_epi16(a, b);
 }
 // Each byte's bit count from a 16-entry nibble table (vpshufb); a lane's two
 // bytes added by vpmaddubsw with weights 1.
@@ -566,6 +590,12 @@ template <class A>
 batch<std::uint16_t, A> mulhi_u16(const batch<std::uint16_t, A>& a,
                                   const batch<std::uint16_t, A>& b) {
   return detail::mulhi_u16(a, b, A{});
+}
+// Lane i: a's low half times b's low half plus a's high half times b's high
+// half (madd_u16_lane). Every 16-bit half of a and b must be below 2^15.
+template <class A>
+batch<std::uint32_t, A> madd_u16(const batch<std::uint32_t, A>& a, const batch<std::uint32_t, A>& b) {
+  return detail::madd_u16(a, b, A{});
 }
 template <class A>
 batch<std::uint32_t, A> min_key(const batch<std::uint32_t, A>& a,

@@ -1515,34 +1515,58 @@ void MidpointsRowQ4<Arch>::call(const std::int32_t* above, const std::int32_t* r
   if (x < n) run(n - block, masks_at(n - block));
 }
 
-// The rectification's remap: the taps are gathered lane by lane (a map
-// points anywhere), the weights and sums run in int32 lanes (< 2^18, exact),
-// the tail goes to the scalar twin.
+// The rectification's remap. Each pixel's two taps of a row are one u16 load
+// (p(ix, iy) | p(ix + 1, iy) << 8), gathered pixel by pixel into a stack block
+// (a map points anywhere) and widened to u32 lanes holding the pair as two
+// u16 halves; the weight pairs (32 - fx, fx) and (32 - fy, fy) are built the
+// same way from the fractions. Two 16-bit multiply-adds per row
+// (escape::madd_u16: pmaddwd on x86) give top = p00 (32 - fx) + p01 fx and
+// bottom (<= 255 * 32 < 2^15), a third one top (32 - fy) + bottom fy: the
+// scalar twin's integers regrouped, exact (every half < 2^15, the sum < 2^18).
+// Blocks of four u32 batches of pixels; the tail goes to the scalar twin.
 template <class Arch>
 void RemapBilinearRowU8<Arch>::call(const std::uint8_t* src, std::size_t stride, const std::int16_t* xy,
                                     const std::uint16_t* frac, int n, std::uint8_t* out) {
-  using B = xsimd::batch<std::int32_t, Arch>;
-  constexpr int L = static_cast<int>(B::size);
-  alignas(64) std::int32_t p00[L], p01[L], p10[L], p11[L], fx[L], fy[L], res[L];
-  const B k32(32), half(512);
+  // AVX2 takes the SSE2 twin: the gather is the cost, and the wider blocks'
+  // qword permutes (widen, narrow) made it slower (docs/rectification.md).
+  if constexpr (!std::is_void<typename detail::Narrower<Arch>::type>::value) {
+    RemapBilinearRowU8<typename detail::Narrower<Arch>::type>::call(src, stride, xy, frac, n, out);
+    return;
+  }
+  using u8 = xsimd::batch<std::uint8_t, Arch>;
+  using u16 = xsimd::batch<std::uint16_t, Arch>;
+  using u32 = xsimd::batch<std::uint32_t, Arch>;
+  constexpr int H = static_cast<int>(u16::size);  // pixels per half block
+  constexpr int block = 2 * H;
+  alignas(64) std::uint16_t top[block], bottom[block];
+  const u32 k32(32), half(512);
+  const u16 k31(31);
+  // Results of pixels x .. x + H - 1 (their taps in top/bottom + o) as u16 lanes.
+  const auto pixels = [&](int x, int o) {
+    u16 t0, t1, b0, b1;
+    escape::widen(u8::load_aligned(reinterpret_cast<const std::uint8_t*>(top + o)), t0, t1);
+    escape::widen(u8::load_aligned(reinterpret_cast<const std::uint8_t*>(bottom + o)), b0, b1);
+    const u16 f = u16::load_unaligned(frac + x);
+    u32 fx0, fx1, fy0, fy1;
+    escape::widen(f & k31, fx0, fx1);
+    escape::widen(f >> 5, fy0, fy1);
+    const auto one = [&](const u16& t, const u16& b, const u32& fx, const u32& fy) {
+      const u32 wx = (k32 - fx) | (fx << 16), wy = (k32 - fy) | (fy << 16);
+      const u32 rows = escape::madd_u16(xsimd::bitwise_cast<u32>(t), wx) |
+                       (escape::madd_u16(xsimd::bitwise_cast<u32>(b), wx) << 16);
+      return (escape::madd_u16(rows, wy) + half) >> 10;
+    };
+    return escape::narrow_u32(one(t0, b0, fx0, fy0), one(t1, b1, fx1, fy1));
+  };
   int x = 0;
-  for (; x + L <= n; x += L) {
-    for (int i = 0; i < L; ++i) {
+  for (; x + block <= n; x += block) {
+    for (int i = 0; i < block; ++i) {
       const std::size_t j = static_cast<std::size_t>(x + i);
       const std::uint8_t* s = src + static_cast<std::size_t>(xy[2 * j + 1]) * stride + static_cast<std::size_t>(xy[2 * j]);
-      p00[i] = s[0];
-      p01[i] = s[1];
-      p10[i] = s[stride];
-      p11[i] = s[stride + 1];
-      fx[i] = frac[j] & 31;
-      fy[i] = frac[j] >> 5;
+      std::memcpy(top + i, s, 2);
+      std::memcpy(bottom + i, s + stride, 2);
     }
-    const B bx = B::load_aligned(fx), by = B::load_aligned(fy);
-    // p00 (32-fx)(32-fy) + p01 fx (32-fy) + ... regrouped by rows: the same integers.
-    const B top = B::load_aligned(p00) * (k32 - bx) + B::load_aligned(p01) * bx;
-    const B bottom = B::load_aligned(p10) * (k32 - bx) + B::load_aligned(p11) * bx;
-    ((top * (k32 - by) + bottom * by + half) >> 10).store_aligned(res);
-    for (int i = 0; i < L; ++i) out[x + i] = static_cast<std::uint8_t>(res[i]);
+    escape::narrow_u16(pixels(x, 0), pixels(x + H, H)).store_unaligned(out + x);
   }
   if (x < n) remap_bilinear_row_u8_scalar(src, stride, xy + 2 * x, frac + x, n - x, out + x);
 }
