@@ -29,6 +29,10 @@ class Args {
   // get_int, and UsageError "--name V is out of range [lo, hi]" outside.
   int get_int_in(const std::string& name, int fallback, int lo, int hi) const;
   bool flag(const std::string& name) const { return flags_.count(name) != 0; }
+  // A value option set or removed after parsing: the per-frame copies of a
+  // sequence's arguments (each output pattern expanded for the frame).
+  void set(const std::string& name, const std::string& value) { values_[name] = value; }
+  void unset(const std::string& name) { values_.erase(name); }
 
  private:
   std::vector<std::string> positional_;

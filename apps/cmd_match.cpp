@@ -9,6 +9,7 @@
 #include "apps/commands.hpp"
 #include "apps/stereo_options.hpp"
 #include "apps/match_outputs.hpp"
+#include "apps/match_sequence.hpp"
 #include "apps/match_warnings.hpp"
 #include "apps/output_paths.hpp"
 #include "apps/rig_options.hpp"
@@ -24,6 +25,7 @@ namespace tristereo::cli {
 
 namespace {
 const char* kMatchHelp = R"(usage: tristereo match LEFT RIGHT --ndisp D [options]
+       tristereo match --folder DIR | --list FILE --ndisp D [options]   (a sequence, below)
 
 Computes the tritree mesh of LEFT, disparities at its vertices (path costs summed on the
 mesh by default; --optimizer dp: the paper's row DP), the dense disparity map and the
@@ -98,9 +100,12 @@ int cmd_match(int argc, char** argv) {
   std::set<std::string> flags = {"reference", "mesh-ascii", "points-include-filled", "help"};
   add_stereo_options(values, flags);
   add_rig_options(values);
+  add_sequence_options(values, flags);
   Args args(argc, argv, values, flags);
   if (args.flag("help")) {
-    std::cout << kMatchHelp << "\n" << rig_options_help() << "\n" << stereo_options_help() << exit_codes_help();
+    std::cout << kMatchHelp << "\n" << sequence_help() << "\n" << rig_options_help() << "\n"
+              << stereo_options_help() << exit_codes_help()
+              << "  A sequence (--folder, --list) exits 1 when any frame failed, after the others.\n";
     return 0;
   }
   // Options that act only beside another (cli_args.hpp, OptionNeed).
@@ -116,8 +121,12 @@ int cmd_match(int argc, char** argv) {
       {"max-depth", {"calib", "camera", "rig"}, nullptr, "it limits the metric outputs, which need a camera"},
       {"rig-right", {"rig"}, nullptr, "it is the right camera's file of a --rig pair"},
       {"points-include-filled", {"points", "mesh"}, nullptr, "it keeps filled pixels and vertices in their PLY files"},
+      {"left-pattern", {"folder"}, nullptr, "it names the left frames in that folder"},
+      {"right-pattern", {"folder"}, nullptr, "it names the right frames in that folder"},
+      {"quiet", {"folder", "list"}, nullptr, "it silences a sequence's summary and progress line"},
   };
   check_option_needs(args, kNeeds);
+  if (args.has("folder") || args.has("list")) return match_sequence(args);
   // A rig brings its own rectified camera: a second one would contradict it.
   for (const char* other : {"calib", "camera"})
     if (args.has("rig") && args.has(other))
@@ -155,18 +164,7 @@ int cmd_match(int argc, char** argv) {
       rectified_right = reference_rectify(rig.rig, rig.rect, 1, right.channels == 1 ? right : to_gray(right));
   }
   const StereoParams& p = config.params;
-  if (args.has("disp")) {
-    // What a 16-bit PNG cannot hold is refused now, not after the computing.
-    const std::string disp = args.get("disp", "");
-    const bool png = disp.size() >= 4 && (disp.compare(disp.size() - 4, 4, ".png") == 0 ||
-                                          disp.compare(disp.size() - 4, 4, ".PNG") == 0);
-    if (png && p.d_min < 0)
-      throw UsageError("--disp " + disp + ": a PNG cannot hold the negative disparities of --dmin " +
-                       std::to_string(p.d_min) + "; write a .pfm file");
-    if (png && args.get("disp-format", "q4") == "kitti" && p.d_min + p.num_disp - 1 >= 256)
-      throw UsageError("--disp " + disp + " --disp-format kitti holds disparities below 256; --dmin + --ndisp - 1 is " +
-                       std::to_string(p.d_min + p.num_disp - 1) + "; use q4 or a .pfm file");
-  }
+  check_disp_output(args, p);
 
   MatchRun run;
   Clock::time_point t_mark = Clock::now();

@@ -8,7 +8,6 @@
 // what the pipeline and (with --mesh-output) the PLY writer allocate.
 #include "apps/cmd_profile.hpp"
 
-#include <dirent.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -27,6 +26,7 @@
 #include <vector>
 
 #include "apps/cli_args.hpp"
+#include "apps/frame_sequence.hpp"
 #include "apps/option_errors.hpp"
 #include "apps/output_paths.hpp"
 #include "apps/output_set.hpp"
@@ -167,47 +167,6 @@ int bounded_int(const Args& a, const char* name, int fallback, int lo, int hi) {
   return v;
 }
 
-// Expands a file-name pattern with exactly one integer field (%d, %i, %u, with
-// optional 0 flag and width, e.g. %04d); "%%" is a literal percent. Anything
-// else is rejected, so a user pattern never reaches printf as a format.
-std::string expand_pattern(const std::string& option, const std::string& pattern, int index) {
-  std::string out;
-  int fields = 0;
-  for (std::size_t i = 0; i < pattern.size(); ++i) {
-    if (pattern[i] != '%') {
-      out += pattern[i];
-      continue;
-    }
-    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
-      out += '%';
-      ++i;
-      continue;
-    }
-    std::size_t j = i + 1;
-    const bool zero = j < pattern.size() && pattern[j] == '0';
-    if (zero) ++j;
-    int width = 0;
-    while (j < pattern.size() && pattern[j] >= '0' && pattern[j] <= '9' && width < 100)
-      width = width * 10 + (pattern[j++] - '0');
-    if (j >= pattern.size() || (pattern[j] != 'd' && pattern[j] != 'i' && pattern[j] != 'u') ||
-        width > 32)
-      throw UsageError(option + " '" + pattern +
-                       "': only one %d-style field (e.g. %04d) is allowed");
-    std::string digits = std::to_string(index);
-    if (static_cast<int>(digits.size()) < width)
-      digits.insert(0, static_cast<std::size_t>(width) - digits.size(), zero ? '0' : ' ');
-    out += digits;
-    ++fields;
-    i = j;
-  }
-  if (fields != 1)
-    throw UsageError(option + " '" + pattern + "' must contain exactly one %d-style field, found " +
-                     std::to_string(fields));
-  return out;
-}
-
-bool file_exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
-
 // The frames of the run, already gray and of one size; frame i of the run
 // (warm-up included) uses slot i % size().
 struct FrameRing {
@@ -251,28 +210,14 @@ FrameRing synthetic_frames(int width, int height, int num_disp, int count) {
 
 FrameRing folder_frames(const std::string& dir, const std::string& left_pattern,
                         const std::string& right_pattern, int wanted) {
-  DIR* d = opendir(dir.c_str());
-  if (!d)
-    throw Error(ErrorCode::kIoError, "cannot read folder '" + dir + "': " + std::strerror(errno));
-  closedir(d);
-  const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
-  auto left_path = [&](int i) { return base + expand_pattern("--left-pattern", left_pattern, i); };
-  auto right_path = [&](int i) {
-    return base + expand_pattern("--right-pattern", right_pattern, i);
-  };
-  // Sequences are numbered from 0 or from 1.
-  const int first = file_exists(left_path(0)) ? 0 : 1;
-  if (!file_exists(left_path(first)))
-    throw Error(ErrorCode::kIoError, "folder '" + dir + "' has no first frame: neither '" +
-                                         left_path(0) + "' nor '" + left_path(1) + "' exists");
   FrameRing ring;
   std::size_t bytes = 0;
-  for (int i = first; static_cast<int>(ring.size()) < wanted && file_exists(left_path(i)); ++i) {
-    const ImageU8 l = read_image_u8(left_path(i));
-    const ImageU8 r = read_image_u8(right_path(i));
-    add_pair(ring, l, r, "frame '" + left_path(i) + "'");
-    ring.files.push_back(left_path(i));
-    ring.files.push_back(right_path(i));
+  for (const SequenceFrame& f : folder_sequence(dir, left_pattern, right_pattern, wanted)) {
+    const ImageU8 l = read_image_u8(f.left);
+    const ImageU8 r = read_image_u8(f.right);
+    add_pair(ring, l, r, "frame '" + f.left + "'");
+    ring.files.push_back(f.left);
+    ring.files.push_back(f.right);
     bytes += 2 * ring.left.back().pixels.size();
     if (bytes >= kFolderBudgetBytes) break;
   }
@@ -301,29 +246,6 @@ class TempFile {
 
  private:
   std::string path_;
-};
-
-// "\r"-updated status line on a terminal, at most ~10 updates per second;
-// silent when stderr is not a terminal (logs, CI) or with --quiet.
-class ProgressLine {
- public:
-  explicit ProgressLine(bool quiet) : enabled_(!quiet && isatty(STDERR_FILENO)) {}
-  void update(const char* phase, int done, int total, std::int64_t last_ns) {
-    if (!enabled_) return;
-    const std::int64_t now = monotonic_ns();
-    if (done < total && now - last_print_ns_ < 100000000) return;
-    last_print_ns_ = now;
-    std::fprintf(stderr, "\r%s %d/%d  last frame %.2f ms   ", phase, done, total,
-                 static_cast<double>(last_ns) / 1e6);
-    std::fflush(stderr);
-  }
-  void clear() {
-    if (enabled_) std::fprintf(stderr, "\r%60s\r", "");
-  }
-
- private:
-  bool enabled_;
-  std::int64_t last_print_ns_ = 0;
 };
 
 // The reports, as text files written all or nothing (output_set.hpp).

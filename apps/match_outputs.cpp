@@ -205,7 +205,7 @@ void write_samples_csv(const std::string& path, const StereoOutput& out) {
   write_text_file(path, f.str());
 }
 
-void write_stats_json(const std::string& path, const MatchRun& run) {
+std::string stats_json_text(const MatchRun& run) {
   const StereoOutput& o = run.out();
   const StateCounts counts = count_states(o.pixel_state);
   const StereoParams& p = run.config.params;
@@ -290,7 +290,60 @@ void write_stats_json(const std::string& path, const MatchRun& run) {
     text.resize(text.size() - 3);
     text += buf;
   }
-  write_text_file(path, text);
+  return text;
+}
+
+void write_stats_json(const std::string& path, const MatchRun& run) { write_text_file(path, stats_json_text(run)); }
+
+std::string stats_json_line(const MatchRun& run, int frame, const std::string& left, const std::string& right) {
+  const std::string text = stats_json_text(run);
+  // The same object on one line: each newline and the indent after it go;
+  // the frame's index and its input files come first.
+  std::string line = "{\"frame\": " + std::to_string(frame) + ", \"left\": " + json_string(left) +
+                     ", \"right\": " + json_string(right) + ", ";
+  line.reserve(line.size() + text.size());
+  for (std::size_t i = 1; i < text.size(); ++i) {  // after the opening brace
+    if (text[i] != '\n') {
+      line += text[i];
+      continue;
+    }
+    while (i + 1 < text.size() && text[i + 1] == ' ') ++i;
+    if (i + 1 < text.size() && text[i + 1] == '}') line += ' ';
+  }
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  return line;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\u%04x", c);
+      out += esc;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+void check_disp_output(const Args& args, const StereoParams& p) {
+  if (!args.has("disp")) return;
+  // What a 16-bit PNG cannot hold is refused before the computing.
+  const std::string disp = args.get("disp", "");
+  const bool png = disp.size() >= 4 && (disp.compare(disp.size() - 4, 4, ".png") == 0 ||
+                                        disp.compare(disp.size() - 4, 4, ".PNG") == 0);
+  if (png && p.d_min < 0)
+    throw UsageError("--disp " + disp + ": a PNG cannot hold the negative disparities of --dmin " +
+                     std::to_string(p.d_min) + "; write a .pfm file");
+  if (png && args.get("disp-format", "q4") == "kitti" && p.d_min + p.num_disp - 1 >= 256)
+    throw UsageError("--disp " + disp + " --disp-format kitti holds disparities below 256; --dmin + --ndisp - 1 is " +
+                     std::to_string(p.d_min + p.num_disp - 1) + "; use q4 or a .pfm file");
 }
 
 DepthLimits depth_limits_from_args(const Args& args) {

@@ -56,6 +56,14 @@ const std::vector<OutputOption>& match_output_options();
 // --depth, --points, --samples, --stats.
 void write_match_outputs(const Args& args, const ImageU8& left, const MatchRun& run);
 void write_stats_json(const std::string& path, const MatchRun& run);
+// write_stats_json's text, and the same object on one line (a sequence's
+// --stats FILE.jsonl) with "frame", "left" and "right" first.
+std::string stats_json_text(const MatchRun& run);
+std::string stats_json_line(const MatchRun& run, int frame, const std::string& left, const std::string& right);
+// A JSON string literal (quotes, backslashes and control characters escaped).
+std::string json_string(const std::string& s);
+// --disp as a 16-bit PNG cannot hold what the range needs (UsageError).
+void check_disp_output(const Args& args, const StereoParams& p);
 void write_samples_csv(const std::string& path, const StereoOutput& out);
 void print_match_summary(std::ostream& os, const MatchRun& run);
 

@@ -303,3 +303,33 @@ run error 1 "ROS camera_info file of one camera: the right camera's file is need
   "$M --ndisp 16 --rig ros_left.yaml"
 run error 1 "key 'distortion_model': missing" "camera_info pair without a distortion model" \
   "$M --ndisp 16 --rig ros_left.yaml --rig-right ros_left.yaml"
+
+# ---- sequences in one run (issue 38): match --folder / --list
+mkdir -p "$W/seq" "$W/seq_empty"
+for i in 0 1 2; do cp "$W/p/left.png" "$W/seq/left_000$i.png"; cp "$W/p/right.png" "$W/seq/right_000$i.png"; done
+cp "$W/truncated.png" "$W/seq/left_0001.png"
+printf '# three words on a line\np/left.png p/right.png extra\n' > "$W/three_words.txt"
+printf '# nothing but comments\n\n' > "$W/no_pairs.txt"
+S="$T match --folder seq --ndisp 16"
+run error 2 "--disp 'seqd.pfm' must contain exactly one %d-style field, found 0" "output of a sequence without a frame field" \
+  "$S --disp seqd.pfm" "test ! -e seqd.pfm" "nothing written"
+run error 2 "--mesh 'seqm_%d_%d.ply' must contain exactly one %d-style field, found 2" "output pattern with two fields" \
+  "$S --mesh seqm_%d_%d.ply"
+run error 2 "--samples 'seqs_%s.csv': only one %d-style field \(e.g. %04d\) is allowed" "output pattern with %s" \
+  "$S --samples seqs_%s.csv"
+run error 2 "--disp-color seq/left_0000.png is the LEFT input; refusing to overwrite an input" "output pattern onto the sequence's frames" \
+  "$S --disp-color seq/left_%04d.png" "cmp seq/left_0000.png p/left.png" "the frame unchanged"
+run error 2 "--stats seqstats.json: extension '.json' is not written; the file must end in .jsonl" "a sequence's --stats as .json" \
+  "$S --stats seqstats.json"
+run error 2 "--folder and --list both name the frames: give one" "--folder with --list" "$S --list no_pairs.txt"
+run error 2 "--quiet has no effect without --folder or --list" "--quiet on one pair" "$M --ndisp 16 --quiet"
+run error 2 "--reference is for one pair; it is not supported with --folder or --list" "--reference on a sequence" "$S --reference"
+run error 1 "folder 'seq_empty' has no first frame: neither 'seq_empty/left_0000.png' nor 'seq_empty/left_0001.png' exists" \
+  "empty sequence folder" "$T match --folder seq_empty --ndisp 16"
+run error 1 "three_words.txt:2: expected two paths 'LEFT RIGHT', got 3 words" "--list line with three paths" \
+  "$T match --list three_words.txt --ndisp 16"
+run error 1 "list 'no_pairs.txt' holds no pair" "--list without a pair" "$T match --list no_pairs.txt --ndisp 16"
+run error 1 "cannot open list 'no_list.txt'" "missing --list file" "$T match --list no_list.txt --ndisp 16"
+run error 1 "frame 1 \(seq/left_0001.png, seq/right_0001.png\) skipped: error \(.*corrupt PNG" \
+  "corrupt frame in the middle of a sequence" "$S --disp seqo_%d.pfm --quiet" \
+  "test -s seqo_0.pfm && test -s seqo_2.pfm && test ! -e seqo_1.pfm" "frames 0 and 2 written, not 1"
