@@ -462,10 +462,38 @@ ImageU8 colour_image(const py::array& a, Order order) {
   return img;
 }
 
-py::array_t<float> depth_array(const py::array& disp_q4, const py::object& camera) {
+// The keywords min_disparity, min_depth, max_depth as match's --min-disparity,
+// --min-depth, --max-depth (depth.hpp's DepthLimits).
+DepthLimits depth_limits_of(double min_disparity, double min_depth, double max_depth) {
+  DepthLimits l;
+  l.min_disparity_px = min_disparity;
+  l.min_depth_m = min_depth;
+  l.max_depth_m = max_depth;
+  try {
+    check_depth_limits(l);
+  } catch (const Error& e) {
+    throw py::value_error(std::string(e.what()) + " (keywords min_disparity, min_depth, max_depth; 0 = no limit)");
+  }
+  return l;
+}
+
+// A copy of d with the disparities the limits exclude made invalid.
+ImageS16 limited_copy(ImageView<const std::int16_t> d, const CameraParams& cam, const DepthLimits& limits) {
+  ImageS16 out(d.width, d.height);
+  for (int y = 0; y < d.height; ++y)
+    std::memcpy(out.pixels.data() + static_cast<std::size_t>(y) * d.width, d.row(y),
+                static_cast<std::size_t>(d.width) * sizeof(std::int16_t));
+  if (d.width > 0 && d.height > 0) apply_depth_limits(out.view(), cam, limits);
+  return out;
+}
+
+py::array_t<float> depth_array(const py::array& disp_q4, const py::object& camera, double min_disparity,
+                               double min_depth, double max_depth) {
   py::array_t<std::int16_t> keep;
-  const ImageView<const std::int16_t> d = disp_view(disp_q4, &keep);
-  const Image<float> z = depth_m_from_disp_q4(d, camera_of(camera));
+  const ImageView<const std::int16_t> d0 = disp_view(disp_q4, &keep);
+  const CameraParams cam = camera_of(camera);
+  const ImageS16 limited = limited_copy(d0, cam, depth_limits_of(min_disparity, min_depth, max_depth));
+  const Image<float> z = depth_m_from_disp_q4(limited.view(), cam);
   py::array_t<float> out({z.height, z.width});
   float* dst = out.mutable_data();
   // NaN marks invalid pixels, as in Output.disparity (the library's +inf).
@@ -732,9 +760,12 @@ PYBIND11_MODULE(_tristereo, m) {
       },
       py::arg("path"), "An 8-bit PNG/PGM/PPM as uint8 (H, W), or (H, W, 3) in RGB order (pass order='rgb').");
 
-  m.def("depth", &depth_array, py::arg("disp_q4"), py::arg("camera"),
+  m.def("depth", &depth_array, py::arg("disp_q4"), py::arg("camera"), py::arg("min_disparity") = 2.0,
+        py::arg("min_depth") = 0.0, py::arg("max_depth") = 0.0,
         "Depth in metres along the optical axis, float32 (H, W), NaN where the disparity is invalid or "
-        "d + doffs <= 0: Z = focal_px * baseline_m / (d + doffs_px). camera: a Calibration or "
+        "outside the depth limits: Z = focal_px * baseline_m / (d + doffs_px), kept where d + doffs_px >= "
+        "min_disparity (default 2 px; 0 keeps every d + doffs > 0) and min_depth <= Z <= max_depth (0 = no "
+        "limit), as match --min-disparity/--min-depth/--max-depth. camera: a Calibration or "
         "(focal_px, baseline_m, cx_px, cy_px[, doffs_px]).");
   m.def(
       "write_disparity",
@@ -767,8 +798,10 @@ PYBIND11_MODULE(_tristereo, m) {
   m.def(
       "write_mesh_ply",
       [](const py::object& path, const Output& out, const py::array& left, const py::object& camera, bool binary,
-         const py::object& order_arg, bool include_filled) {
+         const py::object& order_arg, bool include_filled, double min_disparity, double min_depth,
+         double max_depth) {
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
+        const DepthLimits limits = depth_limits_of(min_disparity, min_depth, max_depth);
         StereoOutput o = out.stereo_output();
         if (!include_filled) {
           const auto state = out.vertex_state.unchecked<1>();
@@ -777,7 +810,12 @@ PYBIND11_MODULE(_tristereo, m) {
               o.vertex_disp_q4[static_cast<std::size_t>(i)] = kInvalidDispQ4;
         }
         CameraParams cam{};
-        if (!camera.is_none()) cam = camera_of(camera);
+        if (!camera.is_none()) {
+          cam = camera_of(camera);
+          const int n = static_cast<int>(o.vertex_disp_q4.size());
+          if (n > 0)
+            apply_depth_limits({o.vertex_disp_q4.data(), n, 1, 1, static_cast<std::ptrdiff_t>(n) * 2}, cam, limits);
+        }
         const std::string file = path_of(path);
         MeshWriteReport r;
         {
@@ -790,14 +828,17 @@ PYBIND11_MODULE(_tristereo, m) {
                         py::arg("faces_behind_camera") = r.faces_behind_camera);
       },
       py::arg("path"), py::arg("out"), py::arg("left"), py::arg("camera") = py::none(), py::arg("binary") = true,
-      py::arg("order") = py::none(), py::arg("include_filled") = false,
+      py::arg("order") = py::none(), py::arg("include_filled") = false, py::arg("min_disparity") = 2.0,
+      py::arg("min_depth") = 0.0, py::arg("max_depth") = 0.0,
       "As match --mesh: the 2.5D mesh as PLY, coloured by the left image; (x, y, d) in pixels without a "
-      "camera, metres with one; faces of measured vertices only unless include_filled (as "
-      "--points-include-filled). Returns the face counts.");
+      "camera, metres with one (vertices within the depth limits only, as depth()); faces of measured "
+      "vertices only unless include_filled (as --points-include-filled). Returns the face counts.");
   m.def(
       "write_points_ply",
       [](const py::object& path, const py::array& disp_q4, const py::array& left, const py::object& camera,
-         bool binary, const py::object& order_arg, const py::object& state_arg) {
+         bool binary, const py::object& order_arg, const py::object& state_arg, double min_disparity,
+         double min_depth, double max_depth) {
+        const DepthLimits limits = depth_limits_of(min_disparity, min_depth, max_depth);
         py::array_t<std::int16_t> keep;
         auto d = disp_view(disp_q4, &keep);
         ImageS16 measured;  // state given: the measured pixels' disparities only
@@ -817,14 +858,17 @@ PYBIND11_MODULE(_tristereo, m) {
         }
         const ImageU8 colours = colour_image(left, parse_order(order_arg));
         const CameraParams cam = camera_of(camera);
+        const ImageS16 limited = limited_copy(d, cam, limits);
         const std::string file = path_of(path);
         py::gil_scoped_release nogil;
-        return write_points_ply(file, d, colours.view(), cam, binary);
+        return write_points_ply(file, limited.view(), colours.view(), cam, binary);
       },
       py::arg("path"), py::arg("disp_q4"), py::arg("left"), py::arg("camera"), py::arg("binary") = true,
-      py::arg("order") = py::none(), py::arg("state") = py::none(),
-      "As match --points: one coloured PLY vertex (metres) per valid pixel; with state (Output.state), per "
-      "measured pixel, as match --points without --points-include-filled. Returns the number of points.");
+      py::arg("order") = py::none(), py::arg("state") = py::none(), py::arg("min_disparity") = 2.0,
+      py::arg("min_depth") = 0.0, py::arg("max_depth") = 0.0,
+      "As match --points: one coloured PLY vertex (metres) per valid pixel within the depth limits (as "
+      "depth()); with state (Output.state), per measured pixel, as match --points without "
+      "--points-include-filled. Returns the number of points.");
 
   py::class_<StereoCalibration>(m, "Calibration")
       .def_readonly("focal_px", &StereoCalibration::focal_px)

@@ -142,3 +142,36 @@ def test_mesh_and_points_keep_filled_ones_only_when_asked(tmp_path):
     assert 0 < measured_faces["faces_written"] < all_faces["faces_written"]
     with pytest.raises(ValueError, match="state must be a uint8"):
         tristereo.write_points_ply(tmp_path / "x.ply", out.disp_q4, left, CAMERA, state=out.state[:10])
+
+
+def test_depth_limits_are_the_programs(tmp_path):
+    """depth(), write_points_ply() and write_mesh_ply() keep what match's
+    --min-disparity/--min-depth/--max-depth keep, byte for byte."""
+    cli("synth", tmp_path, "--width", 160, "--height", 120, "--ndisp", 24, "--seed", 3)
+    lp, rp = tmp_path / "left.png", tmp_path / "right.png"
+    left, right = tristereo.read_image(lp), tristereo.read_image(rp)
+    out = tristereo.Pipeline(160, 120, ndisp=24, threads=1).process(left, right)
+    z_all = tristereo.depth(out.disp_q4, CAMERA, min_disparity=0)
+    lo, hi = np.nanpercentile(z_all, [25, 75])
+    for limits, args in (({}, []), ({"min_disparity": 10.0}, ["--min-disparity", "10"]),
+                         ({"min_depth": lo, "max_depth": hi}, ["--min-depth", repr(lo), "--max-depth", repr(hi)])):
+        c = tmp_path / f"c{len(args)}"
+        c.mkdir()
+        cli("match", lp, rp, "--ndisp", 24, "--threads", 1, "--camera", CAMERA_ARG, "--depth", c / "z.pfm",
+            "--points", c / "p.ply", "--mesh", c / "m.ply", *args)
+        z = tristereo.depth(out.disp_q4, CAMERA, **limits)
+        zf = read_pfm(c / "z.pfm")
+        assert np.array_equal(np.isnan(z), np.isinf(zf)) and np.array_equal(z[~np.isnan(z)], zf[~np.isinf(zf)])
+        kept = z[~np.isnan(z)]
+        assert kept.size > 0
+        if "min_depth" in limits:
+            assert kept.min() >= np.float32(lo) * (1 - 1e-6) and kept.max() <= np.float32(hi) * (1 + 1e-6)
+            assert kept.size < z_all[~np.isnan(z_all)].size
+        tristereo.write_points_ply(c / "pp.ply", out.disp_q4, left, CAMERA, state=out.state, **limits)
+        tristereo.write_mesh_ply(c / "pm.ply", out, left, camera=CAMERA, **limits)
+        same_files(c / "p.ply", c / "pp.ply")
+        same_files(c / "m.ply", c / "pm.ply")
+    for bad, word in (({"min_disparity": -1.0}, "min_disparity"), ({"max_depth": float("inf")}, "max_depth"),
+                      ({"min_depth": 3.0, "max_depth": 2.0}, "max_depth_m must be above")):
+        with pytest.raises(ValueError, match=word):
+            tristereo.depth(out.disp_q4, CAMERA, **bad)

@@ -142,7 +142,13 @@ def verify(
 _Camera = Union["Calibration", Tuple[float, float, float, float], Tuple[float, float, float, float, float]]
 
 def model_options() -> List[Dict[str, Any]]: ...
-def depth(disp_q4: npt.NDArray[np.int16], camera: _Camera) -> npt.NDArray[np.float32]: ...
+def depth(
+    disp_q4: npt.NDArray[np.int16],
+    camera: _Camera,
+    min_disparity: float = 2.0,
+    min_depth: float = 0.0,
+    max_depth: float = 0.0,
+) -> npt.NDArray[np.float32]: ...
 def write_disparity(path: _Path, disp_q4: npt.NDArray[np.int16], png_scale: Literal["q4", "kitti"] = "q4") -> None: ...
 def write_disparity_color(path: _Path, disp_q4: npt.NDArray[np.int16], dmin: int, ndisp: int) -> None: ...
 def write_depth(path: _Path, depth_m: npt.NDArray[np.floating[Any]]) -> Dict[str, int]: ...
@@ -154,6 +160,9 @@ def write_mesh_ply(
     binary: bool = True,
     order: _Order = None,
     include_filled: bool = False,
+    min_disparity: float = 2.0,
+    min_depth: float = 0.0,
+    max_depth: float = 0.0,
 ) -> Dict[str, int]: ...
 def write_points_ply(
     path: _Path,
@@ -163,6 +172,9 @@ def write_points_ply(
     binary: bool = True,
     order: _Order = None,
     state: Optional[npt.NDArray[np.uint8]] = None,
+    min_disparity: float = 2.0,
+    min_depth: float = 0.0,
+    max_depth: float = 0.0,
 ) -> int: ...
 def read_image(path: _Path) -> npt.NDArray[np.uint8]: ...
 
