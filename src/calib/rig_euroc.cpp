@@ -76,13 +76,7 @@ StereoRig read_rig_euroc(const std::string& left, const YamlNode& l, const std::
     for (int k = 0; k < 3; ++k) s += rot(b.T_BS, k, i) * (rot(a.T_BS, k, 3) - rot(b.T_BS, k, 3));
     rig.T[static_cast<std::size_t>(i)] = s;
   }
-  RigOrigins at;
-  at.k[0] = a.k;
-  at.k[1] = b.k;
-  at.dist[0] = a.dist;
-  at.dist[1] = b.dist;
-  at.size[0] = a.size;
-  at.size[1] = b.size;
+  RigOrigins at = camera_origins(a, b);
   // A rotation that is not one comes from either T_BS; name the right one's.
   at.rotation = at.translation = b.pose;
   validate_rig(rig, at);

@@ -24,6 +24,19 @@ struct RigOrigins {
   Origin size[2];  // each camera's image size
   Origin rotation, translation;
 };
+// The cameras' origins of a rig read from one file per camera (ROS, EuRoC):
+// any two records with Origin members k, dist and size.
+template <class CameraFile>
+RigOrigins camera_origins(const CameraFile& left, const CameraFile& right) {
+  RigOrigins at;
+  at.k[0] = left.k;
+  at.k[1] = right.k;
+  at.dist[0] = left.dist;
+  at.dist[1] = right.dist;
+  at.size[0] = left.size;
+  at.size[1] = right.size;
+  return at;
+}
 
 // "plumb_bob", "radtan", "radial-tangential" -> kRadTan; "rational_polynomial"
 // -> kRational; "equidistant", "fisheye" -> kEquidistant; fails otherwise.

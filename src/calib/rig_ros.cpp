@@ -100,13 +100,7 @@ StereoRig read_rig_ros(const std::string& left, const YamlNode& l, const std::st
     for (int m = 0; m < 3; ++m) s += rig.R2[3 * m + i] * t[m];
     rig.T[i] = s;
   }
-  RigOrigins at;
-  at.k[0] = a.k;
-  at.k[1] = b.k;
-  at.dist[0] = a.dist;
-  at.dist[1] = b.dist;
-  at.size[0] = a.size;
-  at.size[1] = b.size;
+  RigOrigins at = camera_origins(a, b);
   at.rotation = b.r;
   at.translation = b.p;
   validate_rig(rig, at);
