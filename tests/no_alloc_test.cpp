@@ -1,7 +1,10 @@
 // Once configured, process() performs no heap allocation (any thread count,
 // sparse or dense, box or adaptive weights, frames smaller than the maximum,
 // with a frame trace recording or not).
+#include <cstdint>
+#include <initializer_list>
 #include <memory>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -14,6 +17,31 @@
 namespace tristereo {
 namespace {
 
+using Pair = std::pair<ImageView<const std::uint8_t>, ImageView<const std::uint8_t>>;
+
+// The same pixels in 3 channels.
+ImageU8 as_rgb(const ImageU8& gray) {
+  ImageU8 rgb(gray.width, gray.height, 3);
+  for (std::size_t i = 0; i < gray.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) rgb.pixels[i * 3 + c] = gray.pixels[i];
+  return rgb;
+}
+
+// Configures `pipe` with c (recording into `trace` when given), then counts the
+// allocations while each pair goes through it three times.
+std::int64_t allocations_over(Pipeline& pipe, const PipelineConfig& c, FrameTrace* trace,
+                              std::initializer_list<Pair> pairs) {
+  pipe.configure(c);
+  if (trace) {
+    trace->reserve(c.threads, 1 << 16);
+    pipe.set_trace(trace);
+  }
+  test::start_counting_allocations();
+  for (int f = 0; f < 3; ++f)
+    for (const Pair& p : pairs) pipe.process(p.first, p.second);
+  return test::stop_counting_allocations();
+}
+
 TEST(NoAlloc, ProcessDoesNotAllocate) {
   SynthParams sp;
   sp.width = 200;
@@ -23,12 +51,7 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
   sp.width = 120;
   sp.height = 90;
   const SyntheticScene small = make_synthetic_scene(sp);
-  ImageU8 rgb_l(200, 150, 3), rgb_r(200, 150, 3);
-  for (std::size_t i = 0; i < s.left.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      rgb_l.pixels[i * 3 + c] = s.left.pixels[i];
-      rgb_r.pixels[i * 3 + c] = s.right.pixels[i];
-    }
+  const ImageU8 rgb_l = as_rgb(s.left), rgb_r = as_rgb(s.right);
   for (int threads : {1, 2, 3}) {
     for (bool dense : {false, true}) {
       for (Weights w : {Weights::kBox, Weights::kAdaptive}) {
@@ -48,19 +71,10 @@ TEST(NoAlloc, ProcessDoesNotAllocate) {
         c.threads = threads;
         c.pin_threads = false;
         Pipeline pipe;
-        pipe.configure(c);
         FrameTrace trace;
-        if (traced) {
-          trace.reserve(threads, 1 << 16);
-          pipe.set_trace(&trace);
-        }
-        test::start_counting_allocations();
-        for (int f = 0; f < 3; ++f) {
-          pipe.process(s.left.view(), s.right.view());
-          pipe.process(small.left.view(), small.right.view());
-          pipe.process(rgb_l.view(), rgb_r.view());
-        }
-        const std::int64_t n = test::stop_counting_allocations();
+        const std::int64_t n = allocations_over(
+            pipe, c, traced ? &trace : nullptr,
+            {{s.left.view(), s.right.view()}, {small.left.view(), small.right.view()}, {rgb_l.view(), rgb_r.view()}});
         EXPECT_EQ(n, 0) << "threads=" << threads << " dense=" << dense << " weights=" << to_string(w)
                         << " traced=" << traced;
         // The frames really were processed, and traced when asked.
@@ -84,12 +98,7 @@ TEST(NoAlloc, RawFramesDoNotAllocate) {
   sp.height = 120;
   sp.num_disp = 32;
   const SyntheticScene s = make_synthetic_scene(sp);
-  ImageU8 rgb_l(160, 120, 3), rgb_r(160, 120, 3);
-  for (std::size_t i = 0; i < s.left.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      rgb_l.pixels[i * 3 + c] = s.left.pixels[i];
-      rgb_r.pixels[i * 3 + c] = s.right.pixels[i];
-    }
+  const ImageU8 rgb_l = as_rgb(s.left), rgb_r = as_rgb(s.right);
   StereoRig rig;
   for (RawCamera* cam : {&rig.left, &rig.right}) {
     cam->width = 160;
@@ -115,18 +124,11 @@ TEST(NoAlloc, RawFramesDoNotAllocate) {
       c.pin_threads = false;
       c.rectify = maps;
       Pipeline pipe;
-      pipe.configure(c);
       FrameTrace trace;
-      if (traced) {
-        trace.reserve(threads, 1 << 16);
-        pipe.set_trace(&trace);
-      }
-      test::start_counting_allocations();
-      for (int f = 0; f < 3; ++f) {
-        pipe.process(s.left.view(), s.right.view());
-        pipe.process(rgb_l.view(), rgb_r.view());
-      }
-      EXPECT_EQ(test::stop_counting_allocations(), 0) << "threads=" << threads << " traced=" << traced;
+      EXPECT_EQ(allocations_over(pipe, c, traced ? &trace : nullptr,
+                                 {{s.left.view(), s.right.view()}, {rgb_l.view(), rgb_r.view()}}),
+                0)
+          << "threads=" << threads << " traced=" << traced;
       EXPECT_GT(pipe.last_timings().rectify_ns, 0);
       EXPECT_EQ(trace.dropped(), 0u);
     }
@@ -153,10 +155,7 @@ TEST(NoAlloc, RowDpWithMirroredCheckAndMinConfidenceDoesNotAllocate) {
     c.threads = threads;
     c.pin_threads = false;
     Pipeline pipe;
-    pipe.configure(c);
-    test::start_counting_allocations();
-    for (int f = 0; f < 3; ++f) pipe.process(s.left.view(), s.right.view());
-    EXPECT_EQ(test::stop_counting_allocations(), 0) << "threads=" << threads;
+    EXPECT_EQ(allocations_over(pipe, c, nullptr, {{s.left.view(), s.right.view()}}), 0) << "threads=" << threads;
     EXPECT_GT(pipe.process(s.left.view(), s.right.view()).validity.min_confidence_rejected, 0);
   }
 }
