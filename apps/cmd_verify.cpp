@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "apps/cli_args.hpp"
+#include "apps/rig_options.hpp"
 #include "apps/commands.hpp"
 #include "apps/stereo_options.hpp"
 #include "apps/stereo_pair.hpp"
@@ -15,14 +16,16 @@ int cmd_verify(int argc, char** argv) {
   std::set<std::string> values = {"thread-counts"};
   std::set<std::string> flags = {"help"};
   add_stereo_options(values, flags);
+  add_rig_options(values);
   Args args(argc, argv, values, flags);
   if (args.flag("help")) {
     std::cout << "usage: tristereo verify LEFT RIGHT --ndisp D [options] [--thread-counts 1,2,3]\n\n"
                  "Runs the float reference and the integer pipeline with every kernel set this CPU\n"
                  "can run (and 1 and N threads), compares mesh, sample disparities and dense map.\n"
                  "Prints 'bit-exact' and exits 0 when all are identical; otherwise prints the first\n"
-                 "difference and exits 1.\n\n"
-              << stereo_options_help() << exit_codes_help();
+                 "difference and exits 1. With --rig, LEFT and RIGHT are raw frames: the reference\n"
+                 "rectifies them by its float definition, each pipeline by its fixed-point stage.\n\n"
+              << stereo_options_help() << "\n" << rig_options_help() << "\n" << exit_codes_help();
     return 0;
   }
   check_two_paths("verify", args.positional());
@@ -32,7 +35,13 @@ int cmd_verify(int argc, char** argv) {
   ImageU8 left = read_image_u8(args.positional()[0]);
   ImageU8 right = read_image_u8(args.positional()[1]);
   check_stereo_pair(args.positional()[0], left, args.positional()[1], right);
-  const PipelineConfig config = stereo_config_from_args(args, left.width, left.height);
+  if (args.has("rig-right") && !args.has("rig"))
+    throw UsageError("--rig-right has no effect without --rig (it is the right camera's file of a --rig pair)");
+  LoadedRig rig;
+  if (args.has("rig")) rig = load_rig(args, left.width, left.height);
+  const int width = args.has("rig") ? rig.maps->left.width : left.width;
+  const int height = args.has("rig") ? rig.maps->left.height : left.height;
+  const PipelineConfig config = stereo_config_from_args(args, width, height);
   std::vector<int> thread_counts;
   if (args.has("thread-counts")) {
     std::string s = args.get("thread-counts", "");
@@ -47,7 +56,9 @@ int cmd_verify(int argc, char** argv) {
       pos = comma + 1;
     }
   }
-  const VerifyReport report = verify_bit_exact(left, right, config.params, thread_counts);
+  const VerifyReport report = args.has("rig")
+                                   ? verify_bit_exact_raw(left, right, rig.rig, rig.rect, config.params, thread_counts)
+                                   : verify_bit_exact(left, right, config.params, thread_counts);
   std::cout << "reference digest " << report.reference_digest << "\n";
   for (const VerifyCase& c : report.cases) {
     std::cout << "  " << to_string(c.kernels) << ", " << c.threads << " thread(s): "

@@ -30,6 +30,16 @@ struct VerifyReport {
 TRISTEREO_API VerifyReport verify_bit_exact(const ImageU8& left, const ImageU8& right, const StereoParams& params,
                               std::vector<int> thread_counts = {});
 
+// Raw frames of a rig (include/tristereo/rig.hpp, rectify.hpp): the reference
+// rectifies them (reference_rectify) and matches the rectified pair; every
+// case's pipeline takes the raw frames through its rectification stage (the
+// maps of build_rectify_maps(rig, rect)). So a raw-in frame is checked bit for
+// bit, the remap included. raw_left/raw_right: gray or RGB, of the rig's size.
+struct StereoRig;
+struct Rectification;
+TRISTEREO_API VerifyReport verify_bit_exact_raw(const ImageU8& raw_left, const ImageU8& raw_right,
+                                                const StereoRig& rig, const Rectification& rect,
+                                                const StereoParams& params, std::vector<int> thread_counts = {});
 // First difference between two frame outputs ("" when identical), e.g.
 // "dense map differs at (12, 40): 176 vs 192".
 struct StereoOutput;
