@@ -30,6 +30,7 @@
 #include "apps/option_errors.hpp"
 #include "apps/output_paths.hpp"
 #include "apps/output_set.hpp"
+#include "apps/rig_options.hpp"
 #include "apps/stereo_options.hpp"
 #include "platform/clock.hpp"
 #include "platform/cpu_features.hpp"
@@ -272,9 +273,10 @@ int cmd_profile(int argc, char** argv) {
       "trace",         "trace-frames", "schedule-workers"};
   std::set<std::string> flags = {"realtime", "mesh-output", "quiet", "help"};
   add_stereo_options(values, flags);
+  add_rig_options(values);
   const Args args(static_cast<int>(nargv.size()), nargv.data(), values, flags);
   if (args.flag("help")) {
-    std::cout << kProfileHelp << profile_model_help();
+    std::cout << kProfileHelp << profile_model_help() << "\n" << rig_options_help() << "\n";
     return 0;
   }
   if (!args.positional().empty())
@@ -285,6 +287,7 @@ int cmd_profile(int argc, char** argv) {
       {"right-pattern", {"folder"}, nullptr, "it names the right frames in that folder"},
       {"trace-frames", {"trace"}, nullptr, "it says how many frames the trace keeps"},
       {"schedule-workers", {"trace"}, nullptr, "it cuts the work for the scaling model's traces"},
+      {"rig-right", {"rig"}, nullptr, "it is the right camera's file of a --rig pair"},
   };
   check_option_needs(args, kNeeds);
 
@@ -335,7 +338,9 @@ int cmd_profile(int argc, char** argv) {
   // Like match's: the format follows the extension, never onto an input or
   // the other report, the folder exists (output_paths.hpp).
   static const std::vector<OutputOption> kReports = {{"csv", {".csv"}}, {"json", {".json"}}, {"trace", {".json"}}};
-  check_output_paths(args, kReports, {{"--left", args.get("left", "")}, {"--right", args.get("right", "")}});
+  check_output_paths(args, kReports,
+                     {{"--left", args.get("left", "")}, {"--right", args.get("right", "")},
+                      {"--rig", args.get("rig", "")}, {"--rig-right", args.get("rig-right", "")}});
   // The synthetic scene's own limits (make_synthetic_scene: 16..4096 per side).
   const int synth_w = bounded_int(args, "width", 640, 16, kMaxImageSide);
   const int synth_h = bounded_int(args, "height", 480, 16, kMaxImageSide);
@@ -357,6 +362,16 @@ int cmd_profile(int argc, char** argv) {
   config.schedule_workers = bounded_int(args, "schedule-workers", 0, 0, 256);
   config.max_width = ring.width;
   config.max_height = ring.height;
+  if (args.has("rig")) {
+    // Raw frames: the pipeline rectifies them (a stage of its own) into
+    // frames of the rectified size.
+    if (source == "synthetic") throw UsageError("--rig needs raw frames: --left/--right or --folder");
+    const LoadedRig rig = load_rig(args, ring.width, ring.height);
+    config.rectify = rig.maps;
+    config.max_width = rig.maps->left.width;
+    config.max_height = rig.maps->left.height;
+    config.params = stereo_config_from_args(args, config.max_width, config.max_height).params;
+  }
 
   // The frames of --folder are inputs too, known once read (before any computing).
   for (const char* option : {"csv", "json", "trace"})
@@ -462,6 +477,7 @@ int cmd_profile(int argc, char** argv) {
     if (measured) {
       const FrameTimings& t = pipeline.last_timings();
       FrameSample s;
+      s.stage_ns[static_cast<int>(ProfileStage::kRectify)] = t.rectify_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kTritree)] = t.tritree_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kCostAggregation)] = t.cost_aggregation_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kDp)] = t.dp_ns;
@@ -515,6 +531,7 @@ int cmd_profile(int argc, char** argv) {
   rc.realtime_priority = realtime ? rt_priority : 0;
   rc.gpio = gpio_text;
   rc.mesh_output = mesh_output;
+  rc.rectify = config.rectify != nullptr;
   rc.right_pass = config.params.validity.lr_max_diff_q4 >= 0 &&
                   config.params.validity.lr_source == LrSource::kMirroredPass;
   rc.warmup_frames = warmup;

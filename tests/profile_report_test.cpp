@@ -240,10 +240,24 @@ TEST(FramesCsv, HeaderRowsAndExactValues) {
   EXPECT_EQ(rows[2][3], "9.000002");  // dp (k = 2) of frame 2: 9 ms + 2 ns
   EXPECT_EQ(rows[1][4], "10.000004");  // fill (k = 4) of frame 1: no right_pass column
   EXPECT_EQ(rows[1][5], "12.000005");  // interpolation (k = 5) of frame 1
-  // total of frame 0: 1+...+7 ms + (0+...+6) ns + 7 ns (the right-pass and
-  // mesh stages are in the total even when their columns are not written).
-  EXPECT_EQ(rows[0][6], "28.000028");
-  EXPECT_EQ(rows[0][7], "56.000056");
+  // total of frame 0: 1+...+8 ms + (0+...+7) ns + 7 ns (the right-pass, mesh
+  // and rectify stages are in the total even when their columns are not written).
+  EXPECT_EQ(rows[0][6], "36.000035");
+  EXPECT_EQ(rows[0][7], "72.000070");
+}
+
+TEST(FramesCsv, RectifyColumnComesFirstWhenFramesAreRaw) {
+  ProfileRunConfig config = make_config(false, 3);
+  EXPECT_EQ(frames_csv_columns(config)[1], "tritree_ms");
+  config.rectify = true;
+  const std::vector<std::string> cols = frames_csv_columns(config);
+  ASSERT_GE(cols.size(), 3u);
+  EXPECT_EQ(cols[1], "rectify_ms");
+  EXPECT_EQ(cols[2], "tritree_ms");
+  const ProfileReport r = make_profile_report(config, make_log(3), 1000, 0, kMachine);
+  ASSERT_FALSE(r.stages.empty());
+  EXPECT_EQ(r.stages[0].name, "rectify");
+  EXPECT_NEAR(r.stages[0].stats.min_ms, 8.000007, 1e-12);  // k = 7, frame 0
 }
 
 TEST(FramesCsv, MeshOutputColumnAndNegativeNs) {
@@ -312,7 +326,8 @@ TEST(ProfileReport, SummaryNumbers) {
   EXPECT_NEAR(r.stages[2].stats.min_ms, 3.000002, 1e-12);
   EXPECT_NEAR(r.stages[2].stats.max_ms, 30.000002, 1e-12);
   EXPECT_EQ(r.total.count, 10u);
-  EXPECT_NEAR(r.total.mean_ms, 28.0 * 5.5 + 28e-6, 1e-9);
+  // Stages (k + 1) ms summed over the 8 stages: 36 ms a frame-unit, plus 0 + .. + 7 + 7 ns.
+  EXPECT_NEAR(r.total.mean_ms, 36.0 * 5.5 + 35e-6, 1e-9);
   EXPECT_NEAR(r.cpu.mean_ms, 2 * r.total.mean_ms, 1e-9);
   EXPECT_NEAR(r.fps_from_mean, 1000.0 / r.total.mean_ms, 1e-9);
   EXPECT_DOUBLE_EQ(r.wall_s, 0.5);

@@ -69,6 +69,8 @@ LatencyStats compute_latency_stats(const std::vector<std::int64_t>& durations_ns
 
 const char* profile_stage_name(ProfileStage stage) {
   switch (stage) {
+    case ProfileStage::kRectify:
+      return "rectify";
     case ProfileStage::kTritree:
       return "tritree";
     case ProfileStage::kCostAggregation:

@@ -38,6 +38,7 @@ double mib(std::int64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1
 bool stage_enabled(ProfileStage s, const ProfileRunConfig& c) {
   if (s == ProfileStage::kMeshOutput) return c.mesh_output;
   if (s == ProfileStage::kRightPass) return c.right_pass;
+  if (s == ProfileStage::kRectify) return c.rectify;
   return true;
 }
 
@@ -79,8 +80,7 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
   }
   ProfileReport r;
   r.config = config;
-  for (int k = 0; k < kProfileStageCount; ++k) {
-    const auto stage = static_cast<ProfileStage>(k);
+  for (const ProfileStage stage : kProfileStageOrder) {
     if (!stage_enabled(stage, config)) continue;
     r.stages.push_back({profile_stage_name(stage), compute_latency_stats(log.stage_column(stage))});
   }
@@ -118,8 +118,7 @@ ProfileReport make_profile_report(const ProfileRunConfig& config, const FrameLog
 
 std::vector<std::string> frames_csv_columns(const ProfileRunConfig& config) {
   std::vector<std::string> cols{"frame"};
-  for (int k = 0; k < kProfileStageCount; ++k) {
-    const auto stage = static_cast<ProfileStage>(k);
+  for (const ProfileStage stage : kProfileStageOrder) {
     if (stage_enabled(stage, config))
       cols.push_back(std::string(profile_stage_name(stage)) + "_ms");
   }
@@ -135,9 +134,8 @@ void write_frames_csv(std::ostream& os, const FrameLog& log, const ProfileRunCon
   for (std::size_t f = 0; f < log.size(); ++f) {
     const FrameSample& s = log[f];
     os << f;
-    for (int k = 0; k < kProfileStageCount; ++k) {
-      if (stage_enabled(static_cast<ProfileStage>(k), config))
-        os << ',' << ns_as_ms(s.stage_ns[k]);
+    for (const ProfileStage stage : kProfileStageOrder) {
+      if (stage_enabled(stage, config)) os << ',' << ns_as_ms(s.stage_ns[static_cast<int>(stage)]);
     }
     os << ',' << ns_as_ms(s.total_ns) << ',' << ns_as_ms(s.cpu_ns) << '\n';
   }
@@ -200,6 +198,7 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
      << "    \"gpio\": " << json_quote(c.gpio) << ",\n"
      << "    \"mesh_output\": " << b[c.mesh_output] << ",\n"
      << "    \"right_pass\": " << b[c.right_pass] << ",\n"
+     << "    \"rectify\": " << b[c.rectify] << ",\n"
      << "    \"warmup_frames\": " << c.warmup_frames << ",\n"
      << "    \"frames\": " << c.frames << "\n"
      << "  },\n";

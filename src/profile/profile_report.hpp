@@ -39,6 +39,8 @@ struct ProfileRunConfig {
   // The left-right check ran a right-view pass (lr_source mirror): timed as a
   // stage, which the other modes do not have.
   bool right_pass = false;
+  // Raw frames rectified by the pipeline's stage (--rig): timed as a stage.
+  bool rectify = false;
   int warmup_frames = 0;
   int frames = 0;  // measured frames
   // Pipeline::working_memory_bytes() of the pipeline, configured for frames of
