@@ -33,6 +33,7 @@ std::vector<int> run_checked(const Shape& s, int workers, int slow_worker = -1) 
   std::vector<std::atomic<int>> done(tiles), started(tiles);
   std::atomic<int> violations{0};
   std::vector<int> taken(static_cast<std::size_t>(workers), 0);
+  std::atomic<int> finished{0}, finished_by_others{0};
   const auto at = [&](int k, int c) { return static_cast<std::size_t>(k) * static_cast<std::size_t>(s.cols) + static_cast<std::size_t>(c); };
   pool.run([&](int w) {
     int k = -1, c = 0;
@@ -44,13 +45,22 @@ std::vector<int> run_checked(const Shape& s, int workers, int slow_worker = -1) 
       if (k >= s.in_flight && done[at(k - s.in_flight, s.cols - 1)].load(std::memory_order_acquire) == 0)
         violations.fetch_add(1);
       ++taken[static_cast<std::size_t>(w)];
-      // 2 ms: longer than the time slices of a loaded machine, so the other
-      // worker gets the CPU while this one sleeps even when a dozen jobs share
-      // the cores (300 us failed under the test command's load).
-      if (w == slow_worker) std::this_thread::sleep_for(std::chrono::milliseconds(2));
       done[at(k, c)].store(1, std::memory_order_release);
       const bool band_done = wf.finish(k, c);
       if (band_done != (c == s.cols - 1)) violations.fetch_add(1);
+      finished.fetch_add(1);
+      if (w != slow_worker) {
+        finished_by_others.fetch_add(1);
+      } else {
+        // Slowed on purpose, and by the others' progress rather than by a
+        // clock: before its next tile it waits until the others finished
+        // three more (or every tile is done). It holds no tile meanwhile, so
+        // they can always go on; a sleep of a fixed time instead failed when
+        // the machine's load starved the other worker.
+        const int mark = finished_by_others.load() + 3;
+        while (finished_by_others.load() < mark && finished.load() < static_cast<int>(tiles))
+          std::this_thread::sleep_for(std::chrono::microseconds(50));
+      }
     }
   });
   EXPECT_EQ(violations.load(), 0);
@@ -111,8 +121,9 @@ TEST(Wavefront, ResetReusesTheState) {
 }
 
 TEST(Wavefront, SlowWorkerTakesFewerTiles) {
-  // Worker 0 sleeps on each of its tiles: with tiles taken on demand, the
-  // other worker does most of them (a row per worker would give each half).
+  // Worker 0 waits after each of its tiles until the other has done three
+  // more: with tiles taken on demand, the other worker does most of them (a
+  // static split, such as a band each, would leave each half).
   const std::vector<int> taken = run_checked({20, 12, 1, 3}, 2, /*slow_worker=*/0);
   EXPECT_GT(taken[1], 2 * taken[0]) << "worker 0 (slow) took " << taken[0] << ", worker 1 " << taken[1];
 }
