@@ -14,6 +14,7 @@
 #                               test command installs and checks them itself)
 #   TRISTEREO_CROSS_TARGETS     build only these targets (default: everything)
 #   TRISTEREO_CROSS_TEST_REGEX  run only the tests matching it (ctest -R)
+#   TRISTEREO_CROSS_TEST_EXCLUDE  leave out the tests matching it (ctest -E)
 #   TRISTEREO_CROSS_WERROR      ON (default) makes every warning an error
 #
 # Build trees are configured through scripts/configure.sh, which removes a tree
@@ -37,6 +38,7 @@ require_simd="${TRISTEREO_CROSS_REQUIRE_SIMD:-ON}"
 werror="${TRISTEREO_CROSS_WERROR:-ON}"
 build_targets="${TRISTEREO_CROSS_TARGETS:-}"
 test_regex="${TRISTEREO_CROSS_TEST_REGEX:-}"
+test_exclude="${TRISTEREO_CROSS_TEST_EXCLUDE:-}"
 cd "$repo" || exit 1  # cmake --preset reads CMakePresets.json from here
 
 if [ "${TRISTEREO_CROSS_SKIP_DEPS:-0}" != "1" ]; then
@@ -68,10 +70,10 @@ for t in $targets; do
   t2=$(now)
   tests="-"
   if [ "$status" = "passed" ]; then
-    echo "==== $log_prefix: ctest under qemu${test_regex:+ (-R $test_regex)}"
+    echo "==== $log_prefix: ctest under qemu${test_regex:+ (-R $test_regex)}${test_exclude:+ (-E $test_exclude)}"
     ctest_log="$dir/cross-ctest.log"
     ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" \
-      ${test_regex:+-R "$test_regex"} 2>&1 | tee "$ctest_log"
+      ${test_regex:+-R "$test_regex"} ${test_exclude:+-E "$test_exclude"} 2>&1 | tee "$ctest_log"
     # tee hides ctest's exit status from a POSIX shell; its summary line tells.
     tests=$(grep -E '^[0-9]+% tests passed' "$ctest_log" | tail -n 1)
     case "$tests" in
