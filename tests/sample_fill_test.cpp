@@ -84,9 +84,9 @@ TEST(FillThreads, IdenticalForAnyPoolAndToTheRounds) {
       std::vector<std::int16_t> expected = d;
       const int expected_filled = fill_by_rounds(samples, expected);
       ASSERT_GT(expected_filled, 4096);  // enough for the pool's chunks (SampleFill: 2 x 2048)
-      // and triangles for two chunks of the mesh's first walk (2 x 32768)
+      // and triangles for two chunks of the mesh's first walk (2 x 8192)
       if (!dense) {
-        ASSERT_GT(mesh.triangles.size(), 65536u);
+        ASSERT_GT(mesh.triangles.size(), 16384u);
         // and, for the second round's walk, triangles whose three corners are
         // all invalid (the only ones the first round keeps) for two of its
         // chunks (2 x 4096)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstring>
 
 #include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
@@ -13,9 +14,13 @@ namespace tristereo {
 namespace {
 // Pending samples per chunk of a round: a chunk costs microseconds.
 constexpr int kPendingPerChunk = 2048;
+// Samples per chunk of the scan for the invalid ones.
+constexpr int kScanPerChunk = 16384;
 // Triangles per chunk of a mesh fill's first walk (the one over all of
-// them), and of the later rounds' walks over the triangles still live.
-constexpr int kTrianglesPerChunk = 32768;
+// them: 8192 cost about 35 us on a KITTI frame, so two workers finish
+// within one chunk of each other), and of the later rounds' walks over the
+// triangles still live.
+constexpr int kTrianglesPerChunk = 8192;
 constexpr int kLiveTrianglesPerChunk = 4096;
 
 
@@ -24,29 +29,27 @@ template <class T>
 LargeArray<T> untouched(std::size_t n) {
   return large_array<T>(n);
 }
-// The end of a round: writes each pending sample's candidate (cand_of(j, i)
-// for pending[j] = sample i, INT_MAX for none) after the whole scan, so a
-// round only sees the previous round's values; keeps the samples still
-// unfilled in pending[0, *count). Returns how many it filled. `confidence`
-// (optional) gets round `round`'s filled_confidence().
+// The end of a round for pending[j0, j1): writes each pending sample's
+// candidate (cand_of(j, i) for pending[j] = sample i, INT_MAX for none) after
+// the round's whole walk, so a round only sees the previous round's values;
+// keeps the samples still unfilled in pending[j0, j0 + kept) and returns
+// kept. `confidence` (optional) gets round `round`'s filled_confidence().
 template <class CandOf>
-int write_round(std::int32_t* pending, int* count, std::int16_t* disp_q4, std::uint8_t* confidence, int round,
-                CandOf cand_of) {
+int write_round(std::int32_t* pending, int j0, int j1, std::int16_t* disp_q4, std::uint8_t* confidence,
+                int round, CandOf cand_of) {
   const std::uint8_t c = filled_confidence(round);
-  int kept = 0, now = 0;
-  for (int j = 0; j < *count; ++j) {
+  int kept = j0;
+  for (int j = j0; j < j1; ++j) {
     const int i = pending[j];
     const int v = cand_of(j, i);
     if (v != INT_MAX) {
       disp_q4[i] = static_cast<std::int16_t>(v);
       if (confidence != nullptr) confidence[i] = c;
-      ++now;
     } else {
       pending[kept++] = i;
     }
   }
-  *count = kept;
-  return now;
+  return kept - j0;
 }
 
 }  // namespace
@@ -60,7 +63,38 @@ void SampleFill::configure(int max_samples, int max_triangles, int workers) {
   worker_candidate_.clear();
   for (int w = 1; w < workers; ++w) worker_candidate_.push_back(untouched<std::int32_t>(n));
   live_ = untouched<std::int32_t>(static_cast<std::size_t>(max_triangles));
-  chunk_live_.assign(static_cast<std::size_t>(max_triangles / kLiveTrianglesPerChunk + 1), 0);
+  chunk_live_.assign(static_cast<std::size_t>(max_triangles / std::min(kTrianglesPerChunk, kLiveTrianglesPerChunk) + 1), 0);
+  chunk_kept_.assign(static_cast<std::size_t>(max_samples / std::min(kScanPerChunk, kPendingPerChunk) + 1), 0);
+}
+
+template <class Body>
+int SampleFill::compacting(ThreadPool* pool, int n, int chunk, Body body) {
+  std::int32_t* out = pending_.get();
+  const int chunks = (n + chunk - 1) / chunk;
+  if (pool == nullptr || pool->size() < 2 || chunks < 2) {
+    const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+    const int kept = body(0, n);
+    if (trace_ != nullptr) trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), 0, n, chunk);
+    return kept;
+  }
+  chunks_.reset(0, chunks, 1);
+  pool->run([&](int w) {
+    int c0 = 0, c1 = 0;
+    while (chunks_.next(&c0, &c1)) {
+      const int j0 = c0 * chunk, j1 = std::min(n, j0 + chunk);
+      const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+      chunk_kept_[static_cast<std::size_t>(c0)] = body(j0, j1);
+      if (trace_ != nullptr) trace_->record(w, TraceKind::kFillChunk, t0, monotonic_ns(), j0, j1, chunk);
+    }
+  });
+  // What each chunk kept, joined up in order (the first chunk's is in place).
+  int kept = chunk_kept_[0];
+  for (int c = 1; c < chunks; ++c) {
+    const int k = chunk_kept_[static_cast<std::size_t>(c)];
+    std::memmove(out + kept, out + static_cast<std::ptrdiff_t>(c) * chunk, static_cast<std::size_t>(k) * sizeof(*out));
+    kept += k;
+  }
+  return kept;
 }
 
 int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool,
@@ -69,11 +103,14 @@ int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadP
   // Without a branch on the data: a quarter of the samples or so are
   // invalid, spread out, and the branch mispredicted at every other one.
   std::int32_t* pending_ids = pending_.get();
-  int pending = 0;
-  for (int i = 0; i < n; ++i) {
-    pending_ids[pending] = i;
-    pending += disp_q4[i] == kInvalidDispQ4 ? 1 : 0;
-  }
+  const int pending = compacting(pool, n, kScanPerChunk, [&](int i0, int i1) {
+    int k = i0;
+    for (int i = i0; i < i1; ++i) {
+      pending_ids[k] = i;
+      k += disp_q4[i] == kInvalidDispQ4 ? 1 : 0;
+    }
+    return k - i0;
+  });
   if (pending == 0) return 0;
   return samples.dense() ? fill_grid(samples, disp_q4, pool, pending, confidence)
                          : fill_mesh(samples, disp_q4, pool, pending, confidence);
@@ -118,8 +155,11 @@ int SampleFill::fill_grid(const SampleLayout& samples, std::int16_t* disp_q4, Th
       candidates(0, pending);
       trace_->record(0, TraceKind::kFillChunk, t0, monotonic_ns(), 0, pending, kPendingPerChunk);
     }
-    const int now = write_round(pending_.get(), &pending, disp_q4, confidence, round,
-                                [cand](int j, int) { return cand[j]; });
+    const int kept = compacting(pool, pending, kPendingPerChunk, [&](int j0, int j1) {
+      return write_round(pending_.get(), j0, j1, disp_q4, confidence, round, [cand](int j, int) { return cand[j]; });
+    });
+    const int now = pending - kept;
+    pending = kept;
     filled += now;
     if (now == 0 || pending == 0) break;
   }
@@ -228,7 +268,11 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
         for (int w = 1; w < workers; ++w) v = std::min(v, worker_candidate_[static_cast<std::size_t>(w - 1)][static_cast<std::size_t>(i)]);
       return v;
     };
-    const int now = write_round(pending_.get(), &pending, disp_q4, confidence, round, smallest_offer);
+    const int kept = compacting(pool, pending, kPendingPerChunk, [&](int j0, int j1) {
+      return write_round(pending_.get(), j0, j1, disp_q4, confidence, round, smallest_offer);
+    });
+    const int now = pending - kept;
+    pending = kept;
     filled += now;
     if (now == 0 || pending == 0) break;
     n_live = trace_ == nullptr ? walk_round(true, n_live, kLiveTrianglesPerChunk)

@@ -55,6 +55,11 @@ class SampleFill {
                 std::uint8_t* confidence);
   int fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, ThreadPool* pool, int pending,
                 std::uint8_t* confidence);
+  // Runs body(j0, j1) over [0, n) in chunks (on the pool's workers from two
+  // chunks up); each keeps ids in pending_[j0, j0 + kept) and returns kept;
+  // joins them up in order at pending_[0, total) and returns the total.
+  template <class Body>
+  int compacting(ThreadPool* pool, int n, int chunk, Body body);
   int max_samples_ = 0;
   int max_triangles_ = 0;
   WorkChunks chunks_;                   // a round's pending samples, handed out on demand
@@ -63,6 +68,7 @@ class SampleFill {
                                         // mesh: by sample id)
   LargeArray<std::int32_t> live_;       // mesh: triangles with an invalid corner
   std::vector<std::int32_t> chunk_live_;  // mesh, with a pool: how many each chunk of a round's walk kept
+  std::vector<std::int32_t> chunk_kept_;  // with a pool: how many pending ids each chunk of a scan or round end kept
   std::vector<LargeArray<std::int32_t>> worker_candidate_;  // mesh, with a pool: workers 1.. offer here
 };
 
