@@ -117,7 +117,7 @@ def subpixel_section(runs, all_scenes, w):
     cols = ["scene"]
     for label in labels:
         cols += ["%s %s" % (label, l) for l in runs]
-    cols += ["invalid % %s" % l for l in runs]
+    cols += ["invalid %% %s" % l for l in runs]
     w("| " + " | ".join(cols) + " |")
     w("|---|" + "--:|" * (len(cols) - 1))
     for set_name, set_label, _ in datasets.SETS:
