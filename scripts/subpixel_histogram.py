@@ -16,6 +16,7 @@ of a whole disparity: 18.75 % when even).
 """
 import argparse
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -88,12 +89,15 @@ def main(argv):
     sets = [s for s in a.sets.split(",") if s] or None
     tmp = tempfile.mkdtemp(prefix="tristereo-subpixel-")
     pooled = {}
-    for scene in datasets.scenes(a.data, sets):
-        h, g = measure(a.tristereo, scene, extra, tmp)
-        ph, pg = pooled.setdefault(scene.set, (np.zeros(16, np.int64), np.zeros(16, np.int64)))
-        ph += h
-        if g is not None:
-            pg += g
+    try:
+        for scene in datasets.scenes(a.data, sets):
+            h, g = measure(a.tristereo, scene, extra, tmp)
+            ph, pg = pooled.setdefault(scene.set, (np.zeros(16, np.int64), np.zeros(16, np.int64)))
+            ph += h
+            if g is not None:
+                pg += g
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     print("tristereo match %s --fill none: measured samples' fraction d - floor(d), %% per 1/16 px bin"
           % (" ".join(extra) or "(defaults)"))
     print("%-16s %-6s %7s %7s  %s" % ("set", "what", "bin 0", "+-1/16", " ".join("%5d" % b for b in range(16))))
