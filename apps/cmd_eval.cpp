@@ -27,6 +27,8 @@ const char* kEvalHelp = R"(usage: tristereo eval DISP GT [--gt-scale S] [--disp-
 Scores the disparity map DISP against the ground truth GT: the percentage of pixels
 with known ground truth whose error exceeds 0.5, 1, 2 and 3 px, and KITTI's D1 (error
 > 3 px and > 5 % of the ground truth); a pixel without a disparity counts as bad.
+Also the end-point error (epe: the mean |d - gt| in px) and the RMS error of the
+pixels that have a disparity, with the count of those that have none beside them.
 
   --gt-format F, --disp-format F   how the file encodes disparities:
         auto   (default) from the file: PFM; 8-bit PNG = png8; 16-bit PNG = kitti
@@ -166,8 +168,8 @@ void read_samples(const std::string& path, std::vector<Vertex>& pts, std::vector
 
 void print_stats(const char* label, const BadPixelStats& s) {
   std::printf("%-8s bad>0.5: %6.2f%%  bad>1: %6.2f%%  bad>2: %6.2f%%  bad>3: %6.2f%%  D1: %6.2f%%  "
-              "rms: %.3f px  (%lld px, %lld invalid)\n",
-              label, s.bad_0_5, s.bad_1, s.bad_2, s.bad_3, s.d1, s.rms,
+              "epe: %.3f px  rms: %.3f px  (%lld px, %lld invalid)\n",
+              label, s.bad_0_5, s.bad_1, s.bad_2, s.bad_3, s.d1, s.epe, s.rms,
               static_cast<long long>(s.evaluated), static_cast<long long>(s.invalid));
 }
 
@@ -175,8 +177,8 @@ std::string stats_json(const BadPixelStats& s) {
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "{\"bad_0_5\": %.4f, \"bad_1\": %.4f, \"bad_2\": %.4f, \"bad_3\": %.4f, \"d1\": %.4f, "
-                "\"rms\": %.4f, \"evaluated\": %lld, \"invalid\": %lld}",
-                s.bad_0_5, s.bad_1, s.bad_2, s.bad_3, s.d1, s.rms,
+                "\"epe\": %.4f, \"rms\": %.4f, \"evaluated\": %lld, \"invalid\": %lld}",
+                s.bad_0_5, s.bad_1, s.bad_2, s.bad_3, s.d1, s.epe, s.rms,
                 static_cast<long long>(s.evaluated), static_cast<long long>(s.invalid));
   return buf;
 }

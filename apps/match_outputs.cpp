@@ -222,7 +222,7 @@ std::string stats_json_text(const MatchRun& run) {
                 "  \"forced_splits\": %lld,\n  \"criterion_splits\": %lld,\n"
                 "  \"params\": {\"psnr_db\": %.1f, \"max_area_px2\": %d, \"min_area_px2\": %d, \"window\": \"%dx%d\", "
                 "\"weights\": \"%s\", \"truncation\": %d, \"lambda_q4\": %d, \"gap\": \"%s\", "
-                "\"subpixel\": %s, \"cost\": \"%s\", \"census\": \"%dx%d\", \"optimizer\": \"%s\", "
+                "\"subpixel\": %s, \"subpixel_fit\": \"%s\", \"cost\": \"%s\", \"census\": \"%dx%d\", \"optimizer\": \"%s\", "
                 "\"paths\": %d, \"p1_q4\": %d, \"p2_q4\": %d, \"p2_edge\": %d, \"lr_max_diff_q4\": %d, "
                 "\"lr_source\": \"%s\", \"uniqueness_pct\": %d, \"fill\": \"%s\"},\n"
                 "  \"validity\": {\"samples\": %d, \"uniqueness_rejected\": %d, \"lr_rejected\": %d, "
@@ -239,7 +239,8 @@ std::string stats_json_text(const MatchRun& run) {
                 static_cast<long long>(o.mesh.criterion_splits), p.tritree.psnr_deci_db / 10.0,
                 p.tritree.max_area_px2, p.tritree.min_area_px2, p.cost.window_w, p.cost.window_h, to_string(p.cost.weights),
                 p.cost.truncation, p.dp.lambda_q4, to_string(p.dp.gap),
-                p.dp.subpixel ? "true" : "false", to_string(p.cost.kind), p.cost.census_w,
+                p.dp.subpixel ? "true" : "false", to_string(p.dp.subpixel_fit), to_string(p.cost.kind),
+                p.cost.census_w,
                 p.cost.census_h, to_string(p.optimizer), p.paths.directions, p.paths.p1_q4,
                 p.paths.p2_q4, p.paths.p2_edge_scale, p.validity.lr_max_diff_q4, to_string(p.validity.lr_source),
                 p.validity.uniqueness_pct, to_string(p.validity.fill), o.validity.samples,

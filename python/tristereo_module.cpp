@@ -229,9 +229,18 @@ py::list options_list() {
       }
     }
     d["choices"] = choices;
-    d["needs"] = o.needs_option ? py::object(py::make_tuple(find_model_option(o.needs_option)->keyword,
-                                                            o.needs_values))
-                                : py::object(py::none());
+    // (keyword, values): the values as the command line spells them ("dp",
+    // "ad|ad_census", "!-1"); for a flag the bool its keyword must have.
+    py::object needs = py::none();
+    if (o.needs_option) {
+      const ModelOption& need = *find_model_option(o.needs_option);
+      if (need.kind == ModelOptionKind::kFlag)
+        needs = py::make_tuple(need.keyword, py::bool_((std::string(o.needs_values) == "1") !=
+                                                       (std::string(need.name).rfind("no-", 0) == 0)));
+      else
+        needs = py::make_tuple(need.keyword, o.needs_values);
+    }
+    d["needs"] = needs;
     d["help"] = o.help;
     out.append(d);
   }

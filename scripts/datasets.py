@@ -11,7 +11,9 @@ all.png).
 Metrics, as the data README scores the peers (invalid = bad, only pixels with
 known ground truth): v2 bad > 1 px on nonocc and on all (the v2 masks);
 Middlebury 2014 and ETH3D bad > 2 px on every known-GT pixel; KITTI D1 (error
-> 3 px and > 5 % of gt) on every known-GT pixel.
+> 3 px and > 5 % of gt) on every known-GT pixel. On every set also the
+sub-pixel accuracy (SUBPIXEL_METRICS): bad > 0.5 px, bad > 1 px and the
+end-point error on every known-GT pixel.
 
 Usage as a program: scripts/datasets.py [--data DIR] prints the list.
 """
@@ -35,6 +37,14 @@ SETS = [
     ("kitti2015", "KITTI 2015", [("D1", "d1", "all")]),
     ("eth3d", "ETH3D", [("bad 2 px", "bad_2", "all")]),
 ]
+
+# Sub-pixel accuracy, the same on every set: bad > 0.5 px and > 1 px (invalid
+# = bad, as above) and the end-point error (the mean |d - gt| of the pixels
+# that have a disparity, with the invalid share beside it), on every known-GT
+# pixel: v2's all.png mask, every known pixel of the other sets. Each entry is
+# (column label, `tristereo eval --json` key).
+SUBPIXEL_METRICS = [("bad 0.5 px", "bad_0_5"), ("bad 1 px", "bad_1"), ("EPE px", "epe")]
+SUBPIXEL_REGION = {"middlebury": "all_mask"}  # the region of the other sets: "all"
 
 # The v2 peers: only set means exist, measured and given in issue #14's text
 # ("Depth that holds ...": OpenCV StereoSGBM 3-way blockSize 5 and libelas on
@@ -67,6 +77,11 @@ class Scene:
         self.nonocc = nonocc        # mask file (255 = non-occluded) or None
         self.all_mask = all_mask    # v2 all.png or None
         self.metrics = metrics      # [(label, json key, region)]
+
+    @property
+    def subpixel_region(self):
+        """The region SUBPIXEL_METRICS are scored on (one of self.metrics' regions)."""
+        return SUBPIXEL_REGION.get(self.set, "all")
 
     @property
     def id(self):

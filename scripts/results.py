@@ -102,6 +102,40 @@ def every_set_section(exe, data, w):
                         l, m_label, len(worse), len(set_scenes),
                         (" (" + ", ".join(x.split("/")[1] for x in worse) + ")") if worse else ""))
         w("")
+    subpixel_section(runs, all_scenes, w)
+
+
+def subpixel_section(runs, all_scenes, w):
+    """Bad 0.5 px, bad 1 px and the end-point error of every scene and set, per mode."""
+    labels = [m[0] for m in datasets.SUBPIXEL_METRICS]
+    w("### Sub-pixel accuracy, every set\n")
+    w("Every known-GT pixel of every scene (Middlebury v2: its all.png mask): bad > 0.5 px and > 1 px "
+      "(invalid = bad, as above) and the end-point error (EPE: the mean |d - gt| in px of the pixels "
+      "that have a disparity; *invalid* is the share of known-GT pixels without one, which the EPE "
+      "leaves out). ../shared/data/README.md gives no peer numbers for these. Set rows: the mean of "
+      "the set's scenes.\n")
+    cols = ["scene"]
+    for label in labels:
+        cols += ["%s %s" % (label, l) for l in runs]
+    cols += ["invalid %% %s" % l for l in runs]
+    w("| " + " | ".join(cols) + " |")
+    w("|---|" + "--:|" * (len(cols) - 1))
+    for set_name, set_label, _ in datasets.SETS:
+        ids = [s.id for s in all_scenes if s.set == set_name]
+        for sid in ids + [None]:
+            if sid is None:
+                vals = {l: runs[l][2][set_name]["subpixel"] for l in runs}
+                row = ["**%s**" % set_label]
+            else:
+                vals = {l: runs[l][1][sid]["subpixel"] for l in runs}
+                row = [sid]
+            for label in labels + ["invalid %"]:
+                for l in runs:
+                    v = vals[l][label]
+                    cell = "%.2f" % v if label.startswith("EPE") else "%.1f" % v
+                    row.append("**%s**" % cell if sid is None else cell)
+            w("| " + " | ".join(row) + " |")
+    w("")
 
 
 def confidence_section(exe, data, w):

@@ -9,8 +9,9 @@ For each scene (scripts/datasets.py): `tristereo match LEFT RIGHT --ndisp N
 <extra> --disp D.pfm --stats S.json` (with --threads 1 unless the extra options
 say otherwise, so --jobs pairs run side by side), then `tristereo eval` by the
 set's metric (data README: invalid = bad, every known-GT pixel; v2 on its
-masks). Prints one table per set (per-scene metric, ms per frame, the peers)
-and a summary: one line per set, our mean against SGBM's and libelas's, and how
+masks). Prints one table per set (per-scene metric, ms per frame, the peers),
+its sub-pixel accuracy on every known-GT pixel (bad 0.5 px, bad 1 px, the
+end-point error and the invalid share the EPE leaves out) and a summary: one line per set, our mean against SGBM's and libelas's, and how
 many scenes are worse than SGBM. --baseline OLD.json (an earlier --json) adds
 the change per scene and the earlier set means. Exit 1 when a match or an eval fails (the
 command and its message are printed), 2 for usage errors.
@@ -60,14 +61,22 @@ def score_scene(exe, scene, extra, workdir):
            "ms": st["ms"]["total"], "vertices": st.get("vertices"),
            "sample_fraction": st.get("sample_fraction"), "metrics": {}, "eval": {},
            "warnings": match_warnings, "disp": disp}
-    for label, key, region in scene.metrics:
+    regions = [m[2] for m in scene.metrics]
+    if scene.subpixel_region not in regions:
+        regions.append(scene.subpixel_region)
+    for region in regions:
         out = os.path.join(workdir, "%s_%s_eval.json" % (tag, region))
         r = run([exe, "eval", disp, scene.gt] + scene.eval_args(region) + ["--json", out])
         res["warnings"] += [l for l in r.stderr.splitlines() if l.strip()]
         with open(out) as f:
-            ev = json.load(f)
-        res["metrics"][label] = ev["dense"][key]
-        res["eval"][region] = ev["dense"]
+            res["eval"][region] = json.load(f)["dense"]
+    for label, key, region in scene.metrics:
+        res["metrics"][label] = res["eval"][region][key]
+    # Sub-pixel accuracy on every known-GT pixel (datasets.SUBPIXEL_METRICS) and
+    # the invalid share beside the end-point error, which leaves those pixels out.
+    ev = res["eval"][scene.subpixel_region]
+    res["subpixel"] = {label: ev[key] for label, key in datasets.SUBPIXEL_METRICS}
+    res["subpixel"]["invalid %"] = 100.0 * ev["invalid"] / max(1, ev["evaluated"])
     return res
 
 
@@ -122,9 +131,14 @@ def summarise(scenes, results, peers):
                 m["worse_than_SGBM"] = [i for i in ids if results[i]["metrics"][m_label] > peers[i]["SGBM"]]
                 m["peer_source"] = "../shared/data/README.md"
             entry["metrics"][m_label] = m
+        entry["subpixel"] = {label: statistics.mean(results[i]["subpixel"][label] for i in ids)
+                             for label in SUBPIXEL_LABELS}
         entry["ms_mean"] = statistics.mean(results[i]["ms"] for i in ids)
         out[set_name] = entry
     return out
+
+
+SUBPIXEL_LABELS = [m[0] for m in datasets.SUBPIXEL_METRICS] + ["invalid %"]
 
 
 def fmt(v):
@@ -133,6 +147,19 @@ def fmt(v):
 
 def delta(ours, base):
     return "%+.1f" % (ours - base) if isinstance(base, (int, float)) else "-"
+
+
+def fmt_subpixel(label, v):
+    """EPE in px with two decimals (0.1 px is a large change), rates in % with one."""
+    if not isinstance(v, (int, float)):
+        return "-"
+    return "%.2f" % v if label.startswith("EPE") else "%.1f" % v
+
+
+def delta_subpixel(label, ours, base):
+    if not isinstance(base, (int, float)):
+        return "-"
+    return "%+.2f" % (ours - base) if label.startswith("EPE") else "%+.1f" % (ours - base)
 
 
 def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.stdout):
@@ -196,6 +223,26 @@ def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.
             for l in labels:
                 m = entry["metrics"][l]
                 w("  peers, %s (means, %s): SGBM %.1f, libelas %.1f" % (l, m["peer_source"], m["SGBM"], m["libelas"]))
+        # Sub-pixel accuracy: every known-GT pixel (v2: all.png); no peer numbers exist for these.
+        w("sub-pixel, every known-GT pixel (EPE: mean |d - gt| in px of the pixels with a disparity; "
+          "invalid: their share, bad at every threshold):")
+        head = "%-12s" % "scene"
+        for l in SUBPIXEL_LABELS:
+            head += "%12s" % l + ("%8s" % "change" if baseline is not None else "")
+        w(head)
+        for s in set_scenes + [None]:
+            vals = results[s.id]["subpixel"] if s else entry["subpixel"]
+            if s:
+                old = base_scenes.get(s.id, {}).get("subpixel", {})
+            else:
+                old_sets = (baseline or {}).get("sets", {}).get(set_name, {})
+                old = old_sets.get("subpixel", {}) if old_sets.get("scenes") == entry["scenes"] else {}
+            line = "%-12s" % (s.name if s else "mean")
+            for l in SUBPIXEL_LABELS:
+                line += "%12s" % fmt_subpixel(l, vals[l])
+                if baseline is not None:
+                    line += "%8s" % delta_subpixel(l, vals[l], old.get(l))
+            w(line)
     warned = [(i, r["warnings"]) for i, r in sorted(results.items()) if r["warnings"]]
     if warned:
         w()
@@ -218,6 +265,14 @@ def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.
             was = " (was %.1f)" % old if old is not None and base_sets[set_name]["scenes"] == entry["scenes"] else ""
             w("  %-15s %-16s ours %5.1f%s  SGBM %5.1f  libelas %5.1f  %s" % (
                 set_name, m_label, m["ours"], was, m["SGBM"], m["libelas"], verdict))
+    w("sub-pixel (set means, every known-GT pixel; no peer numbers in ../shared/data/README.md):")
+    for set_name, entry in summary.items():
+        old_set = base_sets.get(set_name, {})
+        old = old_set.get("subpixel", {}) if old_set.get("scenes") == entry["scenes"] else {}
+        w("  %-15s %s" % (set_name, "  ".join(
+            "%s %s%s" % (l, fmt_subpixel(l, entry["subpixel"][l]),
+                         " (was %s)" % fmt_subpixel(l, old[l]) if l in old else "")
+            for l in SUBPIXEL_LABELS)))
 
 
 def main(argv):

@@ -11,8 +11,11 @@
 #include <string>
 
 #include "support/data.hpp"
+#include "tristereo/eval.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/io.hpp"
+#include "tristereo/mesh.hpp"
+#include "tristereo/params.hpp"
 #include "tristereo/pipeline.hpp"
 
 namespace tristereo {
@@ -90,6 +93,85 @@ TEST(DataAccuracy, DefaultsOnEverySceneOfEverySet) {
   EXPECT_LE(std::fabs(score["motorcyclee"] - score["motorcycle"]), 5.0);
   EXPECT_LE(std::fabs(score["pianol"] - score["piano"]), 5.0);
   EXPECT_LE(std::fabs(score["pianol"] - score["piano"]), kMeasured.at("pianol_gap"));
+}
+
+StereoOutput run_scene(const test::DataScene& s, const StereoParams& params) {
+  PipelineConfig c;
+  c.max_width = s.left.width;
+  c.max_height = s.left.height;
+  c.params = params;
+  c.params.num_disp = s.ndisp;
+  c.threads = 2;
+  c.pin_threads = false;
+  Pipeline p;
+  p.configure(c);
+  return p.process(s.left.view(), s.right.view());
+}
+
+// Sub-pixel accuracy on KITTI 2015 (issue #40): bad > 1 px and the end-point
+// error on every known-GT pixel, measured with scripts/score_all.py. The
+// default fit (parabola) against whole disparities (--no-subpixel: 26.54 and
+// 32.11 % bad 1 px, EPE 1.440 and 1.574 px) and against the equiangular fit,
+// which scores the same on KITTI within 0.1 points: most errors above 0.5 px
+// there are whole-pixel errors of the winners (at the measured samples of
+// 000000, half the winners are not the whole disparity nearest the ground
+// truth), which no fit through three costs corrects (scripts/tune.py's notes).
+TEST(DataAccuracy, SubpixelOnKittiBothFrames) {
+  TRISTEREO_REQUIRE_DATA("kitti2015");
+  struct Measured {
+    double bad1_parabola, epe_parabola, bad1_equiangular, bad1_off;
+  };
+  const std::map<std::string, Measured> measured = {{"000000", {24.72, 1.412, 24.79, 26.54}},
+                                                    {"000001", {30.45, 1.553, 30.47, 32.11}}};
+  for (const test::DataScene& s : test::load_data_set("kitti2015")) {
+    ASSERT_TRUE(measured.count(s.name)) << s.name;
+    const Measured& m = measured.at(s.name);
+    auto score = [&](const StereoParams& p) {
+      const Image<float> d = disp_q4_to_float(run_scene(s, p).disp_q4.view());
+      return evaluate_disparity(d.view(), s.gt.view(), {});
+    };
+    StereoParams off;
+    off.dp.subpixel = false;
+    StereoParams equiangular;
+    equiangular.dp.subpixel_fit = SubpixelFit::kEquiangular;
+    const BadPixelStats with = score(StereoParams{}), without = score(off), eq = score(equiangular);
+    EXPECT_LE(with.bad_1, m.bad1_parabola + 0.3) << s.name;
+    EXPECT_LE(with.epe, m.epe_parabola + 0.02) << s.name;
+    // The sub-pixel estimate buys 1.66 to 1.82 points of bad 1 px on both frames.
+    EXPECT_LE(with.bad_1, without.bad_1 - 1.2) << s.name;
+    EXPECT_LT(with.epe, without.epe) << s.name;
+    EXPECT_LE(eq.bad_1, m.bad1_equiangular + 0.3) << s.name;
+    EXPECT_LE(eq.bad_1, without.bad_1 - 1.2) << s.name;
+  }
+}
+
+// Pixel locking (docs/model.md section 3): the parabola through summed census
+// costs pulls the measured samples' disparities towards whole pixels; the
+// equiangular fit does not. Share of the measured samples at a whole disparity
+// (disp_q4 % 16 == 0), measured with scripts/subpixel_histogram.py: parabola
+// 12.4 / 13.7 %, equiangular 6.6 / 7.1 % (adirondack / motorcycle); the float
+// ground truth of Middlebury 2014 has 6.5 % there (1/16 of them).
+TEST(DataAccuracy, EquiangularFitDoesNotLockToWholePixels) {
+  TRISTEREO_REQUIRE_DATA("middlebury2014");
+  for (const test::DataScene& s : test::load_data_set("middlebury2014")) {
+    if (s.name != "adirondack" && s.name != "motorcycle") continue;
+    auto whole_share = [&](SubpixelFit fit) {
+      StereoParams p;
+      p.dp.subpixel_fit = fit;
+      const StereoOutput out = run_scene(s, p);
+      long measured = 0, whole = 0;
+      for (std::size_t i = 0; i < out.vertex_disp_q4.size(); ++i) {
+        if (out.vertex_state[i] != static_cast<std::uint8_t>(SampleState::kMeasured)) continue;
+        ++measured;
+        whole += (out.vertex_disp_q4[i] & (kDispOne - 1)) == 0;
+      }
+      return measured > 0 ? 100.0 * static_cast<double>(whole) / static_cast<double>(measured) : 100.0;
+    };
+    const double parabola = whole_share(SubpixelFit::kParabola);
+    const double equiangular = whole_share(SubpixelFit::kEquiangular);
+    EXPECT_GE(parabola, 11.0) << s.name;
+    EXPECT_LE(equiangular, 7.6) << s.name;
+  }
 }
 
 // The paper's model (--mode paper), the baseline of every comparison, as

@@ -297,6 +297,75 @@ TEST(Subpixel, IntegerRuleEqualsReferenceAndExactRational) {
   }
 }
 
+TEST(Subpixel, EquiangularHandValues) {
+  // m = max(cm, cp) - c0; off = clamp(floor((16 (cm - cp) + m) / (2 m)), -8, 8).
+  EXPECT_EQ(equiangular_offset_q4(10, 0, 10), 0);    // symmetric
+  EXPECT_EQ(equiangular_offset_q4(30, 10, 20), 4);   // m 20: 160 / 40 = 4 (the parabola: 3)
+  EXPECT_EQ(subpixel_offset_q4(30, 10, 20), 3);
+  EXPECT_EQ(equiangular_offset_q4(20, 10, 30), -4);
+  EXPECT_EQ(equiangular_offset_q4(20, 0, 10), 4);    // m 20: 160 / 40 = 4 exactly
+  EXPECT_EQ(equiangular_offset_q4(16, 0, 13), 2);    // m 16: 48 / 32 = 1.5 -> 2 (half up)
+  EXPECT_EQ(equiangular_offset_q4(13, 0, 16), -1);   // -1.5 -> -1
+  EXPECT_EQ(equiangular_offset_q4(33, 1, 30), 1);    // m 32: 48 / 64 = 0.75 -> 1
+  EXPECT_EQ(equiangular_offset_q4(30, 1, 33), -1);   // -0.75 -> -1
+  EXPECT_EQ(equiangular_offset_q4(12, 0, 1), 7);     // m 12: 176 / 24 = 7.33 -> 7
+  EXPECT_EQ(equiangular_offset_q4(1, 0, 0), 8);      // m 1: 16 / 2 = 8
+  EXPECT_EQ(equiangular_offset_q4(10, 5, 0), 8);     // c0 above cp: 160 / 10 = 16 -> clamp 8
+  EXPECT_EQ(equiangular_offset_q4(0, 5, 10), -8);    // clamp
+  EXPECT_EQ(equiangular_offset_q4(0, 5, 0), 0);      // m < 0: c0 above both
+  EXPECT_EQ(equiangular_offset_q4(5, 5, 5), 0);      // m = 0: flat
+  EXPECT_EQ(equiangular_offset_q4(3, 7, 7), 0);      // m = 0
+  // The largest summed path costs (section 3b): 16 * 65534 fits int32.
+  EXPECT_EQ(equiangular_offset_q4(65534, 0, 0), 8);
+  EXPECT_EQ(equiangular_offset_q4(65534, 0, 65533), 0);  // 16 / (2 * 65534) -> 0
+  EXPECT_EQ(equiangular_offset_q4(65534, 65533, 65534), 0);
+  // The dispatch by the model's option.
+  EXPECT_EQ(subpixel_offset_q4(SubpixelFit::kEquiangular, 30, 10, 20), 4);
+  EXPECT_EQ(subpixel_offset_q4(SubpixelFit::kParabola, 30, 10, 20), 3);
+}
+
+// A V-shaped cost (linear on both sides of a vertex at t px) gives its vertex
+// back to the nearest 1/16 px with the equiangular fit; the parabola pulls it
+// towards the integer disparity (pixel locking).
+TEST(Subpixel, EquiangularRecoversTheVertexOfAV) {
+  for (int t16 = -8; t16 <= 8; ++t16) {
+    const int slope = 64;  // C(k + j) = slope |16 j - t16|: a V with its vertex at t16 / 16 px
+    auto c = [&](int j) { return slope * std::abs(16 * j - t16); };
+    EXPECT_EQ(equiangular_offset_q4(c(-1), c(0), c(1)), t16) << t16;
+    const int para = subpixel_offset_q4(c(-1), c(0), c(1));
+    EXPECT_LE(std::abs(para), std::abs(t16)) << t16;
+    if (std::abs(t16) >= 2 && std::abs(t16) <= 6) EXPECT_LT(std::abs(para), std::abs(t16)) << t16;
+  }
+}
+
+TEST(Subpixel, EquiangularIntegerRuleEqualsReferenceAndExactRational) {
+  auto exact = [](int cm, int c0, int cp) {
+    const int m = std::max(cm, cp) - c0;
+    if (m <= 0) return 0;
+    // Largest q with 2 m q <= 16 (cm - cp) + m; only -9..9 matter after the clamp.
+    const long num = 16L * (cm - cp) + m;
+    long q = -9;
+    while (q < 9 && 2L * m * (q + 1) <= num) ++q;
+    return static_cast<int>(std::clamp<long>(q, -8, 8));
+  };
+  for (int cm = 0; cm <= 64; ++cm)
+    for (int c0 = 0; c0 <= 64; c0 += 3)
+      for (int cp = 0; cp <= 64; ++cp) {
+        const int want = exact(cm, c0, cp);
+        ASSERT_EQ(equiangular_offset_q4(cm, c0, cp), want) << cm << " " << c0 << " " << cp;
+        ASSERT_EQ(reference::equiangular_offset_q4(cm, c0, cp), want) << cm << " " << c0 << " " << cp;
+      }
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> v(0, 65534);
+  for (int t = 0; t < 20000; ++t) {
+    const int cm = v(rng), c0 = v(rng) / (1 + t % 8), cp = v(rng);
+    const int want = exact(cm, c0, cp);
+    ASSERT_EQ(equiangular_offset_q4(cm, c0, cp), want) << cm << " " << c0 << " " << cp;
+    ASSERT_EQ(reference::equiangular_offset_q4(cm, c0, cp), want) << cm << " " << c0 << " " << cp;
+    ASSERT_EQ(subpixel_offset_q4(cm, c0, cp), reference::subpixel_offset_q4(cm, c0, cp));
+  }
+}
+
 // ---------------------------------------------------------------- synthetic plane
 
 // Left: random texture; right(x) = left(x + d) (so left x matches right x - d).

@@ -62,6 +62,8 @@ TEST(Eval, HandBuiltKnownAnswer) {
   EXPECT_DOUBLE_EQ(s.bad_2, 100.0 / 6.0);   // invalid (2 is not > 2)
   const double e06 = static_cast<double>(2.6f) - 2.0;
   EXPECT_DOUBLE_EQ(s.rms, std::sqrt((e06 * e06 + 4.0 + 0.25 + 0.0625) / 5.0));
+  // End-point error: the mean |d - gt| of the five pixels with a disparity.
+  EXPECT_DOUBLE_EQ(s.epe, (e06 + 2.0 + 0.5 + 0.25) / 5.0);
 }
 
 TEST(Eval, MaskSelectsPixelsAndNaNIsInvalid) {
@@ -82,6 +84,7 @@ TEST(Eval, MaskSelectsPixelsAndNaNIsInvalid) {
   EXPECT_EQ(z.evaluated, 0);
   EXPECT_EQ(z.bad_1, 0.0);
   EXPECT_EQ(z.rms, 0.0);
+  EXPECT_EQ(z.epe, 0.0);
 }
 
 TEST(Eval, AtPointsUsesQ4AndInvalid) {
@@ -95,6 +98,7 @@ TEST(Eval, AtPointsUsesQ4AndInvalid) {
   EXPECT_DOUBLE_EQ(s.bad_0_5, 50.0);
   EXPECT_DOUBLE_EQ(s.bad_1, 25.0);
   EXPECT_DOUBLE_EQ(s.rms, std::sqrt((0.6875 * 0.6875 + 0.0625 * 0.0625) / 3.0));
+  EXPECT_DOUBLE_EQ(s.epe, (0.6875 + 0.0625) / 3.0);
   EXPECT_EQ(code_of([&] { evaluate_at_points(cview(f.gt), {{4, 0}}, {16}, {}); }),
             ErrorCode::kInvalidArgument);
   EXPECT_EQ(code_of([&] { evaluate_at_points(cview(f.gt), pts, {16}, {}); }),

@@ -50,7 +50,8 @@ std::string describe(const StereoParams& p) {
   s << "d_min " << p.d_min << " D " << p.num_disp << " win " << p.cost.window_w << "x"
     << p.cost.window_h << " " << to_string(p.cost.weights) << " T " << p.cost.truncation
     << " gc " << p.cost.asw_gamma_color << " gp " << p.cost.asw_gamma_proximity << " lambda "
-    << p.dp.lambda_q4 << " " << to_string(p.dp.gap) << " sub " << p.dp.subpixel;
+    << p.dp.lambda_q4 << " " << to_string(p.dp.gap) << " sub " << p.dp.subpixel << " "
+    << to_string(p.dp.subpixel_fit);
   return s.str();
 }
 
@@ -124,6 +125,7 @@ TEST_P(MatchReference, MiddleburyRowsAreBitExact) {
     random.cost.asw_gamma_proximity = std::uniform_int_distribution<int>(1, 300)(rng);
     random.dp.lambda_q4 = std::uniform_int_distribution<int>(0, 32000)(rng);
     random.dp.gap = GapPolicy::kInvSquare;
+    random.dp.subpixel_fit = SubpixelFit::kEquiangular;
     StereoParams random_box = random;
     random_box.cost.weights = Weights::kBox;
     random_box.dp.gap = GapPolicy::kConstant;
@@ -165,6 +167,7 @@ TEST_P(MatchReference, RandomImagesAndParametersAreBitExact) {
     const GapPolicy gaps[3] = {GapPolicy::kInvSquare, GapPolicy::kInverse, GapPolicy::kConstant};
     p.dp.gap = gaps[uni(0, 2)];
     p.dp.subpixel = uni(0, 1) == 1;
+    p.dp.subpixel_fit = uni(0, 1) == 1 ? SubpixelFit::kEquiangular : SubpixelFit::kParabola;
     if (trial % 3 != 0) {  // the census costs (box-aggregated)
       p.cost.kind = trial % 3 == 1 ? CostKind::kCensus : CostKind::kAdCensus;
       p.cost.weights = Weights::kBox;

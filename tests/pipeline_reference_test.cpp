@@ -123,7 +123,7 @@ TEST(RandomBitExact, ThousandImagesAndParameterSets) {
                         << " win=" << p.cost.window_w << "x" << p.cost.window_h
                         << " weights=" << to_string(p.cost.weights) << " tc=" << p.cost.truncation
                         << " lambda=" << p.dp.lambda_q4 << " gap=" << to_string(p.dp.gap)
-                        << " subpixel=" << p.dp.subpixel;
+                        << " subpixel=" << p.dp.subpixel << " " << to_string(p.dp.subpixel_fit);
     ++cases;
   }
   EXPECT_EQ(cases, 1000);

@@ -25,6 +25,9 @@ struct BadPixelStats {
   std::int64_t evaluated = 0;  // pixels with known ground truth inside the mask
   std::int64_t invalid = 0;    // evaluated pixels without a disparity (counted as bad)
   double rms = 0;              // RMS error (px) over evaluated pixels that have a disparity
+  // End-point error: the mean |d - gt| (px) over the evaluated pixels that
+  // have a disparity (invalid ones are not in it: `invalid` says how many).
+  double epe = 0;
 };
 
 // disp: pixels, +inf or NaN = no disparity. gt: pixels, 0 or non-finite =

@@ -46,6 +46,10 @@ enum class FillMode { kNone, kBackground };
 enum class LrSource { kSummedCosts, kMirroredPass };
 // Gap policy tau(g) of the smoothness term P(g) = round(lambda * tau(g)).
 enum class GapPolicy { kInvSquare, kInverse, kConstant };
+// The curve fitted through a sample's costs at k-1, k, k+1 for its sub-pixel
+// offset (docs/model.md section 3): a parabola, or the symmetric V of the
+// equiangular fit (lines of opposite slopes through the three costs).
+enum class SubpixelFit { kParabola, kEquiangular };
 
 // The largest TritreeParams::min_area_px2 allowed with this max_area_px2: half
 // the largest power of two <= max_area_px2 (at least 1), so that a triangle
@@ -81,7 +85,8 @@ struct CostParams {
 struct DpParams {
   int lambda_q4 = 40;               // smoothness weight, in Q4 cost units
   GapPolicy gap = GapPolicy::kConstant;  // measured best, see docs/tuning.md
-  bool subpixel = true;             // parabola refinement to Q4
+  bool subpixel = true;             // sub-pixel refinement to Q4 (both optimizers)
+  SubpixelFit subpixel_fit = SubpixelFit::kParabola;  // its curve, when subpixel
 };
 
 // Path aggregation on the samples (docs/model.md section 3b): P1 for a
@@ -149,5 +154,7 @@ TRISTEREO_API Optimizer parse_optimizer(const std::string& s);  // "dp" | "paths
 TRISTEREO_API FillMode parse_fill_mode(const std::string& s);   // "none" | "background"
 TRISTEREO_API const char* to_string(LrSource s);
 TRISTEREO_API LrSource parse_lr_source(const std::string& s);   // "costs" | "mirror"
+TRISTEREO_API const char* to_string(SubpixelFit f);
+TRISTEREO_API SubpixelFit parse_subpixel_fit(const std::string& s);  // "parabola" | "equiangular"
 
 }  // namespace tristereo

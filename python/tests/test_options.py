@@ -144,7 +144,9 @@ def test_python_and_cli_accept_and_refuse_the_same_values(keyword):
 
 
 def other_value(needed, values):
-    """A value of option `needed` outside `values` ("dp", "ad|ad_census", "!-1")."""
+    """A value of option `needed` outside `values` ("dp", "ad|ad_census", "!-1"; a flag's bool)."""
+    if isinstance(values, bool):
+        return not values
     if values.startswith("!"):
         return int(values[1:])
     return next(c for c in OPTIONS[needed]["choices"] if str(c) not in values.split("|"))
@@ -159,8 +161,11 @@ def test_keywords_of_another_model_are_refused(keyword):
     with pytest.raises(ValueError, match=rf"^{keyword} has no effect with {needed}=.*: it is used only with {needed}"):
         tristereo.Pipeline(64, 48, ndisp=16, **{needed: wrong, keyword: value})
     # With the model it belongs to, the same keyword is taken.
-    right = values.split("|")[0] if not values.startswith("!") else 16
-    right = int(right) if isinstance(OPTIONS[needed]["default"], int) else right
+    if isinstance(values, bool):
+        right = values
+    else:
+        right = values.split("|")[0] if not values.startswith("!") else 16
+        right = int(right) if isinstance(OPTIONS[needed]["default"], int) else right
     extra = {"cost": "ad"} if keyword in ("gamma_color", "gamma_proximity") else {}
     p = tristereo.Pipeline(64, 48, ndisp=16, **{**extra, needed: right, keyword: value})
     assert p.params[keyword] == value

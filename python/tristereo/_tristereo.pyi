@@ -74,6 +74,7 @@ class Pipeline:
         fill: Literal["background", "none"] = ...,
         min_confidence: int = ...,
         subpixel: bool = ...,
+        subpixel_fit: Literal["parabola", "equiangular"] = ...,
         dense: bool = ...,
         threads: int = ...,
         kernels: Literal["auto", "scalar", "sse2", "avx2", "neon"] = ...,
@@ -136,6 +137,7 @@ def verify(
     fill: Literal["background", "none"] = ...,
     min_confidence: int = ...,
     subpixel: bool = ...,
+    subpixel_fit: Literal["parabola", "equiangular"] = ...,
     dense: bool = ...,
 ) -> VerifyReport: ...
 

@@ -780,7 +780,8 @@ void PathMatcher::RowDecider::sample(int i, const std::uint16_t* s_row) {
     return;
   }
   int off = 0;
-  if (pm_.params_.dp.subpixel && k > 0 && k < d - 1) off = subpixel_offset_q4(s_row[k - 1], s_row[k], s_row[k + 1]);
+  if (pm_.params_.dp.subpixel && k > 0 && k < d - 1)
+    off = subpixel_offset_q4(pm_.params_.dp.subpixel_fit, s_row[k - 1], s_row[k], s_row[k + 1]);
   disp_q4_[i] = static_cast<std::int16_t>(kDispOne * (pm_.params_.d_min + k) + off);
 }
 

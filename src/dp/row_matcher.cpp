@@ -112,7 +112,8 @@ void RowMatcher::match_row(const MatchContext& ctx, int y, const std::int32_t* x
   const StereoParams& cp = ctx.params();
   if (cp.num_disp != num_disp_ || cp.d_min != params_.d_min ||
       cp.dp.lambda_q4 != params_.dp.lambda_q4 || cp.dp.gap != params_.dp.gap ||
-      cp.dp.subpixel != params_.dp.subpixel || ctx.width() > max_samples_)
+      cp.dp.subpixel != params_.dp.subpixel || cp.dp.subpixel_fit != params_.dp.subpixel_fit ||
+      ctx.width() > max_samples_)
     throw Error(ErrorCode::kInvalidArgument,
                 "RowMatcher::match_row: the MatchContext's parameters or frame width (" +
                     std::to_string(ctx.width()) + ") differ from the matcher's configuration (max width " +
@@ -158,7 +159,7 @@ void RowMatcher::match_row(const MatchContext& ctx, int y, const std::int32_t* x
     int off = 0;
     if (subpixel && ki > 0 && ki < d - 1) {
       const std::uint16_t* c = sample_costs_q4(i);
-      off = subpixel_offset_q4(c[ki - 1], c[ki], c[ki + 1]);
+      off = subpixel_offset_q4(params_.dp.subpixel_fit, c[ki - 1], c[ki], c[ki + 1]);
     }
     disp_q4_out[i] = static_cast<std::int16_t>(kDispOne * (d_min + ki) + off);
   }

@@ -48,7 +48,7 @@ bool known_gt(float g) { return std::isfinite(g) && g != 0.f; }
 struct Accumulator {
   std::int64_t evaluated = 0, invalid = 0, bad05 = 0, bad1 = 0, bad2 = 0, bad3 = 0, d1 = 0,
                valid = 0;
-  double sq = 0;
+  double sq = 0, abs_sum = 0;
 
   void add(double d, double gt) {
     ++evaluated;
@@ -70,6 +70,7 @@ struct Accumulator {
     d1 += e > 3.0 && e > 0.05 * std::fabs(gt);
     ++valid;
     sq += e * e;
+    abs_sum += e;
   }
   BadPixelStats stats() const {
     BadPixelStats s;
@@ -82,7 +83,10 @@ struct Accumulator {
       s.bad_3 = 100.0 * static_cast<double>(bad3) / static_cast<double>(evaluated);
       s.d1 = 100.0 * static_cast<double>(d1) / static_cast<double>(evaluated);
     }
-    if (valid > 0) s.rms = std::sqrt(sq / static_cast<double>(valid));
+    if (valid > 0) {
+      s.rms = std::sqrt(sq / static_cast<double>(valid));
+      s.epe = abs_sum / static_cast<double>(valid);
+    }
     return s;
   }
 };

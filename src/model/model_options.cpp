@@ -204,6 +204,11 @@ const std::vector<ModelOption> kOptions = {
      "integer disparities only (Python: subpixel=False)", nullptr, nullptr, nullptr,
      [](const P& p) { return std::string(p.dp.subpixel ? "0" : "1"); },
      [](P& p, S, S) { p.dp.subpixel = false; }},
+    {"subpixel-fit", "subpixel_fit", K::kChoice, "parabola|equiangular", 0, 0, false, "parabola|equiangular",
+     "the curve through the costs at k-1, k, k+1 that gives the sub-pixel offset: a parabola, or the "
+     "equiangular fit's symmetric V (docs/model.md section 3)",
+     "no-subpixel", "0", "dp.subpixel_fit", [](const P& p) { return std::string(to_string(p.dp.subpixel_fit)); },
+     [](P& p, S t, S shown) { p.dp.subpixel_fit = parse_choice(shown, [&] { return parse_subpixel_fit(t); }); }},
     {"dense", "dense", K::kFlag, "", 0, 1, false, nullptr, "every pixel a sample (the paper's dense baseline)",
      nullptr, nullptr, nullptr, [](const P& p) { return std::string(p.dense ? "1" : "0"); },
      [](P& p, S, S) { p.dense = true; }},
@@ -228,8 +233,16 @@ bool has_effect(const ModelOption& o, const StereoParams& p) {
   return want[0] == '!' ? value != want.substr(1) : among(value, want);
 }
 
-// "--cost ad" or "cost='ad'" (numbers unquoted: "p1=120").
+// "--cost ad" or "cost='ad'" (numbers unquoted: "p1=120"); a flag's value
+// ("1" given, "0" not) as "--no-subpixel" / "no --no-subpixel", or in Python
+// the keyword's bool ("subpixel=False").
 std::string shown_value(const ModelOption& o, const std::string& value, OptionSpelling s) {
+  if (o.kind == ModelOptionKind::kFlag) {
+    const bool given = value == "1";
+    if (s == OptionSpelling::kCommandLine) return (given ? "" : "no ") + option_shown(o, s);
+    const bool negated = std::string(o.name).rfind("no-", 0) == 0;
+    return option_shown(o, s) + (given != negated ? "=True" : "=False");
+  }
   if (s == OptionSpelling::kCommandLine) return option_shown(o, s) + " " + value;
   const bool text = o.kind == ModelOptionKind::kChoice && std::string(o.name) != "paths";
   return option_shown(o, s) + (text ? "='" + value + "'" : "=" + value);

@@ -82,6 +82,8 @@ void validate_params(const StereoParams& p) {
   if (p.validity.fill != FillMode::kNone && p.validity.fill != FillMode::kBackground)
     bad("validity.fill is not a FillMode value");
   check_range("validity.min_confidence", p.validity.min_confidence, 0, 255);
+  if (p.dp.subpixel_fit != SubpixelFit::kParabola && p.dp.subpixel_fit != SubpixelFit::kEquiangular)
+    bad("dp.subpixel_fit is not a SubpixelFit value");
 }
 
 int max_cost_q4(const CostParams& c) {
@@ -149,6 +151,14 @@ LrSource parse_lr_source(const std::string& s) {
   if (s == "costs") return LrSource::kSummedCosts;
   if (s == "mirror") return LrSource::kMirroredPass;
   bad("unknown left-right source '" + s + "' (expected costs or mirror)");
+}
+
+const char* to_string(SubpixelFit f) { return f == SubpixelFit::kParabola ? "parabola" : "equiangular"; }
+
+SubpixelFit parse_subpixel_fit(const std::string& s) {
+  if (s == "parabola") return SubpixelFit::kParabola;
+  if (s == "equiangular") return SubpixelFit::kEquiangular;
+  bad("unknown sub-pixel fit '" + s + "' (expected parabola or equiangular)");
 }
 
 const char* to_string(Weights w) { return w == Weights::kBox ? "box" : "adaptive"; }

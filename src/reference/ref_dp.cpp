@@ -75,15 +75,33 @@ std::vector<int> dp_solve(const std::vector<std::vector<std::int64_t>>& cost,
 int subpixel_offset_q4(int cm, int c0, int cp) {
   const int den = cm + cp - 2 * c0;
   if (den <= 0) return 0;
-  // q = 16 (cm - cp) / (2 den), |q| < 2^16, den <= 8160. floor(q + 0.5) in
-  // double equals the model's floor((16 (cm - cp) + den) / (2 den)): if the true
-  // q is a half-integer it is exactly representable, so q and q + 0.5 are
-  // computed exactly; otherwise q is at least 1/(4 den) > 2^-15 away from every
-  // half-integer, far more than the rounding error (< 2^-36) of the division
-  // and the addition, so the floor cannot flip.
+  // q = 16 (cm - cp) / (2 den), |q| < 2^20, den <= 131068 (the paths' summed
+  // costs; 8160 for the row DP's). floor(q + 0.5) in double equals the model's
+  // floor((16 (cm - cp) + den) / (2 den)): if the true q is a half-integer it
+  // is exactly representable, so q and q + 0.5 are computed exactly; otherwise
+  // q is at least 1/(4 den) > 2^-19 away from every half-integer, far more than
+  // the rounding error (< 2^-31) of the division and the addition, so the floor
+  // cannot flip.
   const double q = 16.0 * (cm - cp) / (2.0 * den);
   const double off = std::floor(q + 0.5);
   return static_cast<int>(std::min(8.0, std::max(-8.0, off)));
+}
+
+int equiangular_offset_q4(int cm, int c0, int cp) {
+  // The symmetric V through the three costs: slopes +m and -m with
+  // m = max(cm, cp) - c0; its vertex lies (cm - cp) / (2 m) px from k. The
+  // argument of subpixel_offset_q4 holds with m in place of den (m <= 65534, so
+  // a q that is not a half-integer is at least 2^-19 from one).
+  const int m = std::max(cm, cp) - c0;
+  if (m <= 0) return 0;
+  const double q = 16.0 * (cm - cp) / (2.0 * m);
+  const double off = std::floor(q + 0.5);
+  return static_cast<int>(std::min(8.0, std::max(-8.0, off)));
+}
+
+int subpixel_offset_q4(const DpParams& dp, int cm, int c0, int cp) {
+  return dp.subpixel_fit == SubpixelFit::kEquiangular ? equiangular_offset_q4(cm, c0, cp)
+                                                       : subpixel_offset_q4(cm, c0, cp);
 }
 
 std::vector<std::int16_t> match_row(const ImageU8& left, const ImageU8& right, int y,
@@ -105,7 +123,7 @@ std::vector<std::int16_t> match_row(const ImageU8& left, const ImageU8& right, i
     const int k = ks[i];
     int off = 0;
     if (params.dp.subpixel && k > 0 && k < params.num_disp - 1)
-      off = subpixel_offset_q4(ca[i][static_cast<std::size_t>(k - 1)],
+      off = subpixel_offset_q4(params.dp, ca[i][static_cast<std::size_t>(k - 1)],
                                ca[i][static_cast<std::size_t>(k)],
                                ca[i][static_cast<std::size_t>(k + 1)]);
     disp[i] = static_cast<std::int16_t>(16 * (params.d_min + k) + off);

@@ -72,6 +72,10 @@ std::vector<int> dp_solve(const std::vector<std::vector<std::int64_t>>& cost,
 
 // Sub-pixel offset in Q4 from Ca at k-1, k, k+1 (0 when the parabola opens down).
 int subpixel_offset_q4(int cm, int c0, int cp);
+// The equiangular fit's offset (docs/model.md section 3), from the definition in double.
+int equiangular_offset_q4(int cm, int c0, int cp);
+// The offset of params.dp.subpixel_fit.
+int subpixel_offset_q4(const DpParams& dp, int cm, int c0, int cp);
 
 // Q4 disparities of the samples xs (strictly increasing, in [0, W)) of row y.
 std::vector<std::int16_t> match_row(const ImageU8& left_gray, const ImageU8& right_gray, int y,

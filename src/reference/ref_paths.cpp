@@ -164,7 +164,7 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
     winner[static_cast<std::size_t>(i)] = k;
     int off = 0;
     if (params.dp.subpixel && k > 0 && k < nd - 1)
-      off = subpixel_offset_q4(static_cast<int>(s[static_cast<std::size_t>(k - 1)]), static_cast<int>(s[static_cast<std::size_t>(k)]),
+      off = subpixel_offset_q4(params.dp, static_cast<int>(s[static_cast<std::size_t>(k - 1)]), static_cast<int>(s[static_cast<std::size_t>(k)]),
                                static_cast<int>(s[static_cast<std::size_t>(k + 1)]));
     disp[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(16 * (params.d_min + k) + off);
   }

@@ -79,8 +79,9 @@ StereoParams draw_params(FuzzInput& in) {
                                                                        : LrSource::kMirroredPass;
   p.validity.uniqueness_pct = in.flag() ? 0 : in.int_in(1, 30);
   p.validity.fill = in.flag() ? FillMode::kNone : FillMode::kBackground;
+  p.dp.subpixel_fit = in.flag() ? SubpixelFit::kEquiangular : SubpixelFit::kParabola;
   const bool above = in.flag();
-  switch (in.int_in(0, 53)) {  // 18 of 54: one input in three
+  switch (in.int_in(0, 53)) {  // 19 of 54: about one input in three
     case 1: p.num_disp = above ? kMaxNumDisp + 1 : 0; break;
     case 2: p.d_min = above ? kMaxDispSpan - p.num_disp + 1 : -(kMaxDispSpan - p.num_disp) - 1; break;
     case 3: p.tritree.psnr_deci_db = above ? kMaxPsnrDeciDb + 1 : kMinPsnrDeciDb - 1; break;
@@ -108,6 +109,7 @@ StereoParams draw_params(FuzzInput& in) {
         p.cost.weights = Weights::kAdaptive;
       }
       break;
+    case 19: p.dp.subpixel_fit = static_cast<SubpixelFit>(above ? 2 : -1); break;  // no such fit
     default: break;  // valid
   }
   return p;

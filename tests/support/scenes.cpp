@@ -123,6 +123,9 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   // A third of the cases cut at a minimum confidence: filled ones (below
   // 128), measured ones, or both.
   p.validity.min_confidence = rng.uniform(0, 2) == 0 ? rng.uniform(1, 255) : 0;
+  // From the threshold's digits rather than a draw of its own (as the minimum
+  // area), so the draws of the callers (and the coverage they give) stay as they were.
+  p.dp.subpixel_fit = (p.tritree.psnr_deci_db / 3) % 2 ? SubpixelFit::kEquiangular : SubpixelFit::kParabola;
   return p;
 }
 
