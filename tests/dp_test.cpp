@@ -334,7 +334,9 @@ TEST(Subpixel, EquiangularRecoversTheVertexOfAV) {
     EXPECT_EQ(equiangular_offset_q4(c(-1), c(0), c(1)), t16) << t16;
     const int para = subpixel_offset_q4(c(-1), c(0), c(1));
     EXPECT_LE(std::abs(para), std::abs(t16)) << t16;
-    if (std::abs(t16) >= 2 && std::abs(t16) <= 6) EXPECT_LT(std::abs(para), std::abs(t16)) << t16;
+    if (std::abs(t16) >= 2 && std::abs(t16) <= 6) {
+      EXPECT_LT(std::abs(para), std::abs(t16)) << t16;
+    }
   }
 }
 
