@@ -140,6 +140,14 @@ def scenes(data=DEFAULT_DATA, sets=None):
     return out
 
 
+def split_match_options(argv):
+    """(the script's own arguments, the match options after a lone "--")."""
+    if "--" not in argv:
+        return argv, []
+    i = argv.index("--")
+    return argv[:i], argv[i + 1:]
+
+
 def read_readme_peers(data=DEFAULT_DATA):
     """{"set/scene": {"metric": "bad 2 px", "SGBM": 23.4, "StereoBM": 36.5,
     "libelas": 8.0}} from the table of ../shared/data/README.md."""

@@ -276,11 +276,7 @@ def print_tables(scenes, results, peers, summary, extra, baseline=None, out=sys.
 
 
 def main(argv):
-    if "--" in argv:
-        i = argv.index("--")
-        argv, extra = argv[:i], argv[i + 1:]
-    else:
-        extra = []
+    argv, extra = datasets.split_match_options(argv)
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  usage="%(prog)s [options] [-- extra match options]")
     ap.add_argument("--tristereo", default=os.path.join(datasets.ROOT, "build", "tristereo"))

@@ -323,10 +323,7 @@ def markdown(rows, set_rows, report, thresholds, plot_path=None):
 
 
 def main(argv):
-    extra = []
-    if "--" in argv:
-        i = argv.index("--")
-        argv, extra = argv[:i], argv[i + 1:]
+    argv, extra = datasets.split_match_options(argv)
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tristereo", required=True)
     ap.add_argument("--data", default=datasets.DEFAULT_DATA)

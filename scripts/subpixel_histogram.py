@@ -76,11 +76,7 @@ def measure(exe, scene, extra, tmp):
 
 
 def main(argv):
-    if "--" in argv:
-        i = argv.index("--")
-        argv, extra = argv[:i], argv[i + 1:]
-    else:
-        extra = []
+    argv, extra = datasets.split_match_options(argv)
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tristereo", default=os.path.join(datasets.ROOT, "build", "tristereo"))
     ap.add_argument("--data", default=datasets.DEFAULT_DATA)

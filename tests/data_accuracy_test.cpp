@@ -41,7 +41,7 @@ const std::map<std::string, double> kMeasured = {
     // TUNED_LIMITS_END
 };
 
-double run_and_score(const test::DataScene& s, const StereoParams& params) {
+StereoOutput run_scene(const test::DataScene& s, const StereoParams& params) {
   PipelineConfig c;
   c.max_width = s.left.width;
   c.max_height = s.left.height;
@@ -51,7 +51,11 @@ double run_and_score(const test::DataScene& s, const StereoParams& params) {
   c.pin_threads = false;
   Pipeline p;
   p.configure(c);
-  const StereoOutput& out = p.process(s.left.view(), s.right.view());
+  return p.process(s.left.view(), s.right.view());
+}
+
+double run_and_score(const test::DataScene& s, const StereoParams& params) {
+  const StereoOutput out = run_scene(s, params);
   const Image<float> d = disp_q4_to_float(out.disp_q4.view());
   return test::readme_score(s, d.view());
 }
@@ -93,19 +97,6 @@ TEST(DataAccuracy, DefaultsOnEverySceneOfEverySet) {
   EXPECT_LE(std::fabs(score["motorcyclee"] - score["motorcycle"]), 5.0);
   EXPECT_LE(std::fabs(score["pianol"] - score["piano"]), 5.0);
   EXPECT_LE(std::fabs(score["pianol"] - score["piano"]), kMeasured.at("pianol_gap"));
-}
-
-StereoOutput run_scene(const test::DataScene& s, const StereoParams& params) {
-  PipelineConfig c;
-  c.max_width = s.left.width;
-  c.max_height = s.left.height;
-  c.params = params;
-  c.params.num_disp = s.ndisp;
-  c.threads = 2;
-  c.pin_threads = false;
-  Pipeline p;
-  p.configure(c);
-  return p.process(s.left.view(), s.right.view());
 }
 
 // Sub-pixel accuracy on KITTI 2015 (issue #40): bad > 1 px and the end-point
