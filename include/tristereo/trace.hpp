@@ -46,6 +46,8 @@ enum class TraceKind : std::uint8_t {
                     // samples), handed out in chunks of c
   kRectify,         // pipeline track: both raw frames remapped (after the other kinds, so
                     // that their numbers stay those of older traces)
+  kStretchedLeaves,  // the tritree's stretched leaves a .. b - 1 interpolated by their planes
+  kVertexSamples,    // dense frames: the map's values at the mesh's vertices a .. b - 1
   kCount
 };
 

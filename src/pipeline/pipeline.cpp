@@ -61,7 +61,8 @@ struct Pipeline::Impl {
   };
   std::vector<Worker> workers;
   WorkChunks rows;       // matching: rows handed out on demand
-  WorkChunks triangles;  // interpolation: triangles handed out on demand
+  WorkChunks triangles;  // interpolation: rows of tiles, triangles or (dense) vertices on demand
+  HomeChunks leaf_homes;  // interpolation: the stretched leaves, a home of them per worker
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
   ImageU8 left_gray, right_gray;     // used when the input is RGB (reserved, sized per frame)
   ImageU8 rect_left, rect_right;     // the rectified frames (config.rectify only)
@@ -269,6 +270,11 @@ namespace {
 // negligible. A row costs tens of microseconds, a triangle tens of nanoseconds.
 constexpr int kRowsPerChunk = 4;
 constexpr int kTrianglesPerChunk = 4096;
+// The stretched leaves: thin triangles along the moved last column and row,
+// about 0.1 us each and a thousand on 640x480 (a hundred chunks or more).
+constexpr int kStretchedLeavesPerChunk = 8;
+// Dense frames: the map's value at each mesh vertex, tens of nanoseconds each.
+constexpr int kVerticesPerChunk = 2048;
 
 // Gray view of an input (checked by check_stereo_inputs): the view itself
 // when it is gray, else `buffer` filled by the configured set's row kernel.
@@ -422,7 +428,26 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     }
     if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
-  interpolate_stretched_leaves(grid, mesh, vertex_disp, out, conf);
+  // The stretched leaves overwrite pixels the tiles wrote on the moved last
+  // column and row (their planes do not meet the grid's midpoints), so they
+  // come after every tile; each leaf writes only its own pixels, so they go in
+  // chunks to every worker (a serial loop was a third of the stage's time at
+  // one worker on 640x480). Neighbouring leaves write the same rows' last
+  // cache lines, so each worker takes a home of consecutive chunks first:
+  // chunks dealt in turn made two workers' leaves twice as slow as one's.
+  if (grid.stretched_count > 0) {
+    const auto leaves = static_cast<int>(grid.stretched_count);
+    leaf_homes.reset((leaves + kStretchedLeavesPerChunk - 1) / kStretchedLeavesPerChunk, pool.size());
+    pool.run([&](int w) {
+      leaf_homes.for_each(w, [&](int c) {
+        const int l0 = c * kStretchedLeavesPerChunk, l1 = std::min(leaves, l0 + kStretchedLeavesPerChunk);
+        const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
+        interpolate_stretched_leaves(grid, mesh, vertex_disp, static_cast<std::size_t>(l0),
+                                     static_cast<std::size_t>(l1), out, conf);
+        if (trace != nullptr) trace->record(w, TraceKind::kStretchedLeaves, t0, monotonic_ns(), l0, l1);
+      });
+    });
+  }
   if (!any_invalid.load(std::memory_order_relaxed)) return;
   triangles.reset(0, n_tri, kTrianglesPerChunk);
   pool.run([&](int) {
@@ -551,12 +576,22 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
 
   // 4. Dense map from the mesh (sparse mode) or sample disparities from the map (dense mode).
   if (params.dense) {
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-      const int x = mesh.vertices[i].x, y = mesh.vertices[i].y;
-      vdisp[i] = dense.at(x, y);
-      m.out.vertex_state[i] = m.out.pixel_state.at(x, y);
-      m.out.vertex_confidence[i] = m.out.pixel_confidence.at(x, y);
-    }
+    // Each vertex reads its own pixel: chunks of vertices on demand.
+    m.triangles.reset(0, static_cast<int>(mesh.vertices.size()), kVerticesPerChunk);
+    m.pool.run([&](int w) {
+      int i0 = 0, i1 = 0;
+      while (m.triangles.next(&i0, &i1)) {
+        const std::int64_t t0 = m.trace != nullptr ? monotonic_ns() : 0;
+        for (int i = i0; i < i1; ++i) {
+          const auto v = static_cast<std::size_t>(i);
+          const int x = mesh.vertices[v].x, y = mesh.vertices[v].y;
+          vdisp[v] = dense.at(x, y);
+          m.out.vertex_state[v] = m.out.pixel_state.at(x, y);
+          m.out.vertex_confidence[v] = m.out.pixel_confidence.at(x, y);
+        }
+        if (m.trace != nullptr) m.trace->record(w, TraceKind::kVertexSamples, t0, monotonic_ns(), i0, i1);
+      }
+    });
   } else {
     const ConfidenceMaps conf{m.out.vertex_confidence.data(), m.out.pixel_confidence.view(),
                               m.out.pixel_state.view()};

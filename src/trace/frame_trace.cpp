@@ -29,6 +29,8 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kInterpolationTiles: return "interpolation tiles";
     case TraceKind::kTritreeRows: return "tritree rows";
     case TraceKind::kFillChunk: return "fill items";
+    case TraceKind::kStretchedLeaves: return "stretched leaves";
+    case TraceKind::kVertexSamples: return "vertex samples";
     case TraceKind::kCount: break;
   }
   return "?";
