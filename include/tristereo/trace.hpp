@@ -48,6 +48,8 @@ enum class TraceKind : std::uint8_t {
                     // that their numbers stay those of older traces)
   kStretchedLeaves,  // the tritree's stretched leaves a .. b - 1 interpolated by their planes
   kVertexSamples,    // dense frames: the map's values at the mesh's vertices a .. b - 1
+  kLeftRightRows,    // the mirrored pass's left-right check: image rows a .. b - 1; c = 0 the
+                     // images mirrored, 1 the samples checked
   kCount
 };
 

@@ -275,6 +275,8 @@ constexpr int kTrianglesPerChunk = 4096;
 constexpr int kStretchedLeavesPerChunk = 8;
 // Dense frames: the map's value at each mesh vertex, tens of nanoseconds each.
 constexpr int kVerticesPerChunk = 2048;
+// The mirrored pass's check: a row's samples, tens of nanoseconds each.
+constexpr int kLeftRightRowsPerChunk = 16;
 
 // Gray view of an input (checked by check_stereo_inputs): the view itself
 // when it is gray, else `buffer` filled by the configured set's row kernel.
@@ -546,8 +548,18 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   // Left-right check by a second pass: the right view's own tritree, matching,
   // fill and dense map (lr_source = costs did it in match_view).
   if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass) {
-    mirror_gray(rg, m.mirror_left);
-    mirror_gray(lg, m.mirror_right);
+    size_mirror(rg, m.mirror_left);
+    size_mirror(lg, m.mirror_right);
+    m.rows.reset(0, height, kRowsPerChunk);
+    m.pool.run([&](int w) {
+      int y0 = 0, y1 = 0;
+      while (m.rows.next(&y0, &y1)) {
+        const std::int64_t t0 = m.trace != nullptr ? monotonic_ns() : 0;
+        mirror_gray_rows(rg, m.mirror_left, y0, y1);
+        mirror_gray_rows(lg, m.mirror_right, y0, y1);
+        if (m.trace != nullptr) m.trace->record(w, TraceKind::kLeftRightRows, t0, monotonic_ns(), y0, y1, 0);
+      }
+    });
     const ImageView<const std::uint8_t> ml{m.mirror_left.pixels.data(), width, height, 1, width};
     const ImageView<const std::uint8_t> mr{m.mirror_right.pixels.data(), width, height, 1, width};
     ImageS16& rd = m.right_disp;
@@ -565,7 +577,19 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     m.match_view(ml, mr, rs, right_samples, nullptr, &unused_cost, &unused_dp);
     if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples, &m.pool);
     if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, rd.view());
-    validity.lr_rejected = lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp);
+    // Each sample reads the right map and writes only itself: rows on demand.
+    std::atomic<int> lr_rejected{0};
+    m.rows.reset(0, height, kLeftRightRowsPerChunk);
+    m.pool.run([&](int w) {
+      int y0 = 0, y1 = 0, own = 0;
+      while (m.rows.next(&y0, &y1)) {
+        const std::int64_t t0 = m.trace != nullptr ? monotonic_ns() : 0;
+        own += lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp, y0, y1);
+        if (m.trace != nullptr) m.trace->record(w, TraceKind::kLeftRightRows, t0, monotonic_ns(), y0, y1, 1);
+      }
+      lr_rejected.fetch_add(own, std::memory_order_relaxed);
+    });
+    validity.lr_rejected = lr_rejected.load();
   }
   const std::int64_t t_right = monotonic_ns();
   if (params.validity.fill != FillMode::kNone)
