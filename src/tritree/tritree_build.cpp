@@ -837,7 +837,9 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
 // (with the next one's first): every edge lies inside one row of tiles.
 void Tritree::finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const {
   int reach = 0;
+  preds->bounds = PredecessorBounds{};
   for (int band = 0; band < layout_.tiles_y; ++band) {
+    preds->bounds.merge(bands_[band].bounds);
     const int y0 = layout_.real_y(band * tile_), y1 = layout_.real_y(std::min((band + 1) * tile_, layout_.vh));
     reach = std::max(reach, mesh.row_start[static_cast<std::size_t>(y1) + 1] - mesh.row_start[static_cast<std::size_t>(y0)] - 1);
   }
@@ -994,7 +996,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
         const bool plain = x0 + S < layout_.vw && y0 + S < layout_.vh;
         emit_tile(b, x0, y0, plain);
       }
-      if (pred_slots_ > 0) offer_stretched(b);
+      if (pred_slots_ > 0) {
+        offer_stretched(b);
+        band_predecessor_bounds(ty, mesh, b);
+      }
       bands_[ty] = b;
     };
     if (workers > 1) {

@@ -207,6 +207,29 @@ void Tritree::empty_band_slots(int band, const Mesh& mesh) const {
   }
 }
 
+// The slots empty_band_slots() emptied are the ones the row of tiles wrote:
+// the odd ones ("from below") of its own rows, the even ones ("from above")
+// of its rows but the first and of the next row of tiles' first row.
+void Tritree::band_predecessor_bounds(int band, const Mesh& mesh, Band& b) const {
+  int vy0, vy1;
+  band_rows(band, &vy0, &vy1);
+  const auto row_end = [&](int vy) {
+    return mesh.row_start[static_cast<std::size_t>(layout_.real_y(vy)) + 1];
+  };
+  const auto n = static_cast<std::int32_t>(mesh.vertices.size());
+  const bool last = band + 1 == layout_.tiles_y;
+  const std::int32_t begin = mesh.row_start[static_cast<std::size_t>(layout_.real_y(vy0))];
+  const std::int32_t own_end = last ? n : band_first_id_[band + 1];
+  const std::int32_t next_first_end = last ? n : row_end(vy1);
+  const std::int32_t first_end = row_end(vy0);
+  const auto keys = reinterpret_cast<const std::int32_t*>(pred_keys_);
+  // One pass: the first row's odd slots, every slot of the rows between, the
+  // next first row's even slots.
+  widen_predecessor_bounds(keys, pred_slots_, vertices_, begin, first_end, 1, 2, &b.bounds);
+  widen_predecessor_bounds(keys, pred_slots_, vertices_, first_end, own_end, 0, 1, &b.bounds);
+  widen_predecessor_bounds(keys, pred_slots_, vertices_, own_end, next_first_end, 0, 2, &b.bounds);
+}
+
 void Tritree::begin_mesh(Mesh& mesh) const {
   mesh.width = gray_.width;
   mesh.height = gray_.height;
