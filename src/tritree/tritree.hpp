@@ -195,7 +195,7 @@ class Tritree {
   template <int S, int s>
   void plain_level(int tx0, int ty0, const TileScratch& sc);
   void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc, bool side4_ready = false);
-  void carry_across_tile_borders();
+  void carry_across_tile_borders(int ty0, int ty1);
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves straight into its place in the
   // mesh (counted beforehand by count_vertices(), so rows of tiles can run
