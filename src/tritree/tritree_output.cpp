@@ -8,7 +8,9 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
+#include "platform/work_chunks.hpp"
 #include "src/tritree/tritree.hpp"
 
 namespace tristereo {
@@ -95,12 +97,21 @@ std::size_t Tritree::count_vertices(Mesh& mesh, ThreadPool* pool) {
     band_start_[band] = static_cast<std::size_t>(2 * v - (first + last + sides) - 2);
   };
   const bool parallel = pool != nullptr && pool->size() > 1 && bands > 1;
+  const auto traced_count = [&](int worker, int band) {
+    const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+    count_band(band);
+    if (trace_ != nullptr) trace_->record(worker, TraceKind::kTritreeRows, t0, monotonic_ns(), 3, band);
+  };
   if (parallel) {
+    // On demand: a worker slowed from outside takes fewer rows of tiles.
+    WorkChunks rows;
+    rows.reset(0, bands, 1);
     pool->run([&](int worker) {
-      for (int band = worker; band < bands; band += pool->size()) count_band(band);
+      int b0 = 0, b1 = 0;
+      while (rows.next(&b0, &b1)) traced_count(worker, b0);
     });
   } else {
-    for (int band = 0; band < bands; ++band) count_band(band);
+    for (int band = 0; band < bands; ++band) traced_count(0, band);
   }
   std::int32_t total = 0;
   std::size_t leaves = 0;
