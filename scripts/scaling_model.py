@@ -77,7 +77,7 @@ def stage_of(stages, t0, t1):
 def frames_of(events):
     """Per frame: its span, its stages, worker 0's runs with their items, and
     the items worker 0 ran outside any run (a one-worker pool runs some stages
-    inline), grouped by stage and kind."""
+    inline), grouped by stage, kind and (the tritree's rows) phase."""
     pipe = sorted((e for e in events if e["tid"] == 0), key=lambda e: e["ts"])
     w0 = sorted((e for e in events if e["tid"] == 1), key=lambda e: (e["ts"], -e["dur"]))
     frames = []
@@ -96,7 +96,10 @@ def frames_of(events):
                 continue
             if any(inside(e, r["ts"], r["ts"] + r["dur"]) for r in run_spans):
                 continue
-            key = (stage_of(stages, e["ts"], e["ts"] + e["dur"]), e["name"])
+            # The tritree's phases follow one another on a pool (each waits
+            # for the one before): a group each.
+            phase = e["args"].get("a", 0) if e["name"] == "tritree rows" else 0
+            key = (stage_of(stages, e["ts"], e["ts"] + e["dur"]), e["name"], phase)
             loose.setdefault(key, []).append(e)
         plan = None
         for st in stages:
@@ -257,7 +260,7 @@ def item_times(frame):
         for i in r["items"]:
             key = (r["stage"], i["name"])
             out[key] = out.get(key, 0.0) + i["dur"]
-    for (stage, name), items in frame["loose"].items():
+    for (stage, name, _), items in frame["loose"].items():
         out[(stage, name)] = out.get((stage, name), 0.0) + sum(i["dur"] for i in items)
     return out
 
@@ -332,7 +335,7 @@ def predict(frame, workers, speeds=None, factors=None):
             t = r["dur"] / sum(speeds)
             even.add(r["stage"])
         stages[r["stage"]] = stages.get(r["stage"], 0.0) + t
-    for (stage, _), items in frame["loose"].items():
+    for (stage, _, _), items in frame["loose"].items():
         stages[stage] = stages.get(stage, 0.0) + chunks(items, 0.0, workers, speeds)
     # What a stage spent outside runs and items (the caller's serial steps)
     # stays on one worker, counted in that stage; so do the gaps between stages.
@@ -345,7 +348,7 @@ def predict(frame, workers, speeds=None, factors=None):
     used = {}  # from the frame as traced: the stage's time outside runs and items stays as it was
     for r in base["runs"]:
         used[r["stage"]] = used.get(r["stage"], 0.0) + r["dur"]
-    for (stage, _), items in base["loose"].items():
+    for (stage, _, _), items in base["loose"].items():
         used[stage] = used.get(stage, 0.0) + sum(i["dur"] for i in items)
     for name, t in own.items():
         stages[name] = stages.get(name, 0.0) + max(0.0, t - used.get(name, 0.0)) / speeds[0]
