@@ -136,7 +136,7 @@ void bench_interpolation(benchmark::State& state, const NamedImage* image) {
     } else {
       interpolate_midpoint_tiles(grid, mesh, vdisp.data(), 0, grid.layout.tiles_y, kernels, values.data(),
                                  disp.view());
-      interpolate_stretched_leaves(grid, mesh, vdisp.data(), disp.view());
+      interpolate_stretched_leaves(grid, mesh, vdisp.data(), 0, grid.stretched_count, disp.view());
     }
     benchmark::DoNotOptimize(disp.pixels.data());
   }

@@ -4,7 +4,8 @@
     tristereo profile --threads 1 --trace t1.json --trace-frames 10 [pair and model options]
     tristereo profile --threads 1 --schedule-workers 4 --trace t4.json ...   (and 8, 16)
     tristereo profile --threads 2 --trace m2.json ...
-    scripts/scaling_model.py t1.json t4.json t8.json t16.json --measured m2.json
+    tristereo profile --threads 2 --trace c2.json ...   (another run, for --contention)
+    scripts/scaling_model.py t1.json t4.json t8.json t16.json --measured m2.json --contention c2.json
 
 A trace (docs/profiling.md) holds, per frame, the stages on the pipeline
 track and, on the worker's track, every ThreadPool run and the work items it
@@ -32,9 +33,23 @@ workers by a list scheduler:
 - a run without items (the right rows' preparation) is taken to divide
   evenly: such runs are listed as "even" in the report.
 
-The model knows nothing of memory bandwidth or caches: where a measured frame
-is slower than the prediction, the difference is what the workers cost each
-other in the memory system.
+By itself the model knows nothing of memory bandwidth or caches: where a
+measured frame is slower than the prediction, the difference is what the
+workers cost each other in the memory system. `--contention C2` measures
+that cost on this machine: per stage and kind of work item, the items' time
+in a frame of a two-worker trace (C2, recorded apart from the --measured
+one) over their time in the one-worker trace (medians over the frames). Two
+path passes that stream their costs and sums at once, for instance, take
+longer per tile than one. The prediction is then made again with each work
+item's duration multiplied by its factor f at 2 workers and, for N workers,
+by 1 + (f - 1)(N - 1) where f > 1 (each further worker streaming at once
+costs what the second one did: this machine's memory system shared by N
+workers, not a bigger machine's), f itself where f <= 1 (items that gain
+from caches split between cores gain no more). Serial steps are not scaled.
+The census costs' rows are the reference: they measured 0.94-1.04 on quiet
+two-worker traces here (compute-bound), so their factor in the calibration is
+taken as other processes' share of the cores at that time and divided out of
+every kind's (the comparison with --measured also shows it put back).
 """
 import argparse
 import heapq
@@ -43,6 +58,9 @@ import statistics
 import sys
 
 STAGES = ["tritree", "costs", "paths", "row dp", "right pass", "fill", "interpolation"]
+# The contention's reference: work items that do not contend in the memory
+# system here, so that their slowdown on two workers is the machine's load.
+REFERENCE_KIND = ("costs", "cost rows")
 
 
 def load(path):
@@ -66,7 +84,7 @@ def stage_of(stages, t0, t1):
 def frames_of(events):
     """Per frame: its span, its stages, worker 0's runs with their items, and
     the items worker 0 ran outside any run (a one-worker pool runs some stages
-    inline), grouped by stage and kind."""
+    inline), grouped by stage, kind and (the tritree's rows) phase."""
     pipe = sorted((e for e in events if e["tid"] == 0), key=lambda e: e["ts"])
     w0 = sorted((e for e in events if e["tid"] == 1), key=lambda e: (e["ts"], -e["dur"]))
     frames = []
@@ -85,7 +103,10 @@ def frames_of(events):
                 continue
             if any(inside(e, r["ts"], r["ts"] + r["dur"]) for r in run_spans):
                 continue
-            key = (stage_of(stages, e["ts"], e["ts"] + e["dur"]), e["name"])
+            # The tritree's phases follow one another on a pool (each waits
+            # for the one before): a group each.
+            phase = e["args"].get("a", 0) if e["name"] == "tritree rows" else 0
+            key = (stage_of(stages, e["ts"], e["ts"] + e["dur"]), e["name"], phase)
             loose.setdefault(key, []).append(e)
         plan = None
         for st in stages:
@@ -104,17 +125,22 @@ def paths_run(tiles, decides, plan, workers, speeds=None):
     in_flight = 1 if workers <= 2 else workers + 1
     # A one-worker trace runs the forward pass first on every band and the
     # backward pass second (it adds to S, and decides): a tile's time is taken
-    # by its role, at its place (band of image rows, tile in image x order).
+    # by its pass, at its place (band of image rows, tile in image x order),
+    # whichever role it gets in the replay. Its pass, not its role, sets it:
+    # at D = 128 a backward tile took 2.3x a forward one in a one-worker trace
+    # of the synthetic 640x480 frame, and in a two-worker trace, where the
+    # roles change halfway down, each pass's tiles still took 0.90-0.96x
+    # their one-worker time (the 2.3x is the backward direction's).
     keys = [set(), set()]
     for t in tiles:
         keys[t["args"]["a"]].add((t["args"]["b"], t["args"]["c"]))
     bands = 1 + max(b for p in (0, 1) for b, _ in keys[p])
     image_band = lambda p, k: k if p == 0 else bands - 1 - k
     image_col = lambda p, c: c if p == 0 else cols - 1 - c
-    role_dur = ({}, {})  # first, second
+    pass_dur = ({}, {})  # forward, backward
     for t in tiles:
         p, k, c = t["args"]["a"], t["args"]["b"], t["args"]["c"]
-        role_dur[p][(image_band(p, k), image_col(p, c))] = t["dur"]
+        pass_dur[p][(image_band(p, k), image_col(p, c))] = t["dur"]
     dur = [{key: None for key in keys[0]}, {key: None for key in keys[1]}]
     done_at = [{}, {}]
     band_done = [[None] * bands, [None] * bands]
@@ -180,8 +206,7 @@ def paths_run(tiles, decides, plan, workers, speeds=None):
         if c == 0 and first[image_band(p, k)] is None:
             first[image_band(p, k)] = p
         j = image_band(p, k)
-        role = 0 if first[j] == p else 1
-        end = start + role_dur[role].get((j, image_col(p, c)), 0.0) / speeds[w]
+        end = start + pass_dur[p].get((j, image_col(p, c)), 0.0) / speeds[w]
         done_at[p][(k, c)] = end
         next_col[p][k] = c + 1
         if c == cols - 1:
@@ -224,12 +249,86 @@ def chunks(items, extra, workers, speeds=None):
     return max(t for t, _ in free)
 
 
-def predict(frame, workers, speeds=None):
+def contention_at(factor, workers):
+    """An item's slowdown on `workers` workers from its factor measured on 2
+    (the module's docstring)."""
+    if workers < 2:
+        return 1.0
+    if factor <= 1.0 or workers == 2:
+        return factor
+    return 1.0 + (factor - 1.0) * (workers - 1)
+
+
+def item_times(frame):
+    """Per (stage, item kind): the items' summed time in a one-worker frame
+    (frames_of) (us)."""
+    out = {}
+    for r in frame["runs"]:
+        for i in r["items"]:
+            key = (r["stage"], i["name"])
+            out[key] = out.get(key, 0.0) + i["dur"]
+    for (stage, name, _), items in frame["loose"].items():
+        out[(stage, name)] = out.get((stage, name), 0.0) + sum(i["dur"] for i in items)
+    return out
+
+
+def item_times_per_frame(events):
+    """Per frame of a trace on any number of workers: per (stage, item kind)
+    the items' summed time over every worker (us)."""
+    pipe = [e for e in events if e["tid"] == 0]
+    items = [e for e in events if e["tid"] >= 1 and e["name"] != "run"]
+    out = []
+    for f in (e for e in pipe if e["name"] == "frame"):
+        t0, t1 = f["ts"], f["ts"] + f["dur"]
+        stages = [e for e in pipe if e["name"] != "frame" and e["ts"] >= t0 - 1e-3 and e["ts"] + e["dur"] <= t1 + 1e-3]
+        times = {}
+        for i in items:
+            if i["ts"] >= t0 - 1e-3 and i["ts"] + i["dur"] <= t1 + 1e-3:
+                key = (stage_of(stages, i["ts"], i["ts"] + i["dur"]), i["name"])
+                times[key] = times.get(key, 0.0) + i["dur"]
+        out.append(times)
+    return out
+
+
+def contention_factors(one_worker_frames, two_worker_events):
+    """Per (stage, item kind): the median over frames of the items' time on
+    two workers over their median on one (only kinds both traces hold)."""
+    one = [item_times(f) for f in one_worker_frames]
+    two = item_times_per_frame(two_worker_events)
+    factors = {}
+    for key in set().union(*one) & set().union(*two):
+        t1 = statistics.median(t.get(key, 0.0) for t in one)
+        t2 = statistics.median(t.get(key, 0.0) for t in two)
+        if t1 > 0 and t2 > 0:
+            factors[key] = t2 / t1
+    return factors
+
+
+def slowed(frame, factors, workers):
+    """The frame with every work item's duration multiplied by its kind's
+    contention on `workers` workers (runs keep their time outside items)."""
+    if not factors:
+        return frame
+    scale = lambda stage, i: dict(i, dur=i["dur"] * contention_at(factors.get((stage, i["name"]), 1.0), workers))
+    runs = []
+    for r in frame["runs"]:
+        items = [scale(r["stage"], i) for i in r["items"]]
+        outside = r["dur"] - sum(i["dur"] for i in r["items"])
+        runs.append(dict(r, items=items, dur=outside + sum(i["dur"] for i in items)))
+    loose = {k: [scale(k[0], i) for i in v] for k, v in frame["loose"].items()}
+    return dict(frame, runs=runs, loose=loose)
+
+
+def predict(frame, workers, speeds=None, factors=None):
     """Per stage and in total, the predicted frame on `workers` workers (us);
-    the serial parts run on worker 0 (speeds[0])."""
+    the serial parts run on worker 0 (speeds[0]). factors: the memory
+    contention per (stage, item kind) measured on two workers (none: no
+    contention)."""
     speeds = speeds or [1.0] * workers
     stages = {}
     even = set()
+    base = frame
+    frame = slowed(frame, factors, workers)
     for r in frame["runs"]:
         tiles = [i for i in r["items"] if i["name"] == "path tile"]
         if tiles:
@@ -243,7 +342,7 @@ def predict(frame, workers, speeds=None):
             t = r["dur"] / sum(speeds)
             even.add(r["stage"])
         stages[r["stage"]] = stages.get(r["stage"], 0.0) + t
-    for (stage, _), items in frame["loose"].items():
+    for (stage, _, _), items in frame["loose"].items():
         stages[stage] = stages.get(stage, 0.0) + chunks(items, 0.0, workers, speeds)
     # What a stage spent outside runs and items (the caller's serial steps)
     # stays on one worker, counted in that stage; so do the gaps between stages.
@@ -253,10 +352,10 @@ def predict(frame, workers, speeds=None):
     for st in spans:
         inner = sum(o["dur"] for o in spans if within(o, st) and not any(within(o, m) for m in spans if within(m, st)))
         own[st["name"]] = own.get(st["name"], 0.0) + st["dur"] - inner
-    used = {}
-    for r in frame["runs"]:
+    used = {}  # from the frame as traced: the stage's time outside runs and items stays as it was
+    for r in base["runs"]:
         used[r["stage"]] = used.get(r["stage"], 0.0) + r["dur"]
-    for (stage, _), items in frame["loose"].items():
+    for (stage, _, _), items in base["loose"].items():
         used[stage] = used.get(stage, 0.0) + sum(i["dur"] for i in items)
     for name, t in own.items():
         stages[name] = stages.get(name, 0.0) + max(0.0, t - used.get(name, 0.0)) / speeds[0]
@@ -323,6 +422,9 @@ def main():
                     help="one-worker traces: the first cut for 1 worker (tristereo profile --threads 1 --trace FILE), "
                          "the others cut for N workers (--schedule-workers N)")
     ap.add_argument("--measured", help="a trace of the same frames on 2 (or more) workers, to compare with")
+    ap.add_argument("--contention", metavar="C2",
+                    help="another two-worker trace of the same frames: the memory contention per stage and kind of "
+                         "work item, applied to a second prediction (see above)")
     ap.add_argument("--slow", type=float, metavar="S",
                     help="also predict each count with its last worker at speed S (e.g. 0.5: a core half as fast, "
                          "an A55 beside A76s) beside the ideal, the work of N - 1 + S equal workers")
@@ -346,8 +448,21 @@ def main():
     if 1 not in per_count:
         sys.exit("scaling_model: the first trace must be cut for one worker (no --schedule-workers)")
 
-    def median_prediction(n, speeds=None):
-        preds = [predict(f, n, speeds) for f in per_count[n]]
+    factors, measured_factors, outside_load = {}, {}, 1.0
+    if args.contention:
+        c_events, c_workers = load(args.contention)
+        if c_workers != 2:
+            sys.exit(f"scaling_model: {args.contention} was recorded with {c_workers} workers; --contention takes 2")
+        measured_factors = contention_factors(per_count[1], c_events)
+        # The census costs' rows are compute-bound here (factor 0.94-1.04 in
+        # quiet two-worker traces): a factor above 1 there is another process
+        # taking the cores during the calibration, not the memory system, and
+        # every kind is divided by it.
+        outside_load = max(1.0, measured_factors.get(REFERENCE_KIND, 1.0))
+        factors = {k: f / outside_load for k, f in measured_factors.items()}
+
+    def median_prediction(n, speeds=None, with_factors=None):
+        preds = [predict(f, n, speeds, with_factors) for f in per_count[n]]
         stages = {}
         for _, st, _ in preds:
             for k, v in st.items():
@@ -358,29 +473,46 @@ def main():
     counts = sorted(per_count)
     rows = {n: median_prediction(n) for n in counts}
     base_total, base_stages, _ = rows[1]
-    print(f"scaling model: medians in ms (speed-up over 1 worker); N >= 3 from the traces cut for N")
     names = [s for s in STAGES + ["other"] if s in base_stages]
-    print(f"{'workers':>8} {'frame':>15}" + "".join(f" {s:>17}" for s in names))
-    even = set()
-    for n in counts:
-        total, st, ev = rows[n]
-        even |= ev
-        line = f"{n:>8} {total / 1000:8.2f} ({base_total / total:4.2f}x)"
-        for s in names:
-            line += f" {st[s] / 1000:8.2f} ({base_stages[s] / st[s]:5.2f}x)" if st.get(s) else f" {'':>17}"
-        print(line)
-    if even:
-        print("runs without work items, taken to divide evenly: " + ", ".join(sorted(even)))
+
+    def table(title, rows):
+        print(title)
+        print(f"{'workers':>8} {'frame':>15}" + "".join(f" {s:>17}" for s in names))
+        even = set()
+        for n in counts:
+            total, st, ev = rows[n]
+            even |= ev
+            line = f"{n:>8} {total / 1000:8.2f} ({base_total / total:4.2f}x)"
+            for s in names:
+                line += f" {st[s] / 1000:8.2f} ({base_stages[s] / st[s]:5.2f}x)" if st.get(s) else f" {'':>17}"
+            print(line)
+        if even:
+            print("runs without work items, taken to divide evenly: " + ", ".join(sorted(even)))
+
+    table("scaling model: medians in ms (speed-up over 1 worker); N >= 3 from the traces cut for N", rows)
+    slowed_rows = {}
+    if factors:
+        print("memory contention measured on 2 workers (items' time on 2 workers / on 1), per stage and item kind: " +
+              ", ".join(f"{st} {kind} {f:.2f}" for (st, kind), f in sorted(measured_factors.items())))
+        if outside_load > 1.0:
+            print(f"  of which other processes (the {REFERENCE_KIND[1]}' factor, compute-bound): {outside_load:.2f}; "
+                  "the memory system's: " + ", ".join(f"{st} {kind} {f:.2f}" for (st, kind), f in sorted(factors.items())))
+        slowed_rows = {n: median_prediction(n, with_factors=factors) for n in counts}
+        table("with that contention (N workers: 1 + (f - 1)(N - 1) where f > 1; this machine's memory system)",
+              slowed_rows)
     if args.slow:
         print(f"one worker at speed {args.slow}: predicted frame, and against the ideal "
-              f"(1-worker frame / (N - 1 + {args.slow}))")
+              f"(1-worker frame / (N - 1 + {args.slow})){'; with contention after /' if factors else ''}")
         for n in counts:
             if n < 2:
                 continue
-            slow = median_prediction(n, [1.0] * (n - 1) + [args.slow])[0]
             ideal = base_total / (n - 1 + args.slow)
-            print(f"{n:>8} {slow / 1000:8.2f} ms; all at full speed {rows[n][0] / 1000:.2f} ms; "
-                  f"ideal {ideal / 1000:.2f} ms; slow / ideal = {slow / ideal:.2f}")
+            line = ""
+            for f, r in [(None, rows)] + ([(factors, slowed_rows)] if factors else []):
+                slow = median_prediction(n, [1.0] * (n - 1) + [args.slow], f)[0]
+                line += (" / " if line else "") + (f"{slow / 1000:8.2f} ms; all at full speed {r[n][0] / 1000:.2f} ms; "
+                                                  f"ideal {ideal / 1000:.2f} ms; slow / ideal = {slow / ideal:.2f}")
+            print(f"{n:>8} {line}")
     if args.measured:
         m_events, m_workers = load(args.measured)
         m_frames = frames_of(m_events)
@@ -388,8 +520,15 @@ def main():
         if m_workers not in rows:
             sys.exit(f"scaling_model: no trace cut for {m_workers} workers to compare {args.measured} with")
         predicted = rows[m_workers][0]
-        print(f"measured on {m_workers} workers: {measured / 1000:.2f} ms (median of {len(m_frames)} frames); "
-              f"predicted {predicted / 1000:.2f} ms: prediction / measured = {predicted / measured:.3f}")
+        line = (f"measured on {m_workers} workers: {measured / 1000:.2f} ms (median of {len(m_frames)} frames); "
+                f"predicted {predicted / 1000:.2f} ms: prediction / measured = {predicted / measured:.3f}")
+        if factors:
+            p2 = slowed_rows[m_workers][0]
+            line += f"; with contention {p2 / 1000:.2f} ms: {p2 / measured:.3f}"
+            if outside_load > 1.0 and m_workers == 2:
+                p2l = median_prediction(2, with_factors=measured_factors)[0]
+                line += f"; with the calibration's other processes too {p2l / 1000:.2f} ms: {p2l / measured:.3f}"
+        print(line)
 
 
 if __name__ == "__main__":

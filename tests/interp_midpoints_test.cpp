@@ -52,7 +52,10 @@ Maps by_midpoints(const Tritree& tree, const Mesh& m, const std::vector<std::int
   bool any = false;
   for (const std::int16_t d : vd) any |= d == kInvalidDispQ4;
   EXPECT_EQ(invalid, any);
-  interpolate_stretched_leaves(g, m, vd.data(), out.disp.view(), conf);
+  // The stretched leaves in two parts too, the later one first.
+  const std::size_t half = g.stretched_count / 2;
+  interpolate_stretched_leaves(g, m, vd.data(), half, g.stretched_count, out.disp.view(), conf);
+  interpolate_stretched_leaves(g, m, vd.data(), 0, half, out.disp.view(), conf);
   invalidate_triangles(m, vd.data(), 0, static_cast<int>(m.triangles.size()), out.disp.view(), conf);
   return out;
 }

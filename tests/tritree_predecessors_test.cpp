@@ -1,8 +1,9 @@
 // The path predecessors the tritree offers while it emits its leaves
 // (src/aggregate/predecessor_offers.hpp) against PathMatcher's scan of the
-// finished mesh (docs/model.md 3b): the same table, entry for entry, and the
-// same reach, on random images and parameters, special sizes (stretched and
-// partial tiles) and Middlebury, with 4 and 8 directions and 1-3 workers.
+// finished mesh (docs/model.md 3b): the same table, entry for entry, the same
+// reach and the same extent (rows up, pixels ahead per row up), on random
+// images and parameters, special sizes (stretched and partial tiles) and
+// Middlebury, with 4 and 8 directions and 1-3 workers.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -73,13 +74,25 @@ void expect_same_predecessors(const ImageU8& gray, const StereoParams& p, int wo
   scanned.compute_costs(ctx, s, one);
 
   int reach = 0, with_pred = 0;
+  // The predecessors' extent, as the path passes' plan needs it: rows up,
+  // and per pass the pixels ahead along its x order per row up.
+  int reach_rows = 1, shear[2] = {0, 0};
   for (int r = 2; r < p.paths.directions; ++r)
     for (int i = 0; i < s.count(); ++i) {
       const int want = scanned.predecessor(s, r, i);
       ASSERT_EQ(offered.predecessor(s, r, i), want)
           << "direction " << r << ", vertex " << i << " at (" << s.x_of(i) << ", " << s.y_of(i) << ")";
-      if (want >= 0) reach = std::max(reach, std::abs(i - want)), ++with_pred;
+      if (want < 0) continue;
+      reach = std::max(reach, std::abs(i - want)), ++with_pred;
+      const int dy = std::max(1, std::abs(s.y_of(i) - s.y_of(want)));
+      const int pass = r % 2;
+      const int ahead = pass == 0 ? s.x_of(want) - s.x_of(i) : s.x_of(i) - s.x_of(want);
+      reach_rows = std::max(reach_rows, dy);
+      if (ahead > 0) shear[pass] = std::max(shear[pass], (ahead + dy - 1) / dy);
     }
+  EXPECT_EQ(table.bounds.reach_rows, reach_rows);
+  EXPECT_EQ(table.bounds.shear[0], shear[0]);
+  EXPECT_EQ(table.bounds.shear[1], shear[1]);
   // The reach bounds every predecessor's id distance, within the rows a row
   // of tiles spans (S + 1 virtual rows: up to S + 2 real ones by a moved last row).
   EXPECT_GE(table.reach, reach);

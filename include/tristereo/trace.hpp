@@ -41,11 +41,16 @@ enum class TraceKind : std::uint8_t {
   kDecideBand,      // a = band of image rows (by the pass that came second)
   kCostRows,        // a = first row, b = end row
   kInterpolationTiles,  // a = first row of tiles, b = end
-  kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission), b = row of tiles
+  kTritreeRows,     // a = phase (0 the split criterion, 1 numbering and emission, 2 the carry
+                    // across tile borders, 3 counting the vertices), b = row of tiles
   kFillChunk,       // a fill round over items a .. b - 1 (mesh triangles, or a grid's invalid
                     // samples), handed out in chunks of c
   kRectify,         // pipeline track: both raw frames remapped (after the other kinds, so
                     // that their numbers stay those of older traces)
+  kStretchedLeaves,  // the tritree's stretched leaves a .. b - 1 interpolated by their planes
+  kVertexSamples,    // dense frames: the map's values at the mesh's vertices a .. b - 1
+  kLeftRightRows,    // the mirrored pass's left-right check: image rows a .. b - 1; c = 0 the
+                     // images mirrored, 1 the samples checked
   kCount
 };
 

@@ -186,21 +186,26 @@ void PathMatcher::use_predecessors(const Mesh* mesh, const PredecessorTable& fil
   }
   supplied_for_ = mesh;
   supplied_reach_ = filled.reach;
+  supplied_bounds_ = filled.bounds;
 }
 
 void PathMatcher::compute_costs(const MatchContext& ctx, const SampleLayout& samples, ThreadPool& pool) {
   // The predecessors first, on the first worker to arrive (they only read the
   // mesh, and write preds_), while the others start on the rows.
-  // (Unless the mesher wrote them while it built this mesh: use_predecessors.)
+  // (Unless the mesher wrote them, and their bounds, while it built this
+  // mesh: use_predecessors. Then there is no side task.)
   const bool supplied = !samples.dense() && supplied_for_ == samples.mesh;
   supplied_for_ = nullptr;
-  side_next_.store(samples.dense() ? 1 : 0, std::memory_order_relaxed);
+  side_next_.store(samples.dense() || supplied ? 1 : 0, std::memory_order_relaxed);
   int reach = supplied ? supplied_reach_ : 0;
-  if (supplied) reach_ = reach;
+  if (supplied) {
+    reach_ = reach;
+    bounds_ = supplied_bounds_;
+  }
   preds_for_ = nullptr;
   const auto side_tasks = [&] {
     if (side_next_.fetch_add(1, std::memory_order_relaxed) != 0) return;
-    if (!supplied) reach_ = reach = find_predecessors(samples);
+    reach_ = reach = find_predecessors(samples);
     bounds_ = predecessor_bounds(samples);
   };
   if (params_.cost.kind == CostKind::kCensus) {
@@ -420,7 +425,7 @@ int PathMatcher::predecessor(const SampleLayout& samples, int r, int i) const {
       preds_[static_cast<std::size_t>(i) * static_cast<std::size_t>(directions_ - 2) + static_cast<std::size_t>(r - 2)]);
 }
 
-PathMatcher::PredecessorBounds PathMatcher::predecessor_bounds(const SampleLayout& samples) const {
+PredecessorBounds PathMatcher::predecessor_bounds(const SampleLayout& samples) const {
   PredecessorBounds b;
   if (samples.dense()) {
     // The pixel above or below, and with 8 directions the diagonal ones: one
@@ -429,22 +434,8 @@ PathMatcher::PredecessorBounds PathMatcher::predecessor_bounds(const SampleLayou
     b.shear[0] = b.shear[1] = directions_ == 8 ? 1 : 0;
     return b;
   }
-  const int n = samples.count();
-  const auto per = static_cast<std::size_t>(directions_ - 2);
-  const Vertex* v = samples.mesh->vertices.data();
-  const std::int32_t* preds = preds_.get();
-  for (int i = 0; i < n; ++i) {
-    const Vertex p = v[i];
-    for (std::size_t s = 0; s < per; ++s) {
-      const int q = predecessor_of_slot(preds[static_cast<std::size_t>(i) * per + s]);
-      if (q < 0) continue;
-      const int dy = std::max(1, std::abs(p.y - v[q].y));
-      const int pass = path_runs_forward(static_cast<int>(s) + 2) ? 0 : 1;
-      const int ahead = pass == 0 ? v[q].x - p.x : p.x - v[q].x;  // along the pass's x order
-      b.reach_rows = std::max(b.reach_rows, dy);
-      if (ahead > 0) b.shear[pass] = std::max(b.shear[pass], (ahead + dy - 1) / dy);
-    }
-  }
+  widen_predecessor_bounds(preds_.get(), directions_ - 2, samples.mesh->vertices.data(), 0, samples.count(), 0, 1,
+                           &b);
   return b;
 }
 

@@ -63,7 +63,7 @@ class PathMatcher {
   // The predecessor table, for a mesher to fill while it builds the next
   // frame's mesh (Tritree::build); once filled, use_predecessors() hands it
   // back for that mesh, and the next compute_costs() on it skips the scan.
-  PredecessorTable predecessor_table() { return PredecessorTable{preds_.get(), directions_, false, 0}; }
+  PredecessorTable predecessor_table() { return PredecessorTable{preds_.get(), directions_, false, 0, {}}; }
   void use_predecessors(const Mesh* mesh, const PredecessorTable& filled);
   // Predecessors along each direction, then the path costs and their sums.
   // left_gray: the frame's reference image (for the intensity-adaptive P2).
@@ -155,12 +155,8 @@ class PathMatcher {
     int bands = 0, cols = 0, lead = 0, in_flight = 1;
     int ring_n = 1;         // ring slots this frame: sample i is slot i mod ring_n
   };
-  // The predecessors' extent this frame: rows up (reach_rows) and, per pass,
-  // the pixels ahead along the pass per row up (shear, rounded up).
-  struct PredecessorBounds {
-    int reach_rows = 1;
-    int shear[2] = {0, 0};
-  };
+  // The predecessors' extent this frame (predecessor_offers.hpp): a dense
+  // frame's by rule, a mesh's by a scan of preds_.
   PredecessorBounds predecessor_bounds(const SampleLayout& samples) const;
   PassPlan plan_pass(const SampleLayout& samples, bool forward, int workers) const;
   // The image rows [*y0, *y1) of a pass's band (bands are the same rows in
@@ -210,6 +206,7 @@ class PathMatcher {
   const Mesh* preds_for_ = nullptr;  // the mesh whose predecessors preds_ holds (this frame)
   const Mesh* supplied_for_ = nullptr;  // use_predecessors(): filled by the mesher, for this mesh
   int supplied_reach_ = 0;
+  PredecessorBounds supplied_bounds_;
   PredecessorBounds bounds_;          // of preds_for_ (compute_costs)
   std::atomic<int> side_next_{0};
   // The horizontal path where a row leaves one tile for the next: per band

@@ -22,16 +22,33 @@
 
 namespace tristereo {
 
+// How far a mesh's predecessors lie from their samples: rows up (at least
+// 1), and per pass (0 forward, 1 backward) the pixels ahead along the pass's
+// x order per row up, rounded up (the shear of the path passes' tiles,
+// PathMatcher's plan). Maxima, so parts of a mesh merge in any order.
+struct PredecessorBounds {
+  int reach_rows = 1;
+  int shear[2] = {0, 0};
+
+  void merge(const PredecessorBounds& o) {
+    reach_rows = std::max(reach_rows, o.reach_rows);
+    shear[0] = std::max(shear[0], o.shear[0]);
+    shear[1] = std::max(shear[1], o.shear[1]);
+  }
+};
+
 // Where a mesher writes the predecessors of its mesh's vertices: per vertex,
 // `directions - 2` slots (directions 2 .. directions - 1), as keys
-// (predecessor_of_slot); the layout of PathMatcher's table. `filled` and
-// `reach` (a bound on the id distance of a predecessor) are set by the build
-// that filled it.
+// (predecessor_of_slot); the layout of PathMatcher's table. `filled`,
+// `reach` (a bound on the id distance of a predecessor) and `bounds` (the
+// predecessors' extent: widen_predecessor_bounds over every slot) are set by
+// the build that filled it.
 struct PredecessorTable {
   std::int32_t* slots = nullptr;
   int directions = 0;  // 4 or 8
   bool filled = false;
   int reach = 0;
+  PredecessorBounds bounds;
 };
 
 namespace predecessor_keys {
@@ -125,6 +142,42 @@ inline void offer_exact(std::uint32_t* keys, const Vertex* v, std::int32_t a, st
 inline std::int32_t predecessor_of_slot(std::int32_t slot) {
   const auto key = static_cast<std::uint32_t>(slot);
   return key == predecessor_keys::kNone ? -1 : static_cast<std::int32_t>(key & ~predecessor_keys::kWorse);
+}
+
+// Widens *b by the predecessors in slots first_slot, first_slot + slot_step,
+// ... (< kSlots) of vertices [begin, end) (v: the vertices). Slot s is
+// direction s + 2: the forward pass's when s is even. kSlots (2 or 6) is
+// known at compile time, so the loop over a vertex's slots unrolls.
+template <int kSlots>
+inline void widen_predecessor_bounds(const std::int32_t* slots, const Vertex* v, std::int32_t begin,
+                                     std::int32_t end, int first_slot, int slot_step, PredecessorBounds* b) {
+  int reach_rows = b->reach_rows, shear[2] = {b->shear[0], b->shear[1]};
+  for (std::int32_t i = begin; i < end; ++i) {
+    const Vertex p = v[i];
+    const std::int32_t* at = slots + static_cast<std::size_t>(i) * kSlots;
+    for (int s = first_slot; s < kSlots; s += slot_step) {
+      const int q = predecessor_of_slot(at[s]);
+      if (q < 0) continue;
+      const int dy = std::max(1, std::abs(p.y - v[q].y));
+      const int pass = s & 1;  // path_runs_forward(s + 2) ? 0 : 1
+      const int ahead = pass == 0 ? v[q].x - p.x : p.x - v[q].x;  // along the pass's x order
+      reach_rows = std::max(reach_rows, dy);
+      if (ahead > 0) shear[pass] = std::max(shear[pass], (ahead + dy - 1) / dy);
+    }
+  }
+  b->reach_rows = reach_rows;
+  b->shear[0] = shear[0];
+  b->shear[1] = shear[1];
+}
+
+// The same for a table of 2 or 6 slots per vertex, known at run time.
+inline void widen_predecessor_bounds(const std::int32_t* slots, int slots_per_vertex, const Vertex* v,
+                                     std::int32_t begin, std::int32_t end, int first_slot, int slot_step,
+                                     PredecessorBounds* b) {
+  if (slots_per_vertex == 2)
+    widen_predecessor_bounds<2>(slots, v, begin, end, first_slot, slot_step, b);
+  else
+    widen_predecessor_bounds<6>(slots, v, begin, end, first_slot, slot_step, b);
 }
 
 }  // namespace tristereo

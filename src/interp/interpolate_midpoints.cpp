@@ -192,9 +192,10 @@ bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
 }
 
 void interpolate_stretched_leaves(const TritreeGrid& grid, const Mesh& mesh,
-                                  const std::int16_t* vertex_disp_q4, ImageView<std::int16_t> disp_q4,
+                                  const std::int16_t* vertex_disp_q4, std::size_t leaf_begin,
+                                  std::size_t leaf_end, ImageView<std::int16_t> disp_q4,
                                   const ConfidenceMaps* conf) {
-  for (std::size_t t = 0; t < grid.stretched_count; ++t) {
+  for (std::size_t t = leaf_begin; t < std::min(leaf_end, grid.stretched_count); ++t) {
     const Triangle& tri = grid.stretched[t];
     const Vertex& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
     const Vertex& b = mesh.vertices[static_cast<std::size_t>(tri[1])];

@@ -70,10 +70,13 @@ bool interpolate_midpoint_tiles(const TritreeGrid& grid, const Mesh& mesh, const
                                 std::int32_t* scratch, ImageView<std::int16_t> disp_q4,
                                 const ConfidenceMaps* conf = nullptr);
 
-// After every tile: the stretched leaves, by their planes (and their
-// pixels' confidence by confidence_triangle).
+// After every tile: the stretched leaves [leaf_begin, leaf_end) of
+// grid.stretched, by their planes (and their pixels' confidence by
+// confidence_triangle). A leaf writes only the pixels it owns, so disjoint
+// ranges may run at once, on different workers.
 void interpolate_stretched_leaves(const TritreeGrid& grid, const Mesh& mesh,
-                                  const std::int16_t* vertex_disp_q4, ImageView<std::int16_t> disp_q4,
+                                  const std::int16_t* vertex_disp_q4, std::size_t leaf_begin,
+                                  std::size_t leaf_end, ImageView<std::int16_t> disp_q4,
                                   const ConfidenceMaps* conf = nullptr);
 
 // Then, when some vertex is invalid: every pixel owned by a triangle of

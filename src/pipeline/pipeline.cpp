@@ -61,7 +61,8 @@ struct Pipeline::Impl {
   };
   std::vector<Worker> workers;
   WorkChunks rows;       // matching: rows handed out on demand
-  WorkChunks triangles;  // interpolation: triangles handed out on demand
+  WorkChunks triangles;  // interpolation: rows of tiles, triangles or (dense) vertices on demand
+  HomeChunks leaf_homes;  // interpolation: the stretched leaves, a home of them per worker
   std::vector<std::int32_t> all_xs;  // 0 .. max_width-1 (dense mode samples)
   ImageU8 left_gray, right_gray;     // used when the input is RGB (reserved, sized per frame)
   ImageU8 rect_left, rect_right;     // the rectified frames (config.rectify only)
@@ -269,6 +270,13 @@ namespace {
 // negligible. A row costs tens of microseconds, a triangle tens of nanoseconds.
 constexpr int kRowsPerChunk = 4;
 constexpr int kTrianglesPerChunk = 4096;
+// The stretched leaves: thin triangles along the moved last column and row,
+// about 0.1 us each and a thousand on 640x480 (a hundred chunks or more).
+constexpr int kStretchedLeavesPerChunk = 8;
+// Dense frames: the map's value at each mesh vertex, tens of nanoseconds each.
+constexpr int kVerticesPerChunk = 2048;
+// The mirrored pass's check: a row's samples, tens of nanoseconds each.
+constexpr int kLeftRightRowsPerChunk = 16;
 
 // Gray view of an input (checked by check_stereo_inputs): the view itself
 // when it is gray, else `buffer` filled by the configured set's row kernel.
@@ -422,7 +430,26 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
     }
     if (invalid) any_invalid.store(true, std::memory_order_relaxed);
   });
-  interpolate_stretched_leaves(grid, mesh, vertex_disp, out, conf);
+  // The stretched leaves overwrite pixels the tiles wrote on the moved last
+  // column and row (their planes do not meet the grid's midpoints), so they
+  // come after every tile; each leaf writes only its own pixels, so they go in
+  // chunks to every worker (a serial loop was a third of the stage's time at
+  // one worker on 640x480). Neighbouring leaves write the same rows' last
+  // cache lines, so each worker takes a home of consecutive chunks first:
+  // chunks dealt in turn made two workers' leaves twice as slow as one's.
+  if (grid.stretched_count > 0) {
+    const auto leaves = static_cast<int>(grid.stretched_count);
+    leaf_homes.reset((leaves + kStretchedLeavesPerChunk - 1) / kStretchedLeavesPerChunk, pool.size());
+    pool.run([&](int w) {
+      leaf_homes.for_each(w, [&](int c) {
+        const int l0 = c * kStretchedLeavesPerChunk, l1 = std::min(leaves, l0 + kStretchedLeavesPerChunk);
+        const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
+        interpolate_stretched_leaves(grid, mesh, vertex_disp, static_cast<std::size_t>(l0),
+                                     static_cast<std::size_t>(l1), out, conf);
+        if (trace != nullptr) trace->record(w, TraceKind::kStretchedLeaves, t0, monotonic_ns(), l0, l1);
+      });
+    });
+  }
   if (!any_invalid.load(std::memory_order_relaxed)) return;
   triangles.reset(0, n_tri, kTrianglesPerChunk);
   pool.run([&](int) {
@@ -521,8 +548,18 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   // Left-right check by a second pass: the right view's own tritree, matching,
   // fill and dense map (lr_source = costs did it in match_view).
   if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass) {
-    mirror_gray(rg, m.mirror_left);
-    mirror_gray(lg, m.mirror_right);
+    size_mirror(rg, m.mirror_left);
+    size_mirror(lg, m.mirror_right);
+    m.rows.reset(0, height, kRowsPerChunk);
+    m.pool.run([&](int w) {
+      int y0 = 0, y1 = 0;
+      while (m.rows.next(&y0, &y1)) {
+        const std::int64_t t0 = m.trace != nullptr ? monotonic_ns() : 0;
+        mirror_gray_rows(rg, m.mirror_left, y0, y1);
+        mirror_gray_rows(lg, m.mirror_right, y0, y1);
+        if (m.trace != nullptr) m.trace->record(w, TraceKind::kLeftRightRows, t0, monotonic_ns(), y0, y1, 0);
+      }
+    });
     const ImageView<const std::uint8_t> ml{m.mirror_left.pixels.data(), width, height, 1, width};
     const ImageView<const std::uint8_t> mr{m.mirror_right.pixels.data(), width, height, 1, width};
     ImageS16& rd = m.right_disp;
@@ -540,7 +577,19 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     m.match_view(ml, mr, rs, right_samples, nullptr, &unused_cost, &unused_dp);
     if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples, &m.pool);
     if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, rd.view());
-    validity.lr_rejected = lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp);
+    // Each sample reads the right map and writes only itself: rows on demand.
+    std::atomic<int> lr_rejected{0};
+    m.rows.reset(0, height, kLeftRightRowsPerChunk);
+    m.pool.run([&](int w) {
+      int y0 = 0, y1 = 0, own = 0;
+      while (m.rows.next(&y0, &y1)) {
+        const std::int64_t t0 = m.trace != nullptr ? monotonic_ns() : 0;
+        own += lr_check(samples, rd.view(), params.validity.lr_max_diff_q4, sample_disp, y0, y1);
+        if (m.trace != nullptr) m.trace->record(w, TraceKind::kLeftRightRows, t0, monotonic_ns(), y0, y1, 1);
+      }
+      lr_rejected.fetch_add(own, std::memory_order_relaxed);
+    });
+    validity.lr_rejected = lr_rejected.load();
   }
   const std::int64_t t_right = monotonic_ns();
   if (params.validity.fill != FillMode::kNone)
@@ -551,12 +600,22 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
 
   // 4. Dense map from the mesh (sparse mode) or sample disparities from the map (dense mode).
   if (params.dense) {
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-      const int x = mesh.vertices[i].x, y = mesh.vertices[i].y;
-      vdisp[i] = dense.at(x, y);
-      m.out.vertex_state[i] = m.out.pixel_state.at(x, y);
-      m.out.vertex_confidence[i] = m.out.pixel_confidence.at(x, y);
-    }
+    // Each vertex reads its own pixel: chunks of vertices on demand.
+    m.triangles.reset(0, static_cast<int>(mesh.vertices.size()), kVerticesPerChunk);
+    m.pool.run([&](int w) {
+      int i0 = 0, i1 = 0;
+      while (m.triangles.next(&i0, &i1)) {
+        const std::int64_t t0 = m.trace != nullptr ? monotonic_ns() : 0;
+        for (int i = i0; i < i1; ++i) {
+          const auto v = static_cast<std::size_t>(i);
+          const int x = mesh.vertices[v].x, y = mesh.vertices[v].y;
+          vdisp[v] = dense.at(x, y);
+          m.out.vertex_state[v] = m.out.pixel_state.at(x, y);
+          m.out.vertex_confidence[v] = m.out.pixel_confidence.at(x, y);
+        }
+        if (m.trace != nullptr) m.trace->record(w, TraceKind::kVertexSamples, t0, monotonic_ns(), i0, i1);
+      }
+    });
   } else {
     const ConfidenceMaps conf{m.out.vertex_confidence.data(), m.out.pixel_confidence.view(),
                               m.out.pixel_state.view()};

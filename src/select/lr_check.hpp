@@ -14,11 +14,16 @@ namespace tristereo {
 // / 16 matches right pixel xr = x - floor((D_q4 + 8) / 16); it stays valid when
 // xr is inside the image, the right map is valid there and
 // |disp_q4[i] - right(xr, y)| <= max_diff_q4. Others become kInvalidDispQ4.
-// Returns the number of samples invalidated here.
+// Returns the number of samples invalidated here. Only the samples of image
+// rows [y_begin, y_end) (default: all): a sample reads and writes only
+// itself, so row ranges may be checked at once on different workers.
 int lr_check(const SampleLayout& samples, ImageView<const std::int16_t> right_mirrored_q4,
-             int max_diff_q4, std::int16_t* disp_q4);
+             int max_diff_q4, std::int16_t* disp_q4, int y_begin = 0, int y_end = -1);
 
-// dst(x, y) = src(W - 1 - x, y); dst has src's size (stride = width).
-void mirror_gray(ImageView<const std::uint8_t> src, ImageU8& dst);
+// dst(x, y) = src(W - 1 - x, y), in two steps so that rows can go to
+// different workers: size dst as src (stride = width) once, then mirror any
+// ranges of rows into it.
+void size_mirror(ImageView<const std::uint8_t> src, ImageU8& dst);
+void mirror_gray_rows(ImageView<const std::uint8_t> src, ImageU8& dst, int y_begin, int y_end);
 
 }  // namespace tristereo

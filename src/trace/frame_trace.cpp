@@ -29,6 +29,9 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kInterpolationTiles: return "interpolation tiles";
     case TraceKind::kTritreeRows: return "tritree rows";
     case TraceKind::kFillChunk: return "fill items";
+    case TraceKind::kStretchedLeaves: return "stretched leaves";
+    case TraceKind::kVertexSamples: return "vertex samples";
+    case TraceKind::kLeftRightRows: return "left-right rows";
     case TraceKind::kCount: break;
   }
   return "?";

@@ -195,7 +195,7 @@ class Tritree {
   template <int S, int s>
   void plain_level(int tx0, int ty0, const TileScratch& sc);
   void tile_plain_of_side(int side, int tx0, int ty0, const TileScratch& sc, bool side4_ready = false);
-  void carry_across_tile_borders();
+  void carry_across_tile_borders(int ty0, int ty1);
   void carry_up(int x, int y);
   // Pass 3 writes each row of tiles' leaves straight into its place in the
   // mesh (counted beforehand by count_vertices(), so rows of tiles can run
@@ -213,6 +213,8 @@ class Tritree {
     // next one's first, or vh), at most S + 2 (a pass-3 worker's).
     std::int32_t* ids = nullptr;
     std::int64_t ids_y0 = 0;
+    // The extent of the predecessors its leaves offered (preds only).
+    PredecessorBounds bounds;
   };
   void collect_stretched();
   void emit_tile(Band& b, int tx0, int ty0, bool plain);
@@ -237,6 +239,10 @@ class Tritree {
   // Empties the predecessor slots that row of tiles `band`'s leaves offer to,
   // right before it emits them (so they are in cache when offered).
   void empty_band_slots(int band, const Mesh& mesh) const;
+  // Once it emitted them: the extent of the predecessors in those slots,
+  // into b.bounds (still in cache; the path matcher's scan of the whole
+  // table, on one worker, is then not needed).
+  void band_predecessor_bounds(int band, const Mesh& mesh, Band& b) const;
 
   // Geometry of the hierarchy (virtual coordinates).
   void corners(const Tri& t, int* x, int* y) const;

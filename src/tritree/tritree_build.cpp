@@ -10,6 +10,7 @@
 #include "platform/cpu_relax.hpp"
 #include "platform/side_work.hpp"
 #include "platform/thread_pool.hpp"
+#include "platform/work_chunks.hpp"
 #include "src/aggregate/predecessor_offers.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "src/tritree/fill_rule.hpp"
@@ -709,11 +710,21 @@ void Tritree::apply_kernel_level(int tx0, int ty0, const std::uint32_t* wants_ro
 // parents are the halves of the squares on either side of the border: their
 // midpoints are those squares' centres, h away across it. Mostly both are
 // set already (by their own tiles), and the whole carry_up() is skipped.
-void Tritree::carry_across_tile_borders() {
+// The borders of rows of tiles [ty0, ty1): the horizontal one on top of each
+// and the vertical ones inside (the grid's last row with the last row of
+// tiles). Rows of tiles go to different workers at once: a carry may climb
+// into any tile near its border, so the need bytes are read and set by
+// atomic operations here. The result does not depend on the order: it is
+// the closure of the need bits under the carry (a bit, once set, is carried
+// up by the one worker that set it).
+void Tritree::carry_across_tile_borders(int ty0, int ty1) {
   const int S = tile_, vw = layout_.vw, vh = layout_.vh;
   const std::size_t stride = static_cast<std::size_t>(vw) + 1;
-  const auto need_at = [&](int x, int y) { return (need_[static_cast<std::size_t>(y) * stride + x] & kNeed) != 0; };
-  for (int y = 0; y <= vh; ++y) {
+  const auto need_at = [&](int x, int y) {
+    return (__atomic_load_n(need_ + static_cast<std::size_t>(y) * stride + x, __ATOMIC_RELAXED) & kNeed) != 0;
+  };
+  const int y_end = ty1 == layout_.tiles_y ? vh + 1 : std::min(ty1 * S, vh + 1);
+  for (int y = ty0 * S; y < y_end; ++y) {
     if (y % S == 0) {  // a horizontal border: parents above and below
       for (int x = 0; x <= vw; ++x) {
         if (!need_at(x, y)) continue;
@@ -742,13 +753,14 @@ void Tritree::carry_up(int x, int y) {
     int px, py;
     midpoint(p, &px, &py);
     // Mostly the parent's need is already set (by its own tile): test that first.
-    if (px > layout_.vw || py > layout_.vh || (cell(px, py) & kNeed)) continue;
+    if (px > layout_.vw || py > layout_.vh || (__atomic_load_n(&cell(px, py), __ATOMIC_RELAXED) & kNeed)) continue;
     int vx[3], vy[3];
     corners(tris[i], vx, vy);
     if (where(vx, vy) != Where::kInside) continue;
     corners(p, vx, vy);
     if (where(vx, vy) != Where::kInside) continue;  // crossing parents need anyway
-    cell(px, py) |= kNeed;
+    // Another worker may have set it meanwhile: then that one carries it up.
+    if (__atomic_fetch_or(&cell(px, py), kNeed, __ATOMIC_RELAXED) & kNeed) continue;
     carry_up(px, py);
   }
 }
@@ -837,7 +849,9 @@ void Tritree::emit_tile(Band& b, int tx0, int ty0, bool plain) {
 // (with the next one's first): every edge lies inside one row of tiles.
 void Tritree::finish_predecessors(const Mesh& mesh, PredecessorTable* preds) const {
   int reach = 0;
+  preds->bounds = PredecessorBounds{};
   for (int band = 0; band < layout_.tiles_y; ++band) {
+    preds->bounds.merge(bands_[band].bounds);
     const int y0 = layout_.real_y(band * tile_), y1 = layout_.real_y(std::min((band + 1) * tile_, layout_.vh));
     reach = std::max(reach, mesh.row_start[static_cast<std::size_t>(y1) + 1] - mesh.row_start[static_cast<std::size_t>(y0)] - 1);
   }
@@ -879,7 +893,6 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
   if (layout_.strip()) {
     times_.criterion_ns = 0;
   } else {
-    serial([&] { std::memset(need_, 0, static_cast<std::size_t>(layout_.vw + 1) * (layout_.vh + 1)); });
     for (TileScratch& sc : scratch_) {  // the span records hold for one image size
       SpanCache& c = *sc.spans;
       if (c.width == gray.width && c.height == gray.height) continue;
@@ -888,7 +901,18 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       for (SpanKind& k : c.kinds) k.recorded = k.unusable = false;
     }
     const int S = tile_;
-    const auto tile_row = [&](int ty, const TileScratch& sc) {
+    // Each row of tiles clears the need grid's rows it is the first to touch
+    // right before its tiles: no serial memset of the whole grid.
+    const auto clear_need_rows = [&](int vy0, int vy1) {
+      const auto row_len = static_cast<std::size_t>(layout_.vw) + 1;
+      if (vy1 >= vy0)
+        std::memset(need_ + static_cast<std::size_t>(vy0) * row_len, 0, static_cast<std::size_t>(vy1 - vy0 + 1) * row_len);
+    };
+    const auto tile_row = [&](int ty, const TileScratch& sc, bool clear_top, bool clear_bottom) {
+      // Its closed rows of the grid: the top one shared with the row of tiles
+      // above, the bottom one with the one below (or the grid's last).
+      const int top = ty * S, bottom = std::min((ty + 1) * S, layout_.vh);
+      clear_need_rows(clear_top ? top : top + 1, clear_bottom ? bottom : bottom - 1);
       // Plain tiles: x0 + S < vw and y0 + S < vh, the row's first (vw - 1) / S.
       const int plain_tiles = ty * S + S < layout_.vh ? (layout_.vw - 1) / S : 0;
       const bool side4 = side4_kernel_ && plain_tiles > 0;
@@ -946,14 +970,31 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
               if (spins >= 4096) std::this_thread::yield();
             }
           }
-          traced(w, 0, ty, [&] { tile_row(ty, scratch_[w]); });
+          // The first parity clears its closed rows, the second (whose
+          // neighbours did its top and bottom rows) its rows between, and
+          // the grid's first row when it is the first row of tiles.
+          const bool first_parity = k < first;
+          traced(w, 0, ty, [&] { tile_row(ty, scratch_[w], first_parity || ty == 0, first_parity); });
           row_done_[ty].store(1, std::memory_order_release);
         }
       });
     } else {
-      for (int ty = 0; ty < layout_.tiles_y; ++ty) traced(0, 0, ty, [&] { tile_row(ty, scratch_[0]); });
+      // In order: each row of tiles clears its rows but the first (the row
+      // above's last), the first row of tiles that one too.
+      for (int ty = 0; ty < layout_.tiles_y; ++ty)
+        traced(0, 0, ty, [&] { tile_row(ty, scratch_[0], ty == 0, true); });
     }
-    serial([&] { carry_across_tile_borders(); });
+    // The carry across tile borders, rows of tiles on demand (trace phase 2).
+    if (workers > 1) {
+      WorkChunks border_rows;
+      border_rows.reset(0, layout_.tiles_y, 1);
+      pool->run([&](int w) {
+        int t0 = 0, t1 = 0;
+        while (border_rows.next(&t0, &t1)) traced(w, 2, t0, [&] { carry_across_tile_borders(t0, t1); });
+      });
+    } else {
+      for (int ty = 0; ty < layout_.tiles_y; ++ty) traced(0, 2, ty, [&] { carry_across_tile_borders(ty, ty + 1); });
+    }
     const std::int64_t t1 = monotonic_ns();
     times_.criterion_ns = t1 - t0;
     begin_mesh(mesh);
@@ -994,7 +1035,10 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
         const bool plain = x0 + S < layout_.vw && y0 + S < layout_.vh;
         emit_tile(b, x0, y0, plain);
       }
-      if (pred_slots_ > 0) offer_stretched(b);
+      if (pred_slots_ > 0) {
+        offer_stretched(b);
+        band_predecessor_bounds(ty, mesh, b);
+      }
       bands_[ty] = b;
     };
     if (workers > 1) {

@@ -8,7 +8,9 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
+#include "platform/work_chunks.hpp"
 #include "src/tritree/tritree.hpp"
 
 namespace tristereo {
@@ -95,12 +97,21 @@ std::size_t Tritree::count_vertices(Mesh& mesh, ThreadPool* pool) {
     band_start_[band] = static_cast<std::size_t>(2 * v - (first + last + sides) - 2);
   };
   const bool parallel = pool != nullptr && pool->size() > 1 && bands > 1;
+  const auto traced_count = [&](int worker, int band) {
+    const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+    count_band(band);
+    if (trace_ != nullptr) trace_->record(worker, TraceKind::kTritreeRows, t0, monotonic_ns(), 3, band);
+  };
   if (parallel) {
+    // On demand: a worker slowed from outside takes fewer rows of tiles.
+    WorkChunks rows;
+    rows.reset(0, bands, 1);
     pool->run([&](int worker) {
-      for (int band = worker; band < bands; band += pool->size()) count_band(band);
+      int b0 = 0, b1 = 0;
+      while (rows.next(&b0, &b1)) traced_count(worker, b0);
     });
   } else {
-    for (int band = 0; band < bands; ++band) count_band(band);
+    for (int band = 0; band < bands; ++band) traced_count(0, band);
   }
   std::int32_t total = 0;
   std::size_t leaves = 0;
@@ -205,6 +216,29 @@ void Tritree::empty_band_slots(int band, const Mesh& mesh) const {
     ids_of_row(vy1, &b1, &e1);
     empty(b1, e1, 0, 2);
   }
+}
+
+// The slots empty_band_slots() emptied are the ones the row of tiles wrote:
+// the odd ones ("from below") of its own rows, the even ones ("from above")
+// of its rows but the first and of the next row of tiles' first row.
+void Tritree::band_predecessor_bounds(int band, const Mesh& mesh, Band& b) const {
+  int vy0, vy1;
+  band_rows(band, &vy0, &vy1);
+  const auto row_end = [&](int vy) {
+    return mesh.row_start[static_cast<std::size_t>(layout_.real_y(vy)) + 1];
+  };
+  const auto n = static_cast<std::int32_t>(mesh.vertices.size());
+  const bool last = band + 1 == layout_.tiles_y;
+  const std::int32_t begin = mesh.row_start[static_cast<std::size_t>(layout_.real_y(vy0))];
+  const std::int32_t own_end = last ? n : band_first_id_[band + 1];
+  const std::int32_t next_first_end = last ? n : row_end(vy1);
+  const std::int32_t first_end = row_end(vy0);
+  const auto keys = reinterpret_cast<const std::int32_t*>(pred_keys_);
+  // One pass: the first row's odd slots, every slot of the rows between, the
+  // next first row's even slots.
+  widen_predecessor_bounds(keys, pred_slots_, vertices_, begin, first_end, 1, 2, &b.bounds);
+  widen_predecessor_bounds(keys, pred_slots_, vertices_, first_end, own_end, 0, 1, &b.bounds);
+  widen_predecessor_bounds(keys, pred_slots_, vertices_, own_end, next_first_end, 0, 2, &b.bounds);
 }
 
 void Tritree::begin_mesh(Mesh& mesh) const {
