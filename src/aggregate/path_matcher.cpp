@@ -21,6 +21,9 @@ namespace tristereo {
 namespace {
 constexpr std::size_t kLanesRound = 16;  // rows start on 32-byte boundaries
 constexpr std::uint16_t kGuard = 0xFFFF;
+// How far ahead run_tile prefetches a sample's costs and sums (4 and 8
+// measured the same).
+constexpr int kPrefetchSamples = 4;
 
 std::size_t round_up(std::size_t v) { return (v + kLanesRound - 1) / kLanesRound * kLanesRound; }
 // Census costs by rows: windows of at most this many pixels may be summed
@@ -553,6 +556,20 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
   const std::int32_t* preds = preds_.get();
   const auto per = static_cast<std::size_t>(directions_ - 2);
   const int di = forward ? 1 : -1;
+  // C and S of the sample kPrefetchSamples ahead in the pass's order: the
+  // hardware prefetchers do not follow the backward pass's descending rows of
+  // 4-5 ascending lines (at D = 128 on one Zen 4 worker it took 10-17 ms
+  // against the forward pass's 4; with this 4 and 3.5 ms), and the forward
+  // pass gains a little too.
+  const int ahead = di * kPrefetchSamples, count = samples.count();
+  const auto prefetch_sample = [&](int a) {
+    const char* c = reinterpret_cast<const char*>(costs_.get() + row(a, cost_stride_));
+    const char* s = reinterpret_cast<const char*>(sum_.get() + row(a, cost_stride_));
+    for (std::size_t b = 0; b < cost_stride_ * sizeof(std::uint16_t); b += 64) {
+      __builtin_prefetch(c + b, 0);
+      __builtin_prefetch(s + b, 1);
+    }
+  };
   const std::size_t carry_base = static_cast<std::size_t>(band % plan.in_flight) * static_cast<std::size_t>(max_rows_per_band_);
   int band_y0 = 0, band_y1 = 0;
   band_rows(plan, band, h, &band_y0, &band_y1);
@@ -580,6 +597,7 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
       const int ip = g[x];
       const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
       std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
+      if (i + ahead >= 0 && i + ahead < count) prefetch_sample(i + ahead);
       std::uint16_t* out = ring[step & 1];
       const std::uint16_t* prev = zero;
       std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
