@@ -21,7 +21,7 @@ namespace tristereo {
 namespace {
 constexpr std::size_t kLanesRound = 16;  // rows start on 32-byte boundaries
 constexpr std::uint16_t kGuard = 0xFFFF;
-// How far ahead run_tile prefetches a sample's costs and sums (4 and 8
+// How far ahead run_tile prefetches a sample's costs and sums (2 to 16
 // measured the same).
 constexpr int kPrefetchSamples = 4;
 
@@ -556,12 +556,18 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
   const std::int32_t* preds = preds_.get();
   const auto per = static_cast<std::size_t>(directions_ - 2);
   const int di = forward ? 1 : -1;
-  // C and S of the sample kPrefetchSamples ahead in the pass's order: the
-  // hardware prefetchers do not follow the backward pass's descending rows of
-  // 4-5 ascending lines (at D = 128 on one Zen 4 worker it took 10-17 ms
-  // against the forward pass's 4; with this 4 and 3.5 ms), and the forward
-  // pass gains a little too.
-  const int ahead = di * kPrefetchSamples, count = samples.count();
+  const std::size_t carry_base = static_cast<std::size_t>(band % plan.in_flight) * static_cast<std::size_t>(max_rows_per_band_);
+  int band_y0 = 0, band_y1 = 0;
+  band_rows(plan, band, h, &band_y0, &band_y1);
+  // C and S of the samples ahead in the pass's order are prefetched: the
+  // hardware prefetchers do not follow the backward pass's descending run of
+  // samples (each a few ascending lines: at D = 128 on one Zen 4 worker the
+  // backward pass took 10-17 ms against the forward pass's 4; with this 4 and
+  // 3.5 ms), and in a tile narrower than the row each row's part starts far
+  // from the last: the first samples of the next row's part are prefetched
+  // when a row's part starts, the later ones kPrefetchSamples ahead (within
+  // the row's part, unless the tiles are whole rows).
+  const int ahead = di * kPrefetchSamples;
   const auto prefetch_sample = [&](int a) {
     const char* c = reinterpret_cast<const char*>(costs_.get() + row(a, cost_stride_));
     const char* s = reinterpret_cast<const char*>(sum_.get() + row(a, cost_stride_));
@@ -570,10 +576,20 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
       __builtin_prefetch(s + b, 1);
     }
   };
-  const std::size_t carry_base = static_cast<std::size_t>(band % plan.in_flight) * static_cast<std::size_t>(max_rows_per_band_);
-  int band_y0 = 0, band_y1 = 0;
-  band_rows(plan, band, h, &band_y0, &band_y1);
+  // The first samples of row j's part of this tile (a row without samples:
+  // none).
+  const auto prefetch_row_start = [&](int j) {
+    const int y = forward ? band_y0 + j : band_y1 - 1 - j;
+    const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
+    if (v0 == v1) return;
+    const int first = col == 0 ? (forward ? v0 : v1 - 1)
+                               : carry_[pass][carry_base + static_cast<std::size_t>(j)].next;
+    for (int a = first, k = 0; k < kPrefetchSamples && a >= v0 && a < v1; a += di, ++k) prefetch_sample(a);
+  };
+  const bool whole_rows = plan.cols == 1;
+  prefetch_row_start(0);
   for (int j = 0; j < band_y1 - band_y0; ++j) {
+    if (j + 1 < band_y1 - band_y0) prefetch_row_start(j + 1);
     const int y = forward ? band_y0 + j : band_y1 - 1 - j;
     const int v0 = samples.row_begin(y), v1 = samples.row_end(y);
     if (v0 == v1) continue;
@@ -591,13 +607,15 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
     int hq_x = carry.hq_x, hq_i = carry.hq_i;
     int slot = i % ring_n;
     int step = 0;
+    // Whole-row tiles continue into the next band's row in the same order.
+    const int lo = whole_rows ? 0 : v0, hi = whole_rows ? samples.count() : v1;
     for (; forward ? i < v1 : i >= v0; i += di) {
       const int x = dense ? i - v0 : verts[i].x;
       if ((forward ? x : w - 1 - x) >= u_end) break;
       const int ip = g[x];
       const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
       std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
-      if (i + ahead >= 0 && i + ahead < count) prefetch_sample(i + ahead);
+      if (i + ahead >= lo && i + ahead < hi) prefetch_sample(i + ahead);
       std::uint16_t* out = ring[step & 1];
       const std::uint16_t* prev = zero;
       std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
