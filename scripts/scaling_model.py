@@ -20,7 +20,7 @@ workers by a list scheduler:
 - the path run ("path tile" items, args pass/band/tile) is two wavefronts at
   once (src/aggregate/path_matcher.cpp): a tile waits for the tile before it
   in its band, for the band above to be `lead` tiles ahead, and for the band
-  N + 1 bands back to be done; a band of rows is started by the first pass to
+  N / 2 + 2 bands back to be done (from 3 workers on; 1 up to 2); a band of rows is started by the first pass to
   reach it, the other pass starts it once the first has done it; a free
   worker takes the ready tile of the lowest band of its own pass (even
   workers forward, odd ones backward), else of the other pass (unless the
@@ -122,7 +122,7 @@ def paths_run(tiles, decides, plan, workers, speeds=None):
     speeds[w]: worker w's speed against the traced one (default 1)."""
     cols, leads = plan[0], (plan[1], plan[2])
     speeds = speeds or [1.0] * workers
-    in_flight = 1 if workers <= 2 else workers + 1
+    in_flight = 1 if workers <= 2 else workers // 2 + 2  # path_matcher.cpp bands_in_flight
     # A one-worker trace runs the forward pass first on every band and the
     # backward pass second (it adds to S, and decides): a tile's time is taken
     # by its pass, at its place (band of image rows, tile in image x order),
