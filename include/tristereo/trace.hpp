@@ -51,6 +51,7 @@ enum class TraceKind : std::uint8_t {
   kVertexSamples,    // dense frames: the map's values at the mesh's vertices a .. b - 1
   kLeftRightRows,    // the mirrored pass's left-right check: image rows a .. b - 1; c = 0 the
                      // images mirrored, 1 the samples checked
+  kSampleStates,     // samples a .. b - 1: confidence and state settled after the fill
   kCount
 };
 

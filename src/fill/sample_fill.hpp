@@ -60,6 +60,8 @@ class SampleFill {
   // joins them up in order at pending_[0, total) and returns the total.
   template <class Body>
   int compacting(ThreadPool* pool, int n, int chunk, Body body);
+  // Workers a mesh's walks use: the pool's, up to the candidate arrays configured.
+  int mesh_workers(const ThreadPool* pool) const;
   int max_samples_ = 0;
   int max_triangles_ = 0;
   WorkChunks chunks_;                   // a round's pending samples, handed out on demand

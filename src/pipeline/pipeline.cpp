@@ -277,6 +277,8 @@ constexpr int kStretchedLeavesPerChunk = 8;
 constexpr int kVerticesPerChunk = 2048;
 // The mirrored pass's check: a row's samples, tens of nanoseconds each.
 constexpr int kLeftRightRowsPerChunk = 16;
+// Samples per chunk of the states settled after the fill.
+constexpr int kSettlePerChunk = 16384;
 
 // Gray view of an input (checked by check_stereo_inputs): the view itself
 // when it is gray, else `buffer` filled by the configured set's row kernel.
@@ -369,27 +371,46 @@ PathMatcher::Rejected Pipeline::Impl::match_view(ImageView<const std::uint8_t> l
   return {};
 }
 
+namespace {
+// settle_states' loop over samples [i0, i1); returns how many min_conf made
+// invalid. Every load unconditional, & for &&, the state as a sum (the same
+// values as state_of_confidence(c), tested), and the arrays as arguments
+// rather than a lambda's captures (a byte store may alias a captured
+// reference, which then reloaded every sample): the compiler vectorises it.
+int settle_samples(int i0, int i1, std::int16_t* disp, std::uint8_t* conf, std::uint8_t* state, int min_conf) {
+  static_assert(static_cast<int>(SampleState::kInvalid) == 0 && static_cast<int>(SampleState::kFilled) == 1 &&
+                    static_cast<int>(SampleState::kMeasured) == 2,
+                "the states' sum below");
+  int rejected = 0;
+  for (int i = i0; i < i1; ++i) {
+    const int d = disp[i], ci = conf[i];
+    const int c0 = d == kInvalidDispQ4 ? 0 : ci;
+    const bool reject = (c0 != 0) & (c0 < min_conf);
+    disp[i] = static_cast<std::int16_t>(reject ? kInvalidDispQ4 : d);
+    const int c = reject ? 0 : c0;
+    rejected += reject;
+    conf[i] = static_cast<std::uint8_t>(c);
+    state[i] = static_cast<std::uint8_t>((c != 0) + (c >= kMinMeasuredConfidence));
+  }
+  return rejected;
+}
+}  // namespace
+
 // After the fill: a sample still invalid gets confidence 0 (the one the
 // matcher gave it was its margin before a rejection); then those below the
 // minimum confidence become invalid, and every state follows from the
 // confidence (src/select/confidence.hpp). Returns how many the minimum made
-// invalid. Fixed ranges per worker (a sample reads only itself).
+// invalid. Chunks of samples on demand (a sample reads only itself).
 int Pipeline::Impl::settle_states(int n, std::int16_t* disp, std::uint8_t* conf, std::uint8_t* state) {
   const int min_conf = config.params.validity.min_confidence;
   std::atomic<int> rejected{0};
+  rows.reset(0, n, kSettlePerChunk);
   pool.run([&](int w) {
-    int i0 = 0, i1 = 0;
-    ThreadPool::split_range(0, n, pool.size(), w, &i0, &i1);
-    int own = 0;
-    for (int i = i0; i < i1; ++i) {
-      std::uint8_t c = disp[i] == kInvalidDispQ4 ? std::uint8_t{0} : conf[i];
-      if (c != 0 && c < min_conf) {
-        disp[i] = kInvalidDispQ4;
-        c = 0;
-        ++own;
-      }
-      conf[i] = c;
-      state[i] = state_of_confidence(c);
+    int i0 = 0, i1 = 0, own = 0;
+    while (rows.next(&i0, &i1)) {
+      const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
+      own += settle_samples(i0, i1, disp, conf, state, min_conf);
+      if (trace != nullptr) trace->record(w, TraceKind::kSampleStates, t0, monotonic_ns(), i0, i1);
     }
     rejected.fetch_add(own, std::memory_order_relaxed);
   });

@@ -32,6 +32,7 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kStretchedLeaves: return "stretched leaves";
     case TraceKind::kVertexSamples: return "vertex samples";
     case TraceKind::kLeftRightRows: return "left-right rows";
+    case TraceKind::kSampleStates: return "sample states";
     case TraceKind::kCount: break;
   }
   return "?";
