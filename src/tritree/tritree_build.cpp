@@ -946,36 +946,53 @@ void Tritree::build(ImageView<const std::uint8_t> gray, Mesh& mesh, ThreadPool* 
       // rows more, or the slow general last row on top), from the bottom up
       // so that the last row, all general tiles, goes first: the last row's
       // parity first, then the other's. A row of the second parity shares
-      // grid points with its two neighbours only, and waits for those alone
-      // (they were all taken before it, so they finish), not for the whole
-      // first parity: the barrier between the parities left a worker idle
-      // for up to a row.
+      // grid points with its two neighbours only, and waits for those alone,
+      // not for the whole first parity (the barrier between the parities left
+      // a worker idle for up to a row). A worker takes the lowest second-parity
+      // row not yet taken whose neighbours are done, and waits only when there
+      // is none: with a fixed order it waited behind a neighbour whose worker
+      // another process had preempted, for a time slice (the tritree went
+      // below 1x on two loaded cores).
+      // row_done_: 0 not taken, 1 under way, 2 done.
       const int tiles_y = layout_.tiles_y;
       const int first = (tiles_y + 1) / 2;  // rows of the last row's parity
       for (int ty = 0; ty < tiles_y; ++ty) row_done_[ty].store(0, std::memory_order_relaxed);
       std::atomic<int> next{0};
       pool->run([&](int w) {
         if (w >= workers) return;
-        for (int k = next.fetch_add(1, std::memory_order_relaxed); k < tiles_y;
+        // The first parity clears its closed rows, the second (whose
+        // neighbours did its top and bottom rows) its rows between, and
+        // the grid's first row when it is the first row of tiles.
+        for (int k = next.fetch_add(1, std::memory_order_relaxed); k < first;
              k = next.fetch_add(1, std::memory_order_relaxed)) {
-          const int ty = k < first ? tiles_y - 1 - 2 * k : tiles_y - 2 - 2 * (k - first);
-          if (k >= first) {
-            const auto done = [&](int r) {
-              return r < 0 || r >= tiles_y || row_done_[r].load(std::memory_order_acquire) != 0;
-            };
-            // A short wait, bounded by the neighbour row in progress; with
-            // more workers than CPUs that row's worker may need this CPU.
-            for (int spins = 0; !done(ty - 1) || !done(ty + 1); ++spins) {
-              cpu_relax();
-              if (spins >= 4096) std::this_thread::yield();
-            }
+          const int ty = tiles_y - 1 - 2 * k;
+          traced(w, 0, ty, [&] { tile_row(ty, scratch_[w], true, true); });
+          row_done_[ty].store(2, std::memory_order_release);
+        }
+        const auto done = [&](int r) {
+          return r < 0 || r >= tiles_y || row_done_[r].load(std::memory_order_acquire) == 2;
+        };
+        for (int spins = 0;;) {
+          int ty = -1;
+          bool left = false;
+          for (int r = tiles_y - 2; r >= 0 && ty < 0; r -= 2) {
+            if (row_done_[r].load(std::memory_order_relaxed) != 0) continue;
+            left = true;
+            std::uint8_t free_row = 0;
+            if (done(r - 1) && done(r + 1) &&
+                row_done_[r].compare_exchange_strong(free_row, 1, std::memory_order_acq_rel))
+              ty = r;
           }
-          // The first parity clears its closed rows, the second (whose
-          // neighbours did its top and bottom rows) its rows between, and
-          // the grid's first row when it is the first row of tiles.
-          const bool first_parity = k < first;
-          traced(w, 0, ty, [&] { tile_row(ty, scratch_[w], first_parity || ty == 0, first_parity); });
-          row_done_[ty].store(1, std::memory_order_release);
+          if (ty < 0) {
+            if (!left) break;
+            // With more workers than CPUs the neighbour's worker may need this CPU.
+            cpu_relax();
+            if (++spins >= 4096) std::this_thread::yield();
+            continue;
+          }
+          spins = 0;
+          traced(w, 0, ty, [&] { tile_row(ty, scratch_[w], ty == 0, false); });
+          row_done_[ty].store(2, std::memory_order_release);
         }
       });
     } else {
