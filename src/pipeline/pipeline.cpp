@@ -21,6 +21,7 @@
 #include "src/fill/sample_fill.hpp"
 #include "src/select/confidence.hpp"
 #include "src/select/lr_check.hpp"
+#include "src/select/support_prior.hpp"
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_midpoints.hpp"
 #include "src/interp/interpolate_planes.hpp"
@@ -542,6 +543,10 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
       m.match_view(lg, rg, samples, sample_disp, sample_conf, &cost_ns, &dp_ns, &right_rows);
   validity.uniqueness_rejected = rejected.uniqueness;
   validity.lr_rejected = rejected.left_right;
+  if (params.optimizer == Optimizer::kPaths && !params.dense) {  // EXPERIMENT (issue 40)
+    static const SupportPriorKnobs knobs = SupportPriorKnobs::from_env();
+    if (knobs.lambda > 0) apply_support_prior(knobs, samples, m.paths, params, lg, sample_disp, sample_conf);
+  }
   const std::int64_t t_matched = monotonic_ns();
   m.mark(PipelineStage::kMatching, false);
 
