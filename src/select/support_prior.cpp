@@ -1,21 +1,41 @@
-// EXPERIMENT (issue 40): see support_prior.hpp. Serial, allocates per frame:
-// a prototype to measure the idea, not the production form.
 #include "src/select/support_prior.hpp"
 
 #include <algorithm>
 #include <climits>
-#include <cmath>
 #include <cstdlib>
-#include <vector>
 
 #include "src/dp/subpixel.hpp"
 #include "src/select/confidence.hpp"
+#include "src/select/plane_fit.hpp"
 #include "tristereo/fixed_point.hpp"
 
 namespace tristereo {
 
 namespace {
-int find_root(std::vector<int>& parent, int a) {
+constexpr std::uint8_t kSupport = 1, kCovered = 2;
+constexpr std::int32_t kNone = INT_MIN;
+}  // namespace
+
+void SupportPrior::configure(int max_samples, int max_triangles, int max_disp) {
+  const auto n = static_cast<std::size_t>(max_samples);
+  adj_start_ = large_array<std::int32_t>(n + 1);
+  adj_ = large_array<std::int32_t>(6 * static_cast<std::size_t>(max_triangles));
+  prior_ = large_array<std::int32_t>(n);
+  cand_ = large_array<std::int32_t>(n);
+  pending_ = large_array<std::int32_t>(n);
+  parent_ = large_array<std::int32_t>(n);
+  count_ = large_array<std::int32_t>(n + 1);
+  order_ = large_array<std::int32_t>(n);
+  inten_ = large_array<std::uint8_t>(n);
+  flags_ = large_array<std::uint8_t>(n);
+  s_.assign(static_cast<std::size_t>(max_disp), 0);
+  s2_.assign(static_cast<std::size_t>(max_disp), 0);
+  bytes_ = (8 * n + 1) * sizeof(std::int32_t) + 6 * static_cast<std::size_t>(max_triangles) * sizeof(std::int32_t) +
+           2 * n + 6 * static_cast<std::size_t>(max_disp);
+}
+
+int SupportPrior::find(int a) {
+  std::int32_t* parent = parent_.get();
   while (parent[a] != a) {
     parent[a] = parent[parent[a]];
     a = parent[a];
@@ -23,280 +43,207 @@ int find_root(std::vector<int>& parent, int a) {
   return a;
 }
 
-// Least squares d = a x + b y + c over the samples with w != 0 (double: a prototype).
-bool fit_plane(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& ds,
-               const std::vector<char>& use, double* p) {
-  double m[3][4] = {};
-  int cnt = 0;
-  for (std::size_t j = 0; j < xs.size(); ++j) {
-    if (!use[j]) continue;
-    const double r[3] = {xs[j], ys[j], 1.0};
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) m[a][b] += r[a] * r[b];
-      m[a][3] += r[a] * ds[j];
+void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
+                          int tau, SupportPriorCounts* counts) {
+  const int n = n_;
+  const SupportPriorParams& pp = params.prior;
+  std::int32_t* parent = parent_.get();
+  const std::int32_t *start = adj_start_.get(), *adj = adj_.get();
+  const std::uint8_t* inten = inten_.get();
+  std::uint8_t* flags = flags_.get();
+  // Segments: the components of the mesh edges with |dI| <= tau; each one's
+  // root is its smallest sample (the larger root goes under the smaller).
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  for (int i = 0; i < n; ++i)
+    for (int j = start[i]; j < start[i + 1]; ++j) {
+      const int q = adj[j];
+      if (q <= i || std::abs(inten[q] - inten[i]) > tau) continue;
+      const int a = find(i), b = find(q);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
-    ++cnt;
+  // Members grouped by segment (counting sort by root, ascending ids).
+  std::int32_t* count = count_.get();
+  std::int32_t* order = order_.get();
+  std::fill_n(count, n + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    parent[i] = find(i);
+    ++count[parent[i] + 1];
   }
-  if (cnt < 3) return false;
-  for (int c = 0; c < 3; ++c) {
-    int piv = c;
-    for (int r = c + 1; r < 3; ++r)
-      if (std::abs(m[r][c]) > std::abs(m[piv][c])) piv = r;
-    if (std::abs(m[piv][c]) < 1e-9) return false;
-    for (int k = 0; k < 4; ++k) std::swap(m[c][k], m[piv][k]);
-    for (int r = 0; r < 3; ++r) {
-      if (r == c) continue;
-      const double f = m[r][c] / m[c][c];
-      for (int k = 0; k < 4; ++k) m[r][k] -= f * m[c][k];
+  for (int r = 0; r < n; ++r) count[r + 1] += count[r];
+  // count[r] = the segment's first slot; cand_ holds the running slot.
+  std::int32_t* next = cand_.get();
+  std::copy_n(count, n, next);
+  for (int i = 0; i < n; ++i) order[next[parent[i]]++] = i;
+  const std::int64_t tol = pp.plane_tol_q4;
+  for (int r = 0; r < n; ++r) {
+    const int g0 = count[r], g1 = count[r + 1];
+    if (g1 - g0 < 2) continue;  // a plane needs support and another sample to give to
+    int support = 0;
+    bool other = false;
+    for (int j = g0; j < g1; ++j) {
+      const std::uint8_t f = flags[order[j]];
+      if (f & kSupport) ++support;
+      else if (!(f & kCovered)) other = true;
+    }
+    if (!other || support < pp.plane_min) continue;
+    IntPlane plane;
+    bool ok = true;
+    // Fit 0 on every support sample, fits 1..3 on those within 2 tol of the previous plane.
+    for (int fit = 0; fit < 4 && ok; ++fit) {
+      PlaneSums sums;
+      for (int j = g0; j < g1; ++j) {
+        const int i = order[j];
+        if (!(flags[i] & kSupport)) continue;
+        if (fit > 0 && abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]) > 2 * tol) continue;
+        sums.add(samples.x_of(i), samples.y_of(i), disp[i]);
+      }
+      if (sums.n < 3) {
+        ok = false;
+        break;
+      }
+      IntPlane next_plane;
+      next_plane.xbar = static_cast<int>(floor_div(sums.sx, sums.n));
+      next_plane.ybar = static_cast<int>(floor_div(sums.sy, sums.n));
+      next_plane.dbar = static_cast<int>(floor_div(sums.sd, sums.n));
+      PlaneMoments m;
+      for (int j = g0; j < g1; ++j) {
+        const int i = order[j];
+        if (!(flags[i] & kSupport)) continue;
+        if (fit > 0 && abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]) > 2 * tol) continue;
+        m.add(samples.x_of(i) - next_plane.xbar, samples.y_of(i) - next_plane.ybar, disp[i] - next_plane.dbar);
+      }
+      ok = solve_plane(m, sums.n, &next_plane);
+      plane = next_plane;
+    }
+    if (!ok) continue;
+    // Accepted when at least half the support lies within tol and the
+    // residuals, each capped at 2 tol, have a mean square of at most tol^2.
+    std::int64_t inliers = 0, sq = 0;
+    for (int j = g0; j < g1; ++j) {
+      const int i = order[j];
+      if (!(flags[i] & kSupport)) continue;
+      const std::int64_t e = abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]);
+      if (e <= tol) ++inliers;
+      sq += std::min(e * e, 4 * tol * tol);
+    }
+    if (2 * inliers < support || sq > tol * tol * support) continue;
+    ++counts->planes;
+    const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
+    for (int j = g0; j < g1; ++j) {
+      const int i = order[j];
+      if (flags[i] & (kSupport | kCovered)) continue;
+      flags[i] |= kCovered;
+      prior_.get()[i] = std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi);
     }
   }
-  for (int c = 0; c < 3; ++c) p[c] = m[c][3] / m[c][c];
-  return true;
 }
 
-int env_int(const char* name, int fallback) {
-  const char* s = std::getenv(name);
-  return s != nullptr && *s != '\0' ? std::atoi(s) : fallback;
-}
-}  // namespace
-
-SupportPriorKnobs SupportPriorKnobs::from_env() {
-  SupportPriorKnobs k;
-  k.lambda = env_int("TRISTEREO_PP_LAMBDA", k.lambda);
-  k.trunc = env_int("TRISTEREO_PP_T", k.trunc);
-  k.min_conf = env_int("TRISTEREO_PP_CONF", k.min_conf);
-  k.mode = env_int("TRISTEREO_PP_MODE", k.mode);
-  k.smooth = env_int("TRISTEREO_PP_SMOOTH", k.smooth);
-  k.which = env_int("TRISTEREO_PP_WHICH", k.which);
-  k.uniq = env_int("TRISTEREO_PP_U", k.uniq);
-  k.itau = env_int("TRISTEREO_PP_ITAU", k.itau);
-  k.fill = env_int("TRISTEREO_PP_FILL", k.fill);
-  k.seg_tau = env_int("TRISTEREO_PP_SEG", k.seg_tau);
-  k.seg_min = env_int("TRISTEREO_PP_SEGMIN", k.seg_min);
-  k.seg_res = env_int("TRISTEREO_PP_SEGRES", k.seg_res);
-  return k;
-}
-
-SupportPriorStats apply_support_prior(const SupportPriorKnobs& kn, const SampleLayout& samples,
-                                      const PathMatcher& pm, const StereoParams& params,
-                                      ImageView<const std::uint8_t> left, std::int16_t* disp,
-                                      std::uint8_t* conf) {
-  SupportPriorStats st;
-  if (kn.lambda <= 0 || samples.dense()) return st;
-  const int n = samples.count();
+SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleLayout& samples,
+                                       const PathMatcher& pm, ImageView<const std::uint8_t> left,
+                                       std::int16_t* disp, std::uint8_t* conf) {
+  SupportPriorCounts counts;
+  const SupportPriorParams& pp = params.prior;
+  if (pp.lambda_q4 <= 0 || samples.dense()) return counts;
   const Mesh& mesh = *samples.mesh;
-  // Mesh adjacency (CSR, deduplicated).
-  std::vector<int> deg(static_cast<std::size_t>(n) + 1, 0);
+  const int n = samples.count();
+  n_ = n;
+  // Mesh neighbours: each triangle offers its two other corners to each corner.
+  std::int32_t* start = adj_start_.get();
+  std::int32_t* adj = adj_.get();
+  std::fill_n(start, n + 1, 0);
   for (const Triangle& t : mesh.triangles)
-    for (int e = 0; e < 3; ++e) deg[static_cast<std::size_t>(t[e])] += 2;
-  std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
-  for (int i = 0; i < n; ++i) start[i + 1] = start[i] + deg[i];
-  std::vector<int> adj(static_cast<std::size_t>(start[n]));
-  std::vector<int> fillp(start.begin(), start.end() - 1);
+    for (int e = 0; e < 3; ++e) start[t[static_cast<std::size_t>(e)] + 1] += 2;
+  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::int32_t* fill = cand_.get();
+  std::copy_n(start, n, fill);
   for (const Triangle& t : mesh.triangles)
     for (int e = 0; e < 3; ++e) {
-      const int a = t[e];
-      adj[fillp[a]++] = t[(e + 1) % 3];
-      adj[fillp[a]++] = t[(e + 2) % 3];
+      const int a = t[static_cast<std::size_t>(e)];
+      adj[fill[a]++] = t[static_cast<std::size_t>((e + 1) % 3)];
+      adj[fill[a]++] = t[static_cast<std::size_t>((e + 2) % 3)];
     }
-  std::vector<int> len(static_cast<std::size_t>(n));
+  std::uint8_t* inten = inten_.get();
+  std::uint8_t* flags = flags_.get();
+  std::int32_t* prior = prior_.get();
+  std::int32_t* cand = cand_.get();
+  std::int32_t* pending = pending_.get();
+  int n_pending = 0;
   for (int i = 0; i < n; ++i) {
-    int* b = adj.data() + start[i];
-    int* e = b + (fillp[i] - start[i]);
-    std::sort(b, e);
-    len[i] = static_cast<int>(std::unique(b, e) - b);
+    inten[i] = left.row(samples.y_of(i))[samples.x_of(i)];
+    const bool support = disp[i] != kInvalidDispQ4 && conf[i] >= pp.support_conf;
+    flags[i] = support ? kSupport : 0;
+    prior[i] = support ? disp[i] : kNone;
+    if (support) ++counts.support;
+    else pending[n_pending++] = i;
   }
-  // Support and the prior.
-  std::vector<char> support(static_cast<std::size_t>(n));
-  std::vector<int> prior(static_cast<std::size_t>(n), INT_MIN), next;
-  std::vector<int> pending;
-  for (int i = 0; i < n; ++i) {
-    support[i] = disp[i] != kInvalidDispQ4 && conf[i] >= kn.min_conf;
-    if (support[i]) {
-      prior[i] = disp[i];
-      ++st.support;
-    } else {
-      pending.push_back(i);
+  // Propagation: gated rounds until one gives nothing, then ungated ones.
+  for (int phase = 0; phase < 2; ++phase) {
+    for (;;) {
+      for (int j = 0; j < n_pending; ++j) {
+        const int i = pending[j];
+        int best = kNone;
+        for (int e = start[i]; e < start[i + 1]; ++e) {
+          const int q = adj[e];
+          if (prior[q] == kNone) continue;
+          if (phase == 0 && std::abs(inten[q] - inten[i]) > pp.gate) continue;
+          if (best == kNone || prior[q] < best) best = prior[q];
+        }
+        cand[j] = best;
+      }
+      int kept = 0, filled = 0;
+      for (int j = 0; j < n_pending; ++j) {
+        const int i = pending[j];
+        if (cand[j] != kNone) {
+          prior[i] = cand[j];
+          ++filled;
+        } else {
+          pending[kept++] = i;
+        }
+      }
+      n_pending = kept;
+      if (filled == 0 || n_pending == 0) break;
     }
   }
-  std::vector<int> vals;
-  std::vector<std::pair<int, int>> writes;
-  const int dmin0 = params.d_min, ndisp0 = params.num_disp;
-  std::vector<int> inten(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) inten[i] = left.row(samples.y_of(i))[samples.x_of(i)];
-  for (int phase = kn.itau > 0 ? 0 : 1; phase < 2; ++phase)
-  while (!pending.empty()) {
-    writes.clear();
-    std::vector<int> keep;
-    for (int i : pending) {
-      vals.clear();
-      for (int j = start[i]; j < start[i] + len[i]; ++j)
-        if (prior[adj[j]] != INT_MIN && (phase == 1 || std::abs(inten[adj[j]] - inten[i]) <= kn.itau))
-          vals.push_back(prior[adj[j]]);
-      if (vals.empty()) {
-        keep.push_back(i);
-        continue;
-      }
-      int v;
-      if (kn.mode == 0) {
-        v = *std::min_element(vals.begin(), vals.end());
-      } else if (kn.mode == 2) {
-        std::sort(vals.begin(), vals.end());
-        v = vals[(vals.size() - 1) / 2];
-      } else {
-        long long s = 0;
-        for (int x : vals) s += x;
-        const long long c = static_cast<long long>(vals.size());
-        v = static_cast<int>(floor_div(2 * s + c, 2 * c));
-      }
-      writes.emplace_back(i, v);
-    }
-    if (writes.empty()) break;
-    for (const auto& w : writes) prior[w.first] = w.second;
-    pending.swap(keep);
-  }
-  for (int it = 0; it < kn.smooth; ++it) {
-    next = prior;
-    for (int i = 0; i < n; ++i) {
-      if (support[i] || prior[i] == INT_MIN) continue;
-      long long s = 0, c = 0;
-      for (int j = start[i]; j < start[i] + len[i]; ++j)
-        if (prior[adj[j]] != INT_MIN) {
-          s += prior[adj[j]];
-          ++c;
-        }
-      if (c > 0) next[i] = static_cast<int>(floor_div(2 * s + c, 2 * c));
-    }
-    prior.swap(next);
-  }
-  if (kn.seg_tau > 0) {
-    // Segments of similar intensity on the mesh; a robust plane from each
-    // segment's support replaces the propagated prior of its other samples.
-    std::vector<int> parent(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) parent[i] = i;
-    for (int i = 0; i < n; ++i)
-      for (int j = start[i]; j < start[i] + len[i]; ++j) {
-        const int q = adj[j];
-        if (q > i && std::abs(inten[q] - inten[i]) <= kn.seg_tau) {
-          const int a = find_root(parent, i), b = find_root(parent, q);
-          if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        }
-      }
-    std::vector<int> order(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) order[i] = i;
-    std::vector<int> root(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) root[i] = find_root(parent, i);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return root[a] < root[b]; });
-    std::vector<double> xs, ys, ds;
-    std::vector<char> use;
-    for (std::size_t g0 = 0; g0 < order.size();) {
-      std::size_t g1 = g0;
-      while (g1 < order.size() && root[order[g1]] == root[order[g0]]) ++g1;
-      xs.clear(); ys.clear(); ds.clear();
-      for (std::size_t j = g0; j < g1; ++j) {
-        const int i = order[j];
-        if (!support[i]) continue;
-        xs.push_back(samples.x_of(i));
-        ys.push_back(samples.y_of(i));
-        ds.push_back(disp[i]);
-      }
-      const bool has_other = (g1 - g0) > xs.size();
-      if (has_other && static_cast<int>(xs.size()) >= kn.seg_min) {
-        use.assign(xs.size(), 1);
-        double p[3];
-        bool ok = fit_plane(xs, ys, ds, use, p);
-        for (int it = 0; ok && it < 3; ++it) {
-          for (std::size_t j = 0; j < xs.size(); ++j)
-            use[j] = std::abs(p[0] * xs[j] + p[1] * ys[j] + p[2] - ds[j]) <= 2.0 * kn.seg_res;
-          ok = fit_plane(xs, ys, ds, use, p);
-        }
-        if (ok) {
-          double ss = 0;
-          int in = 0;
-          for (std::size_t j = 0; j < xs.size(); ++j) {
-            const double r = p[0] * xs[j] + p[1] * ys[j] + p[2] - ds[j];
-            if (std::abs(r) <= kn.seg_res) ++in;
-            ss += std::min(r * r, 4.0 * kn.seg_res * kn.seg_res);
-          }
-          ok = in * 2 >= static_cast<int>(xs.size()) && ss <= static_cast<double>(kn.seg_res) * kn.seg_res * xs.size();
-        }
-        if (ok) {
-          ++st.changed;
-          for (std::size_t j = g0; j < g1; ++j) {
-            const int i = order[j];
-            if (support[i]) continue;
-            const double v = p[0] * samples.x_of(i) + p[1] * samples.y_of(i) + p[2];
-            prior[i] = static_cast<int>(std::lround(std::clamp(v, 16.0 * dmin0, 16.0 * (dmin0 + ndisp0 - 1))));
-          }
-        }
-      }
-      g0 = g1;
-    }
-    st.changed = 0;
-  }
-  if (kn.fill == 2) {  // diagnostic: the prior itself at every non-support sample
-    for (int i = 0; i < n; ++i)
-      if (!support[i]) {
-        disp[i] = prior[i] == INT_MIN ? kInvalidDispQ4 : static_cast<std::int16_t>(prior[i]);
-        conf[i] = 100;
-      }
-    return st;
-  }
-  // Pass 2.
+  // Planes: the fine level, then the coarse one for samples still uncovered.
+  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, &counts);
+  if (pp.seg_coarse > 0) planes(params, samples, disp, pp.seg_coarse, &counts);
+  // Pass 2 on the summed costs.
   const int d = params.num_disp, dmin = params.d_min;
-  const int uniq0 = params.validity.uniqueness_pct;
-  std::vector<std::uint16_t> s(static_cast<std::size_t>(d));
-  std::vector<std::uint32_t> s2(static_cast<std::size_t>(d));
+  const std::uint32_t lambda = static_cast<std::uint32_t>(pp.lambda_q4);
+  const int conf_cap = std::max<int>(kMinMeasuredConfidence, pp.support_conf - 1);
+  std::uint16_t* s = s_.data();
+  std::uint32_t* s2 = s2_.data();
   for (int i = 0; i < n; ++i) {
-    if (support[i] || prior[i] == INT_MIN) continue;
-    pm.summed_costs(i, s.data());
-    int cls;
-    if (disp[i] != kInvalidDispQ4) {
-      cls = 1;
-    } else {
-      int k = 0;
-      for (int q = 1; q < d; ++q)
-        if (s[q] < s[k]) k = q;
-      std::uint32_t other = 0xFFFF;
-      for (int q = 0; q < d; ++q)
-        if (std::abs(q - k) > 1) other = std::min<std::uint32_t>(other, s[q]);
-      const bool uniq_fail = uniq0 > 0 && (k > 1 || k + 2 < d) &&
-                             other * 100u <= std::uint32_t{s[k]} * static_cast<std::uint32_t>(100 + uniq0);
-      cls = uniq_fail ? 2 : 4;
-    }
-    if ((kn.which & cls) == 0) continue;
-    ++st.redecided;
-    const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, 16)) - dmin, 0, d - 1);
+    if ((flags[i] & kSupport) || prior[i] == kNone) continue;
+    ++counts.redecided;
+    pm.summed_costs(i, s);
+    const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
     int k = 0;
     for (int q = 0; q < d; ++q) {
-      s2[q] = s[q] + static_cast<std::uint32_t>(kn.lambda) * static_cast<std::uint32_t>(std::min(std::abs(q - kp), kn.trunc));
+      s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
       if (s2[q] < s2[k]) k = q;
     }
-    std::uint32_t other = 0xFFFFFFFFu;
+    std::uint32_t rival = 0xFFFFu;
+    bool any_rival = false;
     for (int q = 0; q < d; ++q)
-      if (std::abs(q - k) > 1) other = std::min(other, s2[q]);
-    if (kn.uniq > 0 && (k > 1 || k + 2 < d) &&
-        static_cast<std::uint64_t>(other) * 100u <= static_cast<std::uint64_t>(s2[k]) * (100u + kn.uniq)) {
-      if (disp[i] != kInvalidDispQ4) ++st.rejected;
+      if (std::abs(q - k) > 1 && (!any_rival || s2[q] < rival)) {
+        rival = s2[q];
+        any_rival = true;
+      }
+    if (pp.uniqueness_pct > 0 && any_rival &&
+        std::uint64_t{rival} * 100u <= std::uint64_t{s2[k]} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
       disp[i] = kInvalidDispQ4;
+      ++counts.rejected;
       continue;
     }
     int off = 0;
     if (params.dp.subpixel && k > 0 && k < d - 1)
       off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(s2[k - 1]), static_cast<int>(s2[k]),
                                static_cast<int>(s2[k + 1]));
-    const auto v = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
-    if (v != disp[i]) ++st.changed;
-    disp[i] = v;
-    conf[i] = std::max<std::uint8_t>(conf[i], kMinMeasuredConfidence);
+    disp[i] = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
+    conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(s2[k], rival)));
   }
-  if (kn.fill == 1)
-    for (int i = 0; i < n; ++i)
-      if (disp[i] == kInvalidDispQ4 && prior[i] != INT_MIN) {
-        disp[i] = static_cast<std::int16_t>(prior[i]);
-        conf[i] = 100;
-      }
-  return st;
+  return counts;
 }
 
 }  // namespace tristereo
