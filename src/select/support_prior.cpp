@@ -44,7 +44,7 @@ int SupportPrior::find(int a) {
 }
 
 void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
-                          int tau, SupportPriorCounts* counts) {
+                          int tau, int joined, SupportPriorCounts* counts) {
   const int n = n_;
   const SupportPriorParams& pp = params.prior;
   std::int32_t* parent = parent_.get();
@@ -53,11 +53,16 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   std::uint8_t* flags = flags_.get();
   // Segments: the components of the mesh edges with |dI| <= tau; each one's
   // root is its smallest sample (the larger root goes under the smaller).
-  for (int i = 0; i < n; ++i) parent[i] = i;
+  // joined >= 0: parent holds the segments of that smaller threshold (a
+  // finer partition), so only the edges with joined < |dI| <= tau remain.
+  if (joined < 0)
+    for (int i = 0; i < n; ++i) parent[i] = i;
   for (int i = 0; i < n; ++i)
     for (int j = start[i]; j < start[i + 1]; ++j) {
       const int q = adj[j];
-      if (q <= i || std::abs(inten[q] - inten[i]) > tau) continue;
+      if (q <= i) continue;
+      const int di = std::abs(inten[q] - inten[i]);
+      if (di > tau || di <= joined) continue;
       const int a = find(i), b = find(q);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
@@ -177,36 +182,57 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     else pending[n_pending++] = i;
   }
   // Propagation: gated rounds until one gives nothing, then ungated ones.
+  // A round's first candidates are every sample still without a prior; after
+  // it, only the neighbours of the samples the last round gave one can get
+  // one (the others' neighbourhoods did not change), so each later round
+  // visits the frontier only. Values are written after the round's walk.
+  std::int32_t* list = order_.get();
+  std::int32_t* frontier = parent_.get();
+  std::int32_t* mark = count_.get();
+  std::fill_n(mark, n, -1);
+  int round = 0;
   for (int phase = 0; phase < 2; ++phase) {
-    for (;;) {
-      for (int j = 0; j < n_pending; ++j) {
-        const int i = pending[j];
+    const bool gated = phase == 0;
+    int nc = 0;
+    for (int j = 0; j < n_pending; ++j)
+      if (prior[pending[j]] == kNone) list[nc++] = pending[j];
+    while (nc > 0) {
+      ++round;
+      for (int j = 0; j < nc; ++j) {
+        const int i = list[j];
         int best = kNone;
         for (int e = start[i]; e < start[i + 1]; ++e) {
           const int q = adj[e];
           if (prior[q] == kNone) continue;
-          if (phase == 0 && std::abs(inten[q] - inten[i]) > pp.gate) continue;
+          if (gated && std::abs(inten[q] - inten[i]) > pp.gate) continue;
           if (best == kNone || prior[q] < best) best = prior[q];
         }
         cand[j] = best;
       }
-      int kept = 0, filled = 0;
-      for (int j = 0; j < n_pending; ++j) {
-        const int i = pending[j];
+      int nf = 0;
+      for (int j = 0; j < nc; ++j)
         if (cand[j] != kNone) {
-          prior[i] = cand[j];
-          ++filled;
-        } else {
-          pending[kept++] = i;
+          prior[list[j]] = cand[j];
+          frontier[nf++] = list[j];
+        }
+      nc = 0;
+      for (int j = 0; j < nf; ++j) {
+        const int f = frontier[j];
+        for (int e = start[f]; e < start[f + 1]; ++e) {
+          const int q = adj[e];
+          if (prior[q] != kNone || mark[q] == round) continue;
+          if (gated && std::abs(inten[q] - inten[f]) > pp.gate) continue;
+          mark[q] = round;
+          list[nc++] = q;
         }
       }
-      n_pending = kept;
-      if (filled == 0 || n_pending == 0) break;
     }
   }
   // Planes: the fine level, then the coarse one for samples still uncovered.
-  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, &counts);
-  if (pp.seg_coarse > 0) planes(params, samples, disp, pp.seg_coarse, &counts);
+  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, &counts);
+  if (pp.seg_coarse > 0)
+    planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
+           &counts);
   // Pass 2 on the summed costs.
   const int d = params.num_disp, dmin = params.d_min;
   const std::uint32_t lambda = static_cast<std::uint32_t>(pp.lambda_q4);
@@ -218,18 +244,19 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     ++counts.redecided;
     pm.summed_costs(i, s);
     const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
-    int k = 0;
-    for (int q = 0; q < d; ++q) {
-      s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
-      if (s2[q] < s2[k]) k = q;
-    }
-    std::uint32_t rival = 0xFFFFu;
-    bool any_rival = false;
+    // S', its smallest value and first argmin, and the rival: plain loops the
+    // compiler vectorises (the branchy single pass cost twice as much).
     for (int q = 0; q < d; ++q)
-      if (std::abs(q - k) > 1 && (!any_rival || s2[q] < rival)) {
-        rival = s2[q];
-        any_rival = true;
-      }
+      s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
+    std::uint32_t best = s2[0];
+    for (int q = 1; q < d; ++q) best = std::min(best, s2[q]);
+    int k = 0;
+    while (s2[k] != best) ++k;
+    std::uint32_t rival = 0xFFFFFFFFu;
+    for (int q = 0; q < k - 1; ++q) rival = std::min(rival, s2[q]);
+    for (int q = k + 2; q < d; ++q) rival = std::min(rival, s2[q]);
+    const bool any_rival = k > 1 || k + 2 < d;
+    if (!any_rival) rival = 0xFFFFu;
     if (pp.uniqueness_pct > 0 && any_rival &&
         std::uint64_t{rival} * 100u <= std::uint64_t{s2[k]} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
       disp[i] = kInvalidDispQ4;

@@ -42,8 +42,10 @@ class SupportPrior {
 
  private:
   int find(int a);
-  // One segment level with threshold tau: planes for its well-supported segments.
-  void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau,
+  // One segment level with threshold tau: planes for its well-supported
+  // segments. joined >= 0: parent_ already holds the segments of threshold
+  // joined <= tau (the previous level's).
+  void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
               SupportPriorCounts* counts);
   std::size_t bytes_ = 0;
   int n_ = 0;
