@@ -48,6 +48,9 @@ VARIANTS = [
      "the sub-pixel offset from the symmetric V through the three summed costs instead of the parabola "
      "(docs/model.md section 3)"),
     ("no sub-pixel", ["--no-subpixel"], "whole disparities at the samples (the planes still interpolate between them)"),
+    ("support prior 300", ["--support-prior", "300"],
+     "weak samples chosen again with a prior from the confident ones: planes of intensity segments on the mesh, "
+     "else the gated background side (docs/model.md section 6b; serial for now)"),
 ]
 
 COLUMNS = [  # (set, metric, header)

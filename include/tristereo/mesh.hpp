@@ -56,10 +56,16 @@ struct SampleValidity {
   // Measured or filled samples below StereoParams::validity.min_confidence,
   // made invalid after the fill.
   std::int32_t min_confidence_rejected = 0;
+  // Support prior (StereoParams::prior, docs/model.md section 6b): samples
+  // whose winner was chosen again, and those of them its uniqueness test
+  // made invalid (for the fill).
+  std::int32_t prior_redecided = 0;
+  std::int32_t prior_rejected = 0;
   bool operator==(const SampleValidity& o) const {
     return samples == o.samples && uniqueness_rejected == o.uniqueness_rejected &&
            lr_rejected == o.lr_rejected && filled == o.filled &&
-           min_confidence_rejected == o.min_confidence_rejected;
+           min_confidence_rejected == o.min_confidence_rejected && prior_redecided == o.prior_redecided &&
+           prior_rejected == o.prior_rejected;
   }
 };
 

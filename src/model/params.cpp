@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <string>
 
+#include "tristereo/mesh.hpp"
 #include "tristereo/params.hpp"
 #include "tristereo/status.hpp"
 
@@ -84,6 +85,22 @@ void validate_params(const StereoParams& p) {
   check_range("validity.min_confidence", p.validity.min_confidence, 0, 255);
   if (p.dp.subpixel_fit != SubpixelFit::kParabola && p.dp.subpixel_fit != SubpixelFit::kEquiangular)
     bad("dp.subpixel_fit is not a SubpixelFit value");
+  // Support prior (docs/model.md section 6b). S'(k) = S(k) + lambda min(|k - kp|, T)
+  // <= 65534 + 16000 * 256 < 2^23, so 16 (S'(k-1) - S'(k+1)) and 127 (R' - S') fit
+  // 32 bits and 100 R' fits 64.
+  check_range("prior.lambda_q4", p.prior.lambda_q4, 0, kMaxPathPenaltyQ4);
+  check_range("prior.trunc", p.prior.trunc, 1, 256);
+  check_range("prior.support_conf", p.prior.support_conf, kMinMeasuredConfidence, 255);
+  check_range("prior.uniqueness_pct", p.prior.uniqueness_pct, 0, 100);
+  check_range("prior.gate", p.prior.gate, 0, 255);
+  check_range("prior.seg_fine", p.prior.seg_fine, 0, 255);
+  check_range("prior.seg_coarse", p.prior.seg_coarse, 0, 255);
+  check_range("prior.plane_min", p.prior.plane_min, 3, 65535);
+  check_range("prior.plane_tol_q4", p.prior.plane_tol_q4, 1, 1024);
+  if (p.prior.lambda_q4 > 0 && (p.optimizer != Optimizer::kPaths || p.dense))
+    bad("prior.lambda_q4 = " + std::to_string(p.prior.lambda_q4) +
+        ": the support prior needs the path optimizer's summed costs and the mesh (sparse mode); "
+        "set it to 0 with --optimizer dp or --dense");
 }
 
 int max_cost_q4(const CostParams& c) {

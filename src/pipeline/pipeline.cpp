@@ -21,6 +21,7 @@
 #include "src/fill/sample_fill.hpp"
 #include "src/select/confidence.hpp"
 #include "src/select/lr_check.hpp"
+#include "src/select/support_prior.hpp"
 #include "src/dp/row_matcher.hpp"
 #include "src/interp/interpolate_midpoints.hpp"
 #include "src/interp/interpolate_planes.hpp"
@@ -49,6 +50,7 @@ struct Pipeline::Impl {
   MatchContext match;
   PathMatcher paths;
   SampleFill fill;
+  SupportPrior prior;  // params.prior.lambda_q4 > 0 only
   ThreadPool pool;
   struct Worker {
     RowMatcher matcher;
@@ -139,7 +141,7 @@ std::size_t Pipeline::working_memory_bytes() const {
   for (const Impl::Worker& w : m.workers)
     bytes += w.matcher.working_memory_bytes() + capacity_bytes(w.xs) + w.census.working_memory_bytes() +
              midpoint_band_values_with_confidence(m.tritree.tile_side(), m.config.max_width) * sizeof(std::int32_t);
-  bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() +
+  bytes += m.paths.working_memory_bytes() + m.fill.working_memory_bytes() + m.prior.working_memory_bytes() +
            capacity_bytes(m.mirror_left.pixels) + capacity_bytes(m.mirror_right.pixels) +
            capacity_bytes(m.right_mesh.vertices) + capacity_bytes(m.right_mesh.triangles) +
            capacity_bytes(m.right_mesh.row_start) + capacity_bytes(m.right_vdisp) +
@@ -201,6 +203,8 @@ void Pipeline::configure(const PipelineConfig& config) {
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px, threads);
+  if (sp.prior.lambda_q4 > 0) m.prior.configure(max_px, 2 * max_px, sp.num_disp);
+  else m.prior = SupportPrior{};
   const bool lr = sp.validity.lr_max_diff_q4 >= 0 && sp.validity.lr_source == LrSource::kMirroredPass;
   const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
   m.mirror_left = ImageU8{};
@@ -563,6 +567,12 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
       m.match_view(lg, rg, samples, sample_disp, sample_conf, &cost_ns, &dp_ns, &right_rows);
   validity.uniqueness_rejected = rejected.uniqueness;
   validity.lr_rejected = rejected.left_right;
+  // Support prior (docs/model.md section 6b): weak samples chosen again.
+  if (params.prior.lambda_q4 > 0) {
+    const SupportPriorCounts pc = m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf);
+    validity.prior_redecided = pc.redecided;
+    validity.prior_rejected = pc.rejected;
+  }
   const std::int64_t t_matched = monotonic_ns();
   m.mark(PipelineStage::kMatching, false);
 

@@ -47,7 +47,15 @@ Samples make_samples(const Mesh* mesh, int width, int height);
 std::vector<std::int16_t> match_paths(const ImageU8& left_gray, const ImageU8& right_gray,
                                       const Samples& samples, const StereoParams& params,
                                       int* uniqueness_rejected, int* lr_rejected,
-                                      std::vector<std::uint8_t>* confidence = nullptr);
+                                      std::vector<std::uint8_t>* confidence = nullptr,
+                                      std::vector<std::vector<std::int64_t>>* summed = nullptr);
+
+// Support prior (docs/model.md section 6b) on the matcher's disparities and
+// confidences, from the summed path costs `summed` (match_paths). Returns the
+// samples re-decided; *rejected counts those its uniqueness test made invalid.
+int support_prior(const ImageU8& left_gray, const Samples& samples, const StereoParams& params,
+                  const std::vector<std::vector<std::int64_t>>& summed, std::vector<std::int16_t>& disp_q4,
+                  std::vector<std::uint8_t>& confidence, int* rejected);
 
 // Background fill (docs/model.md section 6); returns the number of samples
 // filled. confidence (optional): a filled sample's confidence from its round

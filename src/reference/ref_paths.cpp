@@ -52,7 +52,8 @@ Samples make_samples(const Mesh* mesh, int width, int height) {
 std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
                                       const Samples& samples, const StereoParams& params,
                                       int* uniqueness_rejected, int* lr_rejected,
-                                      std::vector<std::uint8_t>* confidence) {
+                                      std::vector<std::uint8_t>* confidence,
+                                      std::vector<std::vector<std::int64_t>>* summed) {
   const int n = static_cast<int>(samples.points.size());
   const int nd = params.num_disp;
   const PathParams& pp = params.paths;
@@ -129,6 +130,7 @@ std::vector<std::int16_t> match_paths(const ImageU8& left, const ImageU8& right,
       for (int k = 0; k < nd; ++k) total[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] += out[static_cast<std::size_t>(k)];
     }
   }
+  if (summed != nullptr) *summed = total;
   std::vector<std::int16_t> disp(static_cast<std::size_t>(n));
   std::vector<int> winner(static_cast<std::size_t>(n), -1);  // k, or -1 when uniqueness rejected it
   int rejected = 0;

@@ -41,11 +41,12 @@ ImageU8 mirrored(const ImageU8& g) {
 std::vector<std::int16_t> match_view(const ImageU8& lg, const ImageU8& rg,
                                      const reference::Samples& samples,
                                      const StereoParams& params, int* uniqueness_rejected,
-                                     int* lr_rejected, std::vector<std::uint8_t>* confidence = nullptr) {
+                                     int* lr_rejected, std::vector<std::uint8_t>* confidence = nullptr,
+                                     std::vector<std::vector<std::int64_t>>* summed = nullptr) {
   *uniqueness_rejected = 0;
   *lr_rejected = 0;
   if (params.optimizer == Optimizer::kPaths)
-    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected, lr_rejected, confidence);
+    return reference::match_paths(lg, rg, samples, params, uniqueness_rejected, lr_rejected, confidence, summed);
   if (confidence != nullptr) confidence->assign(samples.points.size(), 255);
   std::vector<std::int16_t> disp;
   for (int y = 0; y < lg.height; ++y) {
@@ -72,9 +73,17 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
   const Mesh& mesh = out.mesh;
   const reference::Samples samples = reference::make_samples(params.dense ? nullptr : &mesh, w, h);
   std::vector<std::uint8_t> conf;
+  std::vector<std::vector<std::int64_t>> summed;
+  const bool prior = params.prior.lambda_q4 > 0;
   std::vector<std::int16_t> disp = match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected,
-                                              &out.validity.lr_rejected, &conf);
+                                              &out.validity.lr_rejected, &conf, prior ? &summed : nullptr);
   out.validity.samples = static_cast<std::int32_t>(disp.size());
+  // Section 6b: the support prior.
+  if (prior) {
+    int rejected = 0;
+    out.validity.prior_redecided = reference::support_prior(lg, samples, params, summed, disp, conf, &rejected);
+    out.validity.prior_rejected = rejected;
+  }
 
   // Left-right check by a second pass: the right view is the left view of the mirrored pair.
   if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass) {

@@ -1,0 +1,276 @@
+#include "src/select/support_prior.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cstdlib>
+
+#include "src/dp/subpixel.hpp"
+#include "src/select/confidence.hpp"
+#include "src/select/plane_fit.hpp"
+#include "tristereo/fixed_point.hpp"
+
+namespace tristereo {
+
+namespace {
+constexpr std::uint8_t kSupport = 1, kCovered = 2;
+constexpr std::int32_t kNone = INT_MIN;
+}  // namespace
+
+void SupportPrior::configure(int max_samples, int max_triangles, int max_disp) {
+  const auto n = static_cast<std::size_t>(max_samples);
+  adj_start_ = large_array<std::int32_t>(n + 1);
+  adj_ = large_array<std::int32_t>(6 * static_cast<std::size_t>(max_triangles));
+  prior_ = large_array<std::int32_t>(n);
+  cand_ = large_array<std::int32_t>(n);
+  pending_ = large_array<std::int32_t>(n);
+  parent_ = large_array<std::int32_t>(n);
+  count_ = large_array<std::int32_t>(n + 1);
+  order_ = large_array<std::int32_t>(n);
+  inten_ = large_array<std::uint8_t>(n);
+  flags_ = large_array<std::uint8_t>(n);
+  s_.assign(static_cast<std::size_t>(max_disp), 0);
+  s2_.assign(static_cast<std::size_t>(max_disp), 0);
+  bytes_ = (8 * n + 1) * sizeof(std::int32_t) + 6 * static_cast<std::size_t>(max_triangles) * sizeof(std::int32_t) +
+           2 * n + 6 * static_cast<std::size_t>(max_disp);
+}
+
+int SupportPrior::find(int a) {
+  std::int32_t* parent = parent_.get();
+  while (parent[a] != a) {
+    parent[a] = parent[parent[a]];
+    a = parent[a];
+  }
+  return a;
+}
+
+void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
+                          int tau, int joined, SupportPriorCounts* counts) {
+  const int n = n_;
+  const SupportPriorParams& pp = params.prior;
+  std::int32_t* parent = parent_.get();
+  const std::int32_t *start = adj_start_.get(), *adj = adj_.get();
+  const std::uint8_t* inten = inten_.get();
+  std::uint8_t* flags = flags_.get();
+  // Segments: the components of the mesh edges with |dI| <= tau; each one's
+  // root is its smallest sample (the larger root goes under the smaller).
+  // joined >= 0: parent holds the segments of that smaller threshold (a
+  // finer partition), so only the edges with joined < |dI| <= tau remain.
+  if (joined < 0)
+    for (int i = 0; i < n; ++i) parent[i] = i;
+  for (int i = 0; i < n; ++i)
+    for (int j = start[i]; j < start[i + 1]; ++j) {
+      const int q = adj[j];
+      if (q <= i) continue;
+      const int di = std::abs(inten[q] - inten[i]);
+      if (di > tau || di <= joined) continue;
+      const int a = find(i), b = find(q);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  // Members grouped by segment (counting sort by root, ascending ids).
+  std::int32_t* count = count_.get();
+  std::int32_t* order = order_.get();
+  std::fill_n(count, n + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    parent[i] = find(i);
+    ++count[parent[i] + 1];
+  }
+  for (int r = 0; r < n; ++r) count[r + 1] += count[r];
+  // count[r] = the segment's first slot; cand_ holds the running slot.
+  std::int32_t* next = cand_.get();
+  std::copy_n(count, n, next);
+  for (int i = 0; i < n; ++i) order[next[parent[i]]++] = i;
+  const std::int64_t tol = pp.plane_tol_q4;
+  for (int r = 0; r < n; ++r) {
+    const int g0 = count[r], g1 = count[r + 1];
+    if (g1 - g0 < 2) continue;  // a plane needs support and another sample to give to
+    int support = 0;
+    bool other = false;
+    for (int j = g0; j < g1; ++j) {
+      const std::uint8_t f = flags[order[j]];
+      if (f & kSupport) ++support;
+      else if (!(f & kCovered)) other = true;
+    }
+    if (!other || support < pp.plane_min) continue;
+    IntPlane plane;
+    bool ok = true;
+    // Fit 0 on every support sample, fits 1..3 on those within 2 tol of the previous plane.
+    for (int fit = 0; fit < 4 && ok; ++fit) {
+      PlaneSums sums;
+      for (int j = g0; j < g1; ++j) {
+        const int i = order[j];
+        if (!(flags[i] & kSupport)) continue;
+        if (fit > 0 && abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]) > 2 * tol) continue;
+        sums.add(samples.x_of(i), samples.y_of(i), disp[i]);
+      }
+      if (sums.n < 3) {
+        ok = false;
+        break;
+      }
+      IntPlane next_plane;
+      next_plane.xbar = static_cast<int>(floor_div(sums.sx, sums.n));
+      next_plane.ybar = static_cast<int>(floor_div(sums.sy, sums.n));
+      next_plane.dbar = static_cast<int>(floor_div(sums.sd, sums.n));
+      PlaneMoments m;
+      for (int j = g0; j < g1; ++j) {
+        const int i = order[j];
+        if (!(flags[i] & kSupport)) continue;
+        if (fit > 0 && abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]) > 2 * tol) continue;
+        m.add(samples.x_of(i) - next_plane.xbar, samples.y_of(i) - next_plane.ybar, disp[i] - next_plane.dbar);
+      }
+      ok = solve_plane(m, sums.n, &next_plane);
+      plane = next_plane;
+    }
+    if (!ok) continue;
+    // Accepted when at least half the support lies within tol and the
+    // residuals, each capped at 2 tol, have a mean square of at most tol^2.
+    std::int64_t inliers = 0, sq = 0;
+    for (int j = g0; j < g1; ++j) {
+      const int i = order[j];
+      if (!(flags[i] & kSupport)) continue;
+      const std::int64_t e = abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]);
+      if (e <= tol) ++inliers;
+      sq += std::min(e * e, 4 * tol * tol);
+    }
+    if (2 * inliers < support || sq > tol * tol * support) continue;
+    ++counts->planes;
+    const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
+    for (int j = g0; j < g1; ++j) {
+      const int i = order[j];
+      if (flags[i] & (kSupport | kCovered)) continue;
+      flags[i] |= kCovered;
+      prior_.get()[i] = std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi);
+    }
+  }
+}
+
+SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleLayout& samples,
+                                       const PathMatcher& pm, ImageView<const std::uint8_t> left,
+                                       std::int16_t* disp, std::uint8_t* conf) {
+  SupportPriorCounts counts;
+  const SupportPriorParams& pp = params.prior;
+  if (pp.lambda_q4 <= 0 || samples.dense()) return counts;
+  const Mesh& mesh = *samples.mesh;
+  const int n = samples.count();
+  n_ = n;
+  // Mesh neighbours: each triangle offers its two other corners to each corner.
+  std::int32_t* start = adj_start_.get();
+  std::int32_t* adj = adj_.get();
+  std::fill_n(start, n + 1, 0);
+  for (const Triangle& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) start[t[static_cast<std::size_t>(e)] + 1] += 2;
+  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::int32_t* fill = cand_.get();
+  std::copy_n(start, n, fill);
+  for (const Triangle& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[static_cast<std::size_t>(e)];
+      adj[fill[a]++] = t[static_cast<std::size_t>((e + 1) % 3)];
+      adj[fill[a]++] = t[static_cast<std::size_t>((e + 2) % 3)];
+    }
+  std::uint8_t* inten = inten_.get();
+  std::uint8_t* flags = flags_.get();
+  std::int32_t* prior = prior_.get();
+  std::int32_t* cand = cand_.get();
+  std::int32_t* pending = pending_.get();
+  int n_pending = 0;
+  for (int i = 0; i < n; ++i) {
+    inten[i] = left.row(samples.y_of(i))[samples.x_of(i)];
+    const bool support = disp[i] != kInvalidDispQ4 && conf[i] >= pp.support_conf;
+    flags[i] = support ? kSupport : 0;
+    prior[i] = support ? disp[i] : kNone;
+    if (support) ++counts.support;
+    else pending[n_pending++] = i;
+  }
+  // Propagation: gated rounds until one gives nothing, then ungated ones.
+  // A round's first candidates are every sample still without a prior; after
+  // it, only the neighbours of the samples the last round gave one can get
+  // one (the others' neighbourhoods did not change), so each later round
+  // visits the frontier only. Values are written after the round's walk.
+  std::int32_t* list = order_.get();
+  std::int32_t* frontier = parent_.get();
+  std::int32_t* mark = count_.get();
+  std::fill_n(mark, n, -1);
+  int round = 0;
+  for (int phase = 0; phase < 2; ++phase) {
+    const bool gated = phase == 0;
+    int nc = 0;
+    for (int j = 0; j < n_pending; ++j)
+      if (prior[pending[j]] == kNone) list[nc++] = pending[j];
+    while (nc > 0) {
+      ++round;
+      for (int j = 0; j < nc; ++j) {
+        const int i = list[j];
+        int best = kNone;
+        for (int e = start[i]; e < start[i + 1]; ++e) {
+          const int q = adj[e];
+          if (prior[q] == kNone) continue;
+          if (gated && std::abs(inten[q] - inten[i]) > pp.gate) continue;
+          if (best == kNone || prior[q] < best) best = prior[q];
+        }
+        cand[j] = best;
+      }
+      int nf = 0;
+      for (int j = 0; j < nc; ++j)
+        if (cand[j] != kNone) {
+          prior[list[j]] = cand[j];
+          frontier[nf++] = list[j];
+        }
+      nc = 0;
+      for (int j = 0; j < nf; ++j) {
+        const int f = frontier[j];
+        for (int e = start[f]; e < start[f + 1]; ++e) {
+          const int q = adj[e];
+          if (prior[q] != kNone || mark[q] == round) continue;
+          if (gated && std::abs(inten[q] - inten[f]) > pp.gate) continue;
+          mark[q] = round;
+          list[nc++] = q;
+        }
+      }
+    }
+  }
+  // Planes: the fine level, then the coarse one for samples still uncovered.
+  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, &counts);
+  if (pp.seg_coarse > 0)
+    planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
+           &counts);
+  // Pass 2 on the summed costs.
+  const int d = params.num_disp, dmin = params.d_min;
+  const std::uint32_t lambda = static_cast<std::uint32_t>(pp.lambda_q4);
+  const int conf_cap = std::max<int>(kMinMeasuredConfidence, pp.support_conf - 1);
+  std::uint16_t* s = s_.data();
+  std::uint32_t* s2 = s2_.data();
+  for (int i = 0; i < n; ++i) {
+    if ((flags[i] & kSupport) || prior[i] == kNone) continue;
+    ++counts.redecided;
+    pm.summed_costs(i, s);
+    const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
+    // S', its smallest value and first argmin, and the rival: plain loops the
+    // compiler vectorises (the branchy single pass cost twice as much).
+    for (int q = 0; q < d; ++q)
+      s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
+    std::uint32_t best = s2[0];
+    for (int q = 1; q < d; ++q) best = std::min(best, s2[q]);
+    int k = 0;
+    while (s2[k] != best) ++k;
+    std::uint32_t rival = 0xFFFFFFFFu;
+    for (int q = 0; q < k - 1; ++q) rival = std::min(rival, s2[q]);
+    for (int q = k + 2; q < d; ++q) rival = std::min(rival, s2[q]);
+    const bool any_rival = k > 1 || k + 2 < d;
+    if (!any_rival) rival = 0xFFFFu;
+    if (pp.uniqueness_pct > 0 && any_rival &&
+        std::uint64_t{rival} * 100u <= std::uint64_t{s2[k]} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
+      disp[i] = kInvalidDispQ4;
+      ++counts.rejected;
+      continue;
+    }
+    int off = 0;
+    if (params.dp.subpixel && k > 0 && k < d - 1)
+      off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(s2[k - 1]), static_cast<int>(s2[k]),
+                               static_cast<int>(s2[k + 1]));
+    disp[i] = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
+    conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(s2[k], rival)));
+  }
+  return counts;
+}
+
+}  // namespace tristereo

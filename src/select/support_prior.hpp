@@ -1,0 +1,59 @@
+// The support prior in the winner selection (docs/model.md section 6b).
+//
+// After the matcher (winner, uniqueness, left-right check from the summed
+// costs), before the fill:
+//  1. support: samples measured with a confidence >= support_conf;
+//  2. a prior disparity for every other sample: the background side of its
+//     neighbours, propagated from the support in rounds, first only across
+//     mesh edges whose intensities differ by at most `gate`, then across any;
+//     then, on each of two segment levels (mesh edges with |dI| <= seg_fine,
+//     then seg_coarse), a robust integer least-squares plane through the
+//     support of each segment, where it is well supported, replaces it;
+//  3. pass 2: each non-support sample with a prior takes the smallest argmin
+//     of S'(k) = S(k) + lambda min(|k - k_prior|, trunc), subject to a
+//     uniqueness test on S' (rejected: invalid, for the fill).
+// Serial (one worker), every buffer sized at configure().
+#pragma once
+
+#include <cstdint>
+
+#include "src/aggregate/path_matcher.hpp"
+#include "src/aggregate/samples.hpp"
+#include "src/memory/large_array.hpp"
+#include "tristereo/image.hpp"
+#include "tristereo/params.hpp"
+
+namespace tristereo {
+
+struct SupportPriorCounts {
+  int support = 0;     // support samples
+  int redecided = 0;   // non-support samples whose winner was chosen again
+  int rejected = 0;    // of those, rejected by the uniqueness test on S' (invalid)
+  int planes = 0;      // segments given a plane
+};
+
+class SupportPrior {
+ public:
+  void configure(int max_samples, int max_triangles, int max_disp);
+  // disp_q4 / confidence: the matcher's outputs, changed in place.
+  SupportPriorCounts apply(const StereoParams& params, const SampleLayout& samples, const PathMatcher& pm,
+                           ImageView<const std::uint8_t> left, std::int16_t* disp_q4, std::uint8_t* confidence);
+  std::size_t working_memory_bytes() const { return bytes_; }
+
+ private:
+  int find(int a);
+  // One segment level with threshold tau: planes for its well-supported
+  // segments. joined >= 0: parent_ already holds the segments of threshold
+  // joined <= tau (the previous level's).
+  void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
+              SupportPriorCounts* counts);
+  std::size_t bytes_ = 0;
+  int n_ = 0;
+  LargeArray<std::int32_t> adj_start_, adj_;  // mesh neighbours (CSR; an edge may repeat)
+  LargeArray<std::int32_t> prior_, cand_, pending_, parent_, count_, order_;
+  LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
+  std::vector<std::uint16_t> s_;
+  std::vector<std::uint32_t> s2_;
+};
+
+}  // namespace tristereo
