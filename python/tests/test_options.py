@@ -30,6 +30,14 @@ CONTEXT = {
     "ad_weight": {"cost": "ad_census"},
     "lambda_q4": {"optimizer": "dp"},
     "gap": {"optimizer": "dp"},
+    "support_trunc": {"support_prior": 300},
+    "support_conf": {"support_prior": 300},
+    "support_uniqueness": {"support_prior": 300},
+    "support_gate": {"support_prior": 300},
+    "plane_seg_fine": {"support_prior": 300},
+    "plane_seg_coarse": {"support_prior": 300},
+    "plane_min": {"support_prior": 300},
+    "plane_tol": {"support_prior": 300},
 }
 
 
