@@ -160,6 +160,33 @@ TEST(NoAlloc, RowDpWithMirroredCheckAndMinConfidenceDoesNotAllocate) {
   }
 }
 
+// The support prior (docs/model.md section 6b): its adjacency, segments and
+// planes live in buffers of configure(), at 1 and 2 workers, traced or not.
+TEST(NoAlloc, SupportPriorDoesNotAllocate) {
+  SynthParams sp;
+  sp.width = 200;
+  sp.height = 150;
+  sp.num_disp = 32;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  for (int threads : {1, 2}) {
+    for (bool traced : {false, true}) {
+      PipelineConfig c;
+      c.max_width = 200;
+      c.max_height = 150;
+      c.params.num_disp = 32;
+      c.params.prior.lambda_q4 = 300;
+      c.threads = threads;
+      c.pin_threads = false;
+      Pipeline pipe;
+      FrameTrace trace;
+      EXPECT_EQ(allocations_over(pipe, c, traced ? &trace : nullptr, {{s.left.view(), s.right.view()}}), 0)
+          << "threads=" << threads << " traced=" << traced;
+      // The stage ran: it chose some samples' winners again.
+      EXPECT_GT(pipe.process(s.left.view(), s.right.view()).validity.prior_redecided, 0);
+    }
+  }
+}
+
 TEST(NoAlloc, CounterSeesAllocations) {
   // Guards the guard: a counter that never counts would make the test above vacuous.
   test::start_counting_allocations();
