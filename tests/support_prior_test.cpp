@@ -140,6 +140,27 @@ TEST(SupportPrior, MovesAWeaklyTexturedSlantedPlaneTowardsItsGroundTruth) {
   EXPECT_LT(b_on, b_off - 1.0) << "bad 1 px without the prior " << b_off << " %, with it " << b_on << " %";
 }
 
+// The stage runs between pool runs; the frame around it uses every worker:
+// the outputs are the same for 1 to 16 workers (oversubscribed here).
+TEST(SupportPrior, IdenticalForAnyWorkerCount) {
+  const WeakPlane s = weak_plane(192, 144);
+  StereoOutput one;
+  for (int threads : {1, 2, 5, 16}) {
+    Pipeline pipe;
+    pipe.configure(test::unpinned_config(s.left.width, s.left.height, params(300), threads));
+    const StereoOutput o = pipe.process(s.left.view(), s.right.view());
+    EXPECT_GT(o.validity.prior_redecided, 0);
+    if (threads == 1) {
+      one = o;
+      continue;
+    }
+    EXPECT_EQ(o.disp_q4.pixels, one.disp_q4.pixels) << "threads=" << threads;
+    EXPECT_EQ(o.vertex_disp_q4, one.vertex_disp_q4) << "threads=" << threads;
+    EXPECT_EQ(o.vertex_confidence, one.vertex_confidence) << "threads=" << threads;
+    EXPECT_EQ(o.validity, one.validity) << "threads=" << threads;
+  }
+}
+
 TEST(SupportPrior, BitExactAgainstTheReference) {
   const WeakPlane s = weak_plane(96, 72);
   StereoParams p = params(300);
