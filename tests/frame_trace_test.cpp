@@ -101,10 +101,10 @@ void check_trace(const FrameTrace& t, int frames, int width, int height) {
     const int cols = s.a, rows = s.c;
     const int bands = (height + rows - 1) / rows;
     // Up to two workers a pass is a raster (a tile a row); from three on,
-    // bands of 8 rows in about a tile per worker.
+    // bands of 2 rows in about a tile per worker.
     const int workers = frame_spans[static_cast<std::size_t>(f)].b;
     EXPECT_EQ(workers, t.workers());
-    EXPECT_EQ(rows, workers <= 2 ? 1 : 8);
+    EXPECT_EQ(rows, workers <= 2 ? 1 : 2);
     EXPECT_EQ(cols, workers <= 2 ? 1 : std::min(workers, width / 16));
     for (int pass = 0; pass < 2; ++pass) {
       const std::tuple<int, int> key{f, pass};

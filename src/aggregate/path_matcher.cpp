@@ -460,12 +460,17 @@ PredecessorBounds PathMatcher::predecessor_bounds(const SampleLayout& samples) c
 // Up to two workers, a pass is one worker's raster order (a band is a row, a
 // tile the whole row): each pass keeps its path costs in its own core's
 // caches, and the two passes meet in the middle. From three workers on, a
-// pass has several: bands of 8 rows, so that 7 rows in 8 find the path costs
-// of the row above in their own core's cache (with one-row bands every row
-// read them from another core: the paths stage went from 11.4 to 20.9 ms on
-// KITTI 000000 with two workers), and about one tile a worker per band, wide
-// enough that each row of a tile streams its costs and sums (8-row bands of
-// 16-pixel tiles made one worker's paths stage a quarter slower).
+// pass has several: bands of 2 rows and about one tile a worker per band,
+// wide enough that each row of a tile streams its costs and sums (16-pixel
+// tiles made one worker's paths stage a quarter slower). The band height
+// sets the rings: every band under way keeps its rows there, and a ring
+// larger than the caches makes every path cost written a miss. One worker
+// running the plan for 16 (synthetic D = 128) spent 9.3 ms in the path tiles
+// with 2-row bands, 10.1 with 4, 10.6 with 8 and 13.1 with 16 (7.4 uncut);
+// two workers running that plan, where a band's first row reads the row
+// above from the other core, spent the same as one (one-row bands shared by
+// two workers, where every row did, had taken the KITTI 000000 paths stage
+// from 11.4 to 20.9 ms).
 PathMatcher::PassPlan PathMatcher::plan_pass(const SampleLayout& samples, bool forward, int workers) const {
   PassPlan p;
   p.forward = forward;

@@ -217,7 +217,7 @@ class PathMatcher {
     int hq_x = -1, hq_i = 0;
     std::uint16_t min = 0;
   };
-  static constexpr int kMaxRowsPerBand = 8;  // plan_pass: bands of 8 rows from 3 workers on
+  static constexpr int kMaxRowsPerBand = 2;  // plan_pass: bands of 2 rows from 3 workers on
   int max_rows_per_band_ = 1;  // what configure() sized for
   int max_in_flight_ = 1;
   int schedule_workers_ = 1;  // plan_pass's worker count
