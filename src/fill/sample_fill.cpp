@@ -106,21 +106,12 @@ int SampleFill::fill(const SampleLayout& samples, std::int16_t* disp_q4, ThreadP
   const int n = samples.count();
   // Without a branch on the data: a quarter of the samples or so are
   // invalid, spread out, and the branch mispredicted at every other one.
-  // A mesh's walks offer into candidates by sample id, one array per worker:
-  // the scan's chunks set them to "no offer" in the same pass, in order and
-  // on every worker (one worker setting them at its pending samples' ids
-  // took 45 us of a 1 ms KITTI fill, and each further worker its own).
   std::int32_t* pending_ids = pending_.get();
-  const int offer_arrays = samples.dense() ? 0 : mesh_workers(pool);
   const int pending = compacting(pool, n, kScanPerChunk, [&](int i0, int i1) {
     int k = i0;
     for (int i = i0; i < i1; ++i) {
       pending_ids[k] = i;
       k += disp_q4[i] == kInvalidDispQ4 ? 1 : 0;
-    }
-    for (int a = 0; a < offer_arrays; ++a) {
-      std::int32_t* c = a == 0 ? candidate_.get() : worker_candidate_[static_cast<std::size_t>(a - 1)].get();
-      std::fill(c + i0, c + i1, INT_MAX);
     }
     return k - i0;
   });
@@ -184,7 +175,7 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   const Triangle* tris = samples.mesh->triangles.data();
   const auto n_tris = static_cast<std::int32_t>(samples.mesh->triangles.size());
   std::int32_t* live = live_.get();
-  std::int32_t* cand = candidate_.get();  // INT_MAX everywhere (fill's scan), as every worker's
+  std::int32_t* cand = candidate_.get();  // set to INT_MAX by the first walk, as every worker's
   // Offers along triangle t's edges to its corners invalid at the start of the
   // round. True when t must be walked again: only when all three corners are
   // invalid. With one or two valid corners, every invalid one takes an offer
@@ -215,11 +206,16 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   // be in two workers' chunks; an atomic min per offer cost more than the
   // walk it shared). A sample still pending has INT_MAX in every worker's
   // array (it took no offer anywhere), so the arrays are set once a frame,
-  // by the scan.
+  // before the first walk, each by the worker that offers into it: set by
+  // the scan's chunks, half of each array's lines were in the other core's
+  // cache, and the first walk took as long on each of two workers as on one.
   const int workers = mesh_workers(pool);
+  const int n_samples = samples.count();
+  bool shared_walks = false;  // a walk ran on the pool: every worker's array is in use
   const auto walk_round = [&](bool listed, int n, int chunk) {
     const int chunks = (n + chunk - 1) / chunk;
     if (workers < 2 || chunks < 2) {
+      if (!listed) std::fill_n(cand, n_samples, INT_MAX);
       int kept = 0;
       for (int j = 0; j < n; ++j) {
         const std::int32_t t = listed ? live[j] : j;
@@ -227,15 +223,24 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
       }
       return kept;
     }
-    chunks_.reset(0, chunks, 1);
+    // Each worker's home: the chunks it most likely decided (two workers:
+    // worker 0's forward pass decides the bottom half of the rows, worker 1's
+    // backward pass the top half; the triangles come in rows of tiles), so
+    // the disparities it reads are in its own core's caches.
+    homes_.reset(chunks, workers);
     pool->run([&](int w) {
       if (w >= workers) return;
       std::int32_t* own = w == 0 ? cand : worker_candidate_[static_cast<std::size_t>(w - 1)].get();
+      if (!shared_walks) {  // the first walk on the pool (cand may hold no-offers already: harmless)
+        const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
+        std::fill_n(own, n_samples, INT_MAX);
+        if (trace_ != nullptr) trace_->record(w, TraceKind::kFillChunk, t0, monotonic_ns(), 0, n_samples, 0);
+      }
       const auto offer_own = [own](int i, int v) {
         if (v < own[i]) own[i] = v;
       };
-      int c0 = 0, c1 = 0;
-      while (chunks_.next(&c0, &c1)) {
+      int c0 = 0;
+      while (homes_.next(workers - 1 - w, &c0)) {
         const int j0 = c0 * chunk, j1 = std::min(n, j0 + chunk);
         const std::int64_t t0 = trace_ != nullptr ? monotonic_ns() : 0;
         int kept = j0;
@@ -247,6 +252,7 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
         if (trace_ != nullptr) trace_->record(w, TraceKind::kFillChunk, t0, monotonic_ns(), j0, j1, chunk);
       }
     });
+    shared_walks = true;
     int kept = 0;
     for (int c = 0; c < chunks; ++c) {
       const std::int32_t* from = live + static_cast<std::ptrdiff_t>(c) * chunk;
@@ -272,7 +278,7 @@ int SampleFill::fill_mesh(const SampleLayout& samples, std::int16_t* disp_q4, Th
   for (int round = 1;; ++round) {
     const auto smallest_offer = [&](int, int i) {
       int v = cand[i];
-      for (int w = 1; w < workers; ++w) v = std::min(v, worker_candidate_[static_cast<std::size_t>(w - 1)][static_cast<std::size_t>(i)]);
+      for (int w = 1; w < (shared_walks ? workers : 1); ++w) v = std::min(v, worker_candidate_[static_cast<std::size_t>(w - 1)][static_cast<std::size_t>(i)]);
       return v;
     };
     const int kept = compacting(pool, pending, kPendingPerChunk, [&](int j0, int j1) {

@@ -65,6 +65,7 @@ class SampleFill {
   int max_samples_ = 0;
   int max_triangles_ = 0;
   WorkChunks chunks_;                   // a round's pending samples, handed out on demand
+  HomeChunks homes_;                    // mesh: a round's walk's chunks of triangles
   LargeArray<std::int32_t> pending_;    // invalid samples still to fill
   LargeArray<std::int32_t> candidate_;  // this round's smallest neighbour (grid: by pending index;
                                         // mesh: by sample id)
