@@ -70,7 +70,8 @@ class TRISTEREO_API FrameTrace {
   static constexpr int kPipelineTrack = -1;
 
   // Room for spans_per_track spans on the pipeline track and on each of
-  // `workers` worker tracks; clears. Allocates: call it before the frames.
+  // `workers` worker tracks; clears. Allocates, and writes every page of the
+  // storage (no page faults while recording): call it before the frames.
   void reserve(int workers, std::size_t spans_per_track);
   // Forgets every span (keeps the storage).
   void clear();
