@@ -99,6 +99,8 @@ class PathMatcher {
   const std::uint16_t* cost_row(int i) const { return costs_.get() + row(i, cost_stride_); }
   // S(i, k) of the last aggregate().
   void summed_costs(int i, std::uint16_t* out) const;
+  // S(i, 0 .. D) of the last aggregate(), in place.
+  const std::uint16_t* summed_costs_row(int i) const { return sum_.get() + row(i, cost_stride_); }
   // Predecessor of sample i along direction r in the last aggregate(), -1 = none.
   int predecessor(const SampleLayout& samples, int r, int i) const;
 

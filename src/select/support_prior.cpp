@@ -20,6 +20,8 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp) {
   const auto n = static_cast<std::size_t>(max_samples);
   adj_start_ = large_array<std::int32_t>(n + 1);
   adj_ = large_array<std::int32_t>(6 * static_cast<std::size_t>(max_triangles));
+  edges_ = large_array<Edge>(3 * static_cast<std::size_t>(max_triangles));
+  fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int32_t>(n);
   cand_ = large_array<std::int32_t>(n);
   pending_ = large_array<std::int32_t>(n);
@@ -28,10 +30,10 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp) {
   order_ = large_array<std::int32_t>(n);
   inten_ = large_array<std::uint8_t>(n);
   flags_ = large_array<std::uint8_t>(n);
-  s_.assign(static_cast<std::size_t>(max_disp), 0);
   s2_.assign(static_cast<std::size_t>(max_disp), 0);
   bytes_ = (8 * n + 1) * sizeof(std::int32_t) + 6 * static_cast<std::size_t>(max_triangles) * sizeof(std::int32_t) +
-           2 * n + 6 * static_cast<std::size_t>(max_disp);
+           3 * static_cast<std::size_t>(max_triangles) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
+           4 * static_cast<std::size_t>(max_disp);
 }
 
 int SupportPrior::find(int a) {
@@ -48,24 +50,21 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   const int n = n_;
   const SupportPriorParams& pp = params.prior;
   std::int32_t* parent = parent_.get();
-  const std::int32_t *start = adj_start_.get(), *adj = adj_.get();
-  const std::uint8_t* inten = inten_.get();
   std::uint8_t* flags = flags_.get();
   // Segments: the components of the mesh edges with |dI| <= tau; each one's
-  // root is its smallest sample (the larger root goes under the smaller).
+  // root is its smallest sample (the larger root goes under the smaller: the
+  // partition and its roots do not depend on the order of the edges).
   // joined >= 0: parent holds the segments of that smaller threshold (a
   // finer partition), so only the edges with joined < |dI| <= tau remain.
   if (joined < 0)
     for (int i = 0; i < n; ++i) parent[i] = i;
-  for (int i = 0; i < n; ++i)
-    for (int j = start[i]; j < start[i + 1]; ++j) {
-      const int q = adj[j];
-      if (q <= i) continue;
-      const int di = std::abs(inten[q] - inten[i]);
-      if (di > tau || di <= joined) continue;
-      const int a = find(i), b = find(q);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+  const Edge* edges = edges_.get();
+  for (int j = 0; j < n_edges_; ++j) {
+    const Edge e = edges[j];
+    if (e.di > tau || e.di <= joined) continue;
+    const int a = find(e.a), b = find(e.b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
   // Members grouped by segment (counting sort by root, ascending ids).
   std::int32_t* count = count_.get();
   std::int32_t* order = order_.get();
@@ -91,16 +90,22 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       else if (!(f & kCovered)) other = true;
     }
     if (!other || support < pp.plane_min) continue;
+    // The segment's support points, in order, gathered once for the fits.
+    FitPoint* pts = fit_.get();
+    int np = 0;
+    for (int j = g0; j < g1; ++j) {
+      const int i = order[j];
+      if (flags[i] & kSupport) pts[np++] = FitPoint{samples.x_of(i), samples.y_of(i), disp[i]};
+    }
     IntPlane plane;
     bool ok = true;
     // Fit 0 on every support sample, fits 1..3 on those within 2 tol of the previous plane.
     for (int fit = 0; fit < 4 && ok; ++fit) {
       PlaneSums sums;
-      for (int j = g0; j < g1; ++j) {
-        const int i = order[j];
-        if (!(flags[i] & kSupport)) continue;
-        if (fit > 0 && abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]) > 2 * tol) continue;
-        sums.add(samples.x_of(i), samples.y_of(i), disp[i]);
+      for (int j = 0; j < np; ++j) {
+        const FitPoint p = pts[j];
+        if (fit > 0 && abs64(plane.at(p.x, p.y) - p.d) > 2 * tol) continue;
+        sums.add(p.x, p.y, p.d);
       }
       if (sums.n < 3) {
         ok = false;
@@ -111,11 +116,10 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       next_plane.ybar = static_cast<int>(floor_div(sums.sy, sums.n));
       next_plane.dbar = static_cast<int>(floor_div(sums.sd, sums.n));
       PlaneMoments m;
-      for (int j = g0; j < g1; ++j) {
-        const int i = order[j];
-        if (!(flags[i] & kSupport)) continue;
-        if (fit > 0 && abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]) > 2 * tol) continue;
-        m.add(samples.x_of(i) - next_plane.xbar, samples.y_of(i) - next_plane.ybar, disp[i] - next_plane.dbar);
+      for (int j = 0; j < np; ++j) {
+        const FitPoint p = pts[j];
+        if (fit > 0 && abs64(plane.at(p.x, p.y) - p.d) > 2 * tol) continue;
+        m.add(p.x - next_plane.xbar, p.y - next_plane.ybar, p.d - next_plane.dbar);
       }
       ok = solve_plane(m, sums.n, &next_plane);
       plane = next_plane;
@@ -124,10 +128,9 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     // Accepted when at least half the support lies within tol and the
     // residuals, each capped at 2 tol, have a mean square of at most tol^2.
     std::int64_t inliers = 0, sq = 0;
-    for (int j = g0; j < g1; ++j) {
-      const int i = order[j];
-      if (!(flags[i] & kSupport)) continue;
-      const std::int64_t e = abs64(plane.at(samples.x_of(i), samples.y_of(i)) - disp[i]);
+    for (int j = 0; j < np; ++j) {
+      const FitPoint p = pts[j];
+      const std::int64_t e = abs64(plane.at(p.x, p.y) - p.d);
       if (e <= tol) ++inliers;
       sq += std::min(e * e, 4 * tol * tol);
     }
@@ -180,6 +183,22 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     prior[i] = support ? disp[i] : kNone;
     if (support) ++counts.support;
     else pending[n_pending++] = i;
+  }
+  // The mesh edges the segment levels use (|dI| <= the larger threshold),
+  // each triangle's three (an edge between two triangles comes twice).
+  {
+    const int most = std::max(pp.seg_fine, pp.seg_coarse);
+    Edge* edges = edges_.get();
+    int ne = 0;
+    if (most > 0)
+      for (const Triangle& t : mesh.triangles)
+        for (int e = 0; e < 3; ++e) {
+          const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
+          const int di = std::abs(inten[a] - inten[b]);
+          edges[ne] = Edge{a, b, di};
+          ne += di <= most ? 1 : 0;
+        }
+    n_edges_ = ne;
   }
   // Propagation: gated rounds until one gives nothing, then ungated ones.
   // A round's first candidates are every sample still without a prior; after
@@ -237,12 +256,22 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   const int d = params.num_disp, dmin = params.d_min;
   const std::uint32_t lambda = static_cast<std::uint32_t>(pp.lambda_q4);
   const int conf_cap = std::max<int>(kMinMeasuredConfidence, pp.support_conf - 1);
-  std::uint16_t* s = s_.data();
   std::uint32_t* s2 = s2_.data();
-  for (int i = 0; i < n; ++i) {
-    if ((flags[i] & kSupport) || prior[i] == kNone) continue;
+  // The samples to decide again, listed first: their rows of S are far
+  // apart in memory, and each is prefetched a few samples ahead.
+  int n_redo = 0;
+  for (int i = 0; i < n; ++i)
+    if (!(flags[i] & kSupport) && prior[i] != kNone) pending[n_redo++] = i;
+  constexpr int kAhead = 8;
+  const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
+  for (int j = 0; j < n_redo; ++j) {
+    if (j + kAhead < n_redo) {
+      const char* ahead = reinterpret_cast<const char*>(pm.summed_costs_row(pending[j + kAhead]));
+      for (std::size_t b = 0; b < row_bytes; b += 64) __builtin_prefetch(ahead + b);
+    }
+    const int i = pending[j];
     ++counts.redecided;
-    pm.summed_costs(i, s);
+    const std::uint16_t* s = pm.summed_costs_row(i);
     const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
     // S', its smallest value and first argmin, and the rival: plain loops the
     // compiler vectorises (the branchy single pass cost twice as much).

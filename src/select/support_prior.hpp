@@ -47,12 +47,20 @@ class SupportPrior {
   // joined <= tau (the previous level's).
   void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
               SupportPriorCounts* counts);
+  struct Edge {
+    std::int32_t a, b, di;  // samples a and b, |I(a) - I(b)|
+  };
+  struct FitPoint {
+    std::int32_t x, y, d;  // a support sample's pixel and disparity (Q4)
+  };
   std::size_t bytes_ = 0;
   int n_ = 0;
+  int n_edges_ = 0;
   LargeArray<std::int32_t> adj_start_, adj_;  // mesh neighbours (CSR; an edge may repeat)
   LargeArray<std::int32_t> prior_, cand_, pending_, parent_, count_, order_;
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
-  std::vector<std::uint16_t> s_;
+  LargeArray<Edge> edges_;                  // the segment levels' mesh edges
+  LargeArray<FitPoint> fit_;                // a segment's support points
   std::vector<std::uint32_t> s2_;
 };
 
