@@ -15,8 +15,8 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-${repo}/build-tsan}"
-regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|SideWork|Wavefront|FrameTrace|Tritree\.IdenticalForAnyThreadCount|TritreePredecessors|PathAggregation|FillThreads|PipelineThreads\.(SyntheticScene|RandomParameters|WorkersArePinned|SecondPipeline|Reconfigure))}"
-targets=(thread_pool_test work_chunks_test wavefront_test frame_trace_test platform_test tritree_test tritree_predecessors_test paths_test sample_fill_test pipeline_threads_test)
+regex="${2:-^(ThreadPool|Affinity|WorkChunks|HomeChunks|SideWork|Wavefront|FrameTrace|Tritree\.IdenticalForAnyThreadCount|TritreePredecessors|PathAggregation|FillThreads|PipelineThreads\.(SyntheticScene|RandomParameters|WorkersArePinned|SecondPipeline|Reconfigure)|SupportPrior\.IdenticalForAnyWorkerCount)}"
+targets=(thread_pool_test work_chunks_test wavefront_test frame_trace_test platform_test tritree_test tritree_predecessors_test paths_test sample_fill_test pipeline_threads_test support_prior_test)
 jobs="${TSAN_JOBS:-$(nproc)}"
 locks_memory='^(ThreadPoolRealtime\.AppliesToEveryWorkerOrChangesNothing|Realtime\.EnableRealtimeSucceedsOrExplains)$'
 

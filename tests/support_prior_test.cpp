@@ -143,7 +143,7 @@ TEST(SupportPrior, MovesAWeaklyTexturedSlantedPlaneTowardsItsGroundTruth) {
 // The stage runs between pool runs; the frame around it uses every worker:
 // the outputs are the same for 1 to 16 workers (oversubscribed here).
 TEST(SupportPrior, IdenticalForAnyWorkerCount) {
-  const WeakPlane s = weak_plane(192, 144);
+  const WeakPlane s = weak_plane(640, 480);  // enough segments and samples for the pool's chunks
   StereoOutput one;
   for (int threads : {1, 2, 5, 16}) {
     Pipeline pipe;

@@ -203,8 +203,8 @@ void Pipeline::configure(const PipelineConfig& config) {
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px, threads);
-  if (sp.prior.lambda_q4 > 0) m.prior.configure(max_px, 2 * max_px, sp.num_disp);
-  else m.prior = SupportPrior{};
+  if (sp.prior.lambda_q4 > 0) m.prior.configure(max_px, 2 * max_px, sp.num_disp, threads);
+  else m.prior.release();
   const bool lr = sp.validity.lr_max_diff_q4 >= 0 && sp.validity.lr_source == LrSource::kMirroredPass;
   const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
   m.mirror_left = ImageU8{};
@@ -569,7 +569,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   validity.lr_rejected = rejected.left_right;
   // Support prior (docs/model.md section 6b): weak samples chosen again.
   if (params.prior.lambda_q4 > 0) {
-    const SupportPriorCounts pc = m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf);
+    const SupportPriorCounts pc = m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf, &m.pool);
     validity.prior_redecided = pc.redecided;
     validity.prior_rejected = pc.rejected;
   }

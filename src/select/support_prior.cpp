@@ -4,6 +4,7 @@
 #include <climits>
 #include <cstdlib>
 
+#include "platform/thread_pool.hpp"
 #include "src/dp/subpixel.hpp"
 #include "src/select/confidence.hpp"
 #include "src/select/plane_fit.hpp"
@@ -14,9 +15,13 @@ namespace tristereo {
 namespace {
 constexpr std::uint8_t kSupport = 1, kCovered = 2;
 constexpr std::int32_t kNone = INT_MIN;
+// Work items on the pool: segment roots, and samples decided again (a few
+// tens of microseconds each on a KITTI frame).
+constexpr int kRootsPerChunk = 2048;
+constexpr int kRedoPerChunk = 256;
 }  // namespace
 
-void SupportPrior::configure(int max_samples, int max_triangles, int max_disp) {
+void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
   const auto n = static_cast<std::size_t>(max_samples);
   adj_start_ = large_array<std::int32_t>(n + 1);
   adj_ = large_array<std::int32_t>(6 * static_cast<std::size_t>(max_triangles));
@@ -30,10 +35,27 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp) {
   order_ = large_array<std::int32_t>(n);
   inten_ = large_array<std::uint8_t>(n);
   flags_ = large_array<std::uint8_t>(n);
-  s2_.assign(static_cast<std::size_t>(max_disp), 0);
+  max_disp_ = max_disp;
+  workers = std::max(1, workers);
+  s2_.assign(static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers), 0);
+  worker_counts_.assign(static_cast<std::size_t>(workers), SupportPriorCounts{});
   bytes_ = (8 * n + 1) * sizeof(std::int32_t) + 6 * static_cast<std::size_t>(max_triangles) * sizeof(std::int32_t) +
            3 * static_cast<std::size_t>(max_triangles) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
-           4 * static_cast<std::size_t>(max_disp);
+           4 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers) +
+           static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts);
+}
+
+void SupportPrior::release() {
+  for (LargeArray<std::int32_t>* a : {&adj_start_, &adj_, &prior_, &cand_, &pending_, &parent_, &count_, &order_})
+    *a = LargeArray<std::int32_t>{};
+  inten_ = LargeArray<std::uint8_t>{};
+  flags_ = LargeArray<std::uint8_t>{};
+  edges_ = LargeArray<Edge>{};
+  fit_ = LargeArray<FitPoint>{};
+  s2_ = std::vector<std::uint32_t>{};
+  worker_counts_ = std::vector<SupportPriorCounts>{};
+  bytes_ = 0;
+  max_disp_ = 0;
 }
 
 int SupportPrior::find(int a) {
@@ -46,7 +68,7 @@ int SupportPrior::find(int a) {
 }
 
 void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
-                          int tau, int joined, SupportPriorCounts* counts) {
+                          int tau, int joined, ThreadPool* pool) {
   const int n = n_;
   const SupportPriorParams& pp = params.prior;
   std::int32_t* parent = parent_.get();
@@ -79,9 +101,12 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   std::copy_n(count, n, next);
   for (int i = 0; i < n; ++i) order[next[parent[i]]++] = i;
   const std::int64_t tol = pp.plane_tol_q4;
-  for (int r = 0; r < n; ++r) {
+  // Segment r (its members order[count[r] .. count[r + 1])): true when it
+  // gets a plane. Segments share no sample, and each gathers its support
+  // points in its own slots of fit_, so they may go to any worker.
+  const auto fit_segment = [&](int r) {
     const int g0 = count[r], g1 = count[r + 1];
-    if (g1 - g0 < 2) continue;  // a plane needs support and another sample to give to
+    if (g1 - g0 < 2) return false;  // a plane needs support and another sample to give to
     int support = 0;
     bool other = false;
     for (int j = g0; j < g1; ++j) {
@@ -89,9 +114,9 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       if (f & kSupport) ++support;
       else if (!(f & kCovered)) other = true;
     }
-    if (!other || support < pp.plane_min) continue;
+    if (!other || support < pp.plane_min) return false;
     // The segment's support points, in order, gathered once for the fits.
-    FitPoint* pts = fit_.get();
+    FitPoint* pts = fit_.get() + g0;
     int np = 0;
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
@@ -124,7 +149,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       ok = solve_plane(m, sums.n, &next_plane);
       plane = next_plane;
     }
-    if (!ok) continue;
+    if (!ok) return false;
     // Accepted when at least half the support lies within tol and the
     // residuals, each capped at 2 tol, have a mean square of at most tol^2.
     std::int64_t inliers = 0, sq = 0;
@@ -134,8 +159,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       if (e <= tol) ++inliers;
       sq += std::min(e * e, 4 * tol * tol);
     }
-    if (2 * inliers < support || sq > tol * tol * support) continue;
-    ++counts->planes;
+    if (2 * inliers < support || sq > tol * tol * support) return false;
     const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
@@ -143,12 +167,30 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       flags[i] |= kCovered;
       prior_.get()[i] = std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi);
     }
+    return true;
+  };
+  for_chunks(pool, n, kRootsPerChunk, [&](int w, int r0, int r1) {
+    for (int r = r0; r < r1; ++r) worker_counts_[static_cast<std::size_t>(w)].planes += fit_segment(r) ? 1 : 0;
+  });
+}
+
+template <class Body>
+void SupportPrior::for_chunks(ThreadPool* pool, int n, int chunk, Body body) {
+  if (pool == nullptr || pool->size() < 2 || n < 2 * chunk) {
+    body(0, 0, n);
+    return;
   }
+  chunks_.reset(0, n, chunk);
+  pool->run([&](int w) {
+    if (w >= static_cast<int>(worker_counts_.size())) return;
+    int j0 = 0, j1 = 0;
+    while (chunks_.next(&j0, &j1)) body(w, j0, j1);
+  });
 }
 
 SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleLayout& samples,
                                        const PathMatcher& pm, ImageView<const std::uint8_t> left,
-                                       std::int16_t* disp, std::uint8_t* conf) {
+                                       std::int16_t* disp, std::uint8_t* conf, ThreadPool* pool) {
   SupportPriorCounts counts;
   const SupportPriorParams& pp = params.prior;
   if (pp.lambda_q4 <= 0 || samples.dense()) return counts;
@@ -248,56 +290,66 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     }
   }
   // Planes: the fine level, then the coarse one for samples still uncovered.
-  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, &counts);
+  for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
+  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool);
   if (pp.seg_coarse > 0)
     planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
-           &counts);
+           pool);
   // Pass 2 on the summed costs.
   const int d = params.num_disp, dmin = params.d_min;
   const std::uint32_t lambda = static_cast<std::uint32_t>(pp.lambda_q4);
   const int conf_cap = std::max<int>(kMinMeasuredConfidence, pp.support_conf - 1);
-  std::uint32_t* s2 = s2_.data();
   // The samples to decide again, listed first: their rows of S are far
-  // apart in memory, and each is prefetched a few samples ahead.
+  // apart in memory, and each is prefetched a few samples ahead. Each
+  // sample writes only its own outputs, so the list may be shared.
   int n_redo = 0;
   for (int i = 0; i < n; ++i)
     if (!(flags[i] & kSupport) && prior[i] != kNone) pending[n_redo++] = i;
   constexpr int kAhead = 8;
   const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
-  for (int j = 0; j < n_redo; ++j) {
-    if (j + kAhead < n_redo) {
-      const char* ahead = reinterpret_cast<const char*>(pm.summed_costs_row(pending[j + kAhead]));
-      for (std::size_t b = 0; b < row_bytes; b += 64) __builtin_prefetch(ahead + b);
+  for_chunks(pool, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {
+    std::uint32_t* s2 = s2_.data() + static_cast<std::size_t>(w) * static_cast<std::size_t>(max_disp_);
+    SupportPriorCounts& wc = worker_counts_[static_cast<std::size_t>(w)];
+    for (int j = j0; j < j1; ++j) {
+      if (j + kAhead < j1) {
+        const char* ahead = reinterpret_cast<const char*>(pm.summed_costs_row(pending[j + kAhead]));
+        for (std::size_t b = 0; b < row_bytes; b += 64) __builtin_prefetch(ahead + b);
+      }
+      const int i = pending[j];
+      ++wc.redecided;
+      const std::uint16_t* s = pm.summed_costs_row(i);
+      const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
+      // S', its smallest value and first argmin, and the rival: plain loops the
+      // compiler vectorises (the branchy single pass cost twice as much).
+      for (int q = 0; q < d; ++q)
+        s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
+      std::uint32_t best = s2[0];
+      for (int q = 1; q < d; ++q) best = std::min(best, s2[q]);
+      int k = 0;
+      while (s2[k] != best) ++k;
+      std::uint32_t rival = 0xFFFFFFFFu;
+      for (int q = 0; q < k - 1; ++q) rival = std::min(rival, s2[q]);
+      for (int q = k + 2; q < d; ++q) rival = std::min(rival, s2[q]);
+      const bool any_rival = k > 1 || k + 2 < d;
+      if (!any_rival) rival = 0xFFFFu;
+      if (pp.uniqueness_pct > 0 && any_rival &&
+          std::uint64_t{rival} * 100u <= std::uint64_t{s2[k]} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
+        disp[i] = kInvalidDispQ4;
+        ++wc.rejected;
+        continue;
+      }
+      int off = 0;
+      if (params.dp.subpixel && k > 0 && k < d - 1)
+        off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(s2[k - 1]), static_cast<int>(s2[k]),
+                                 static_cast<int>(s2[k + 1]));
+      disp[i] = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
+      conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(s2[k], rival)));
     }
-    const int i = pending[j];
-    ++counts.redecided;
-    const std::uint16_t* s = pm.summed_costs_row(i);
-    const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
-    // S', its smallest value and first argmin, and the rival: plain loops the
-    // compiler vectorises (the branchy single pass cost twice as much).
-    for (int q = 0; q < d; ++q)
-      s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
-    std::uint32_t best = s2[0];
-    for (int q = 1; q < d; ++q) best = std::min(best, s2[q]);
-    int k = 0;
-    while (s2[k] != best) ++k;
-    std::uint32_t rival = 0xFFFFFFFFu;
-    for (int q = 0; q < k - 1; ++q) rival = std::min(rival, s2[q]);
-    for (int q = k + 2; q < d; ++q) rival = std::min(rival, s2[q]);
-    const bool any_rival = k > 1 || k + 2 < d;
-    if (!any_rival) rival = 0xFFFFu;
-    if (pp.uniqueness_pct > 0 && any_rival &&
-        std::uint64_t{rival} * 100u <= std::uint64_t{s2[k]} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
-      disp[i] = kInvalidDispQ4;
-      ++counts.rejected;
-      continue;
-    }
-    int off = 0;
-    if (params.dp.subpixel && k > 0 && k < d - 1)
-      off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(s2[k - 1]), static_cast<int>(s2[k]),
-                               static_cast<int>(s2[k + 1]));
-    disp[i] = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
-    conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(s2[k], rival)));
+  });
+  for (const SupportPriorCounts& c : worker_counts_) {
+    counts.redecided += c.redecided;
+    counts.rejected += c.rejected;
+    counts.planes += c.planes;
   }
   return counts;
 }

@@ -12,18 +12,25 @@
 //  3. pass 2: each non-support sample with a prior takes the smallest argmin
 //     of S'(k) = S(k) + lambda min(|k - k_prior|, trunc), subject to a
 //     uniqueness test on S' (rejected: invalid, for the fill).
-// Serial (one worker), every buffer sized at configure().
+// The segments' planes and pass 2 are shared by the pool's workers (each
+// segment and each sample writes only its own values: the result is the
+// same for any pool); the rest runs on the calling thread. Every buffer is
+// sized at configure().
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "src/aggregate/path_matcher.hpp"
 #include "src/aggregate/samples.hpp"
+#include "platform/work_chunks.hpp"
 #include "src/memory/large_array.hpp"
 #include "tristereo/image.hpp"
 #include "tristereo/params.hpp"
 
 namespace tristereo {
+
+class ThreadPool;
 
 struct SupportPriorCounts {
   int support = 0;     // support samples
@@ -34,10 +41,15 @@ struct SupportPriorCounts {
 
 class SupportPrior {
  public:
-  void configure(int max_samples, int max_triangles, int max_disp);
+  // For up to `workers` workers of a pool.
+  void configure(int max_samples, int max_triangles, int max_disp, int workers = 1);
+  // Gives every buffer back (a pipeline reconfigured without the prior).
+  void release();
   // disp_q4 / confidence: the matcher's outputs, changed in place.
+  // pool (optional; called from its owner thread): shares the work.
   SupportPriorCounts apply(const StereoParams& params, const SampleLayout& samples, const PathMatcher& pm,
-                           ImageView<const std::uint8_t> left, std::int16_t* disp_q4, std::uint8_t* confidence);
+                           ImageView<const std::uint8_t> left, std::int16_t* disp_q4, std::uint8_t* confidence,
+                           ThreadPool* pool = nullptr);
   std::size_t working_memory_bytes() const { return bytes_; }
 
  private:
@@ -46,7 +58,11 @@ class SupportPrior {
   // segments. joined >= 0: parent_ already holds the segments of threshold
   // joined <= tau (the previous level's).
   void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
-              SupportPriorCounts* counts);
+              ThreadPool* pool);
+  // body(worker, j0, j1) over [0, n) in chunks, on the pool's workers (up to
+  // the configured count) from two chunks up, else body(0, 0, n) here.
+  template <class Body>
+  void for_chunks(ThreadPool* pool, int n, int chunk, Body body);
   struct Edge {
     std::int32_t a, b, di;  // samples a and b, |I(a) - I(b)|
   };
@@ -61,7 +77,10 @@ class SupportPrior {
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
   LargeArray<Edge> edges_;                  // the segment levels' mesh edges
   LargeArray<FitPoint> fit_;                // a segment's support points
-  std::vector<std::uint32_t> s2_;
+  std::vector<std::uint32_t> s2_;                    // S' of one sample, per worker
+  std::vector<SupportPriorCounts> worker_counts_;   // per worker
+  WorkChunks chunks_;
+  int max_disp_ = 0;
 };
 
 }  // namespace tristereo
