@@ -144,12 +144,14 @@ TEST(SupportPrior, MovesAWeaklyTexturedSlantedPlaneTowardsItsGroundTruth) {
 // the outputs are the same for 1 to 16 workers (oversubscribed here).
 TEST(SupportPrior, IdenticalForAnyWorkerCount) {
   const WeakPlane s = weak_plane(640, 480);  // enough segments and samples for the pool's chunks
+  StereoParams p = params(300);
+  p.num_disp = 64;  // d reaches 46 on the right
   StereoOutput one;
   for (int threads : {1, 2, 5, 16}) {
     Pipeline pipe;
-    pipe.configure(test::unpinned_config(s.left.width, s.left.height, params(300), threads));
+    pipe.configure(test::unpinned_config(s.left.width, s.left.height, p, threads));
     const StereoOutput o = pipe.process(s.left.view(), s.right.view());
-    EXPECT_GT(o.validity.prior_redecided, 0);
+    EXPECT_GE(o.validity.prior_redecided, 2 * 256);  // pass 2 in two chunks at least
     if (threads == 1) {
       one = o;
       continue;
@@ -172,10 +174,11 @@ TEST(SupportPrior, BitExactAgainstTheReference) {
   q.prior.support_conf = 200;
   q.validity.lr_source = LrSource::kMirroredPass;
   q.dp.subpixel_fit = SubpixelFit::kEquiangular;
-  StereoParams r = p;  // no planes: only the propagation
-  r.prior.seg_fine = 0;
-  r.prior.seg_coarse = 0;
-  r.prior.gate = 0;
+  StereoParams r = p;  // the coarse level first, the smallest segments, loose planes
+  r.prior.seg_fine = 12;
+  r.prior.seg_coarse = 4;
+  r.prior.plane_min = 3;
+  r.prior.plane_tol_q4 = 64;
   for (const StereoParams& c : {p, q, r}) {
     const VerifyReport rep = verify_bit_exact(s.left, s.right, c, {1, 2});
     EXPECT_TRUE(rep.bit_exact);

@@ -122,16 +122,15 @@ struct ValidityParams {
 
 // Support prior (docs/model.md section 6b; issue 40): samples that are
 // measured with a confidence of at least support_conf are the *support*; every
-// other sample gets a prior disparity from the support (a plane per segment of
-// similar intensity on the mesh, else the background side of its gated
-// neighbours), and its winner is chosen again from the summed path costs plus
-// lambda * min(|k - k_prior|, trunc). Paths optimizer, sparse mode only.
+// other sample in a segment of similar intensity on the mesh whose support
+// lies on a plane gets that plane's disparity as its prior, and its winner is
+// chosen again from the summed path costs plus lambda * min(|k - k_prior|,
+// trunc). Paths optimizer, sparse mode only.
 struct SupportPriorParams {
   int lambda_q4 = 0;       // 0 = off; 1..16000 Q4 cost units per disparity step
   int trunc = 8;           // 1..256: the prior's penalty stops growing this many steps away
   int support_conf = 160;  // 128..255
   int uniqueness_pct = 20; // on the re-decided costs, 0..100 (0 = keep every new winner)
-  int gate = 10;           // 0..255: propagation first only across edges with |dI| <= gate
   int seg_fine = 2;        // 0..255: segments join mesh edges with |dI| <= this (0 = no level)
   int seg_coarse = 8;      // 0..255: a second level for samples the first left without a plane
   int plane_min = 10;      // 3..65535 support samples a segment needs for a plane

@@ -33,7 +33,6 @@ CONTEXT = {
     "support_trunc": {"support_prior": 300},
     "support_conf": {"support_prior": 300},
     "support_uniqueness": {"support_prior": 300},
-    "support_gate": {"support_prior": 300},
     "plane_seg_fine": {"support_prior": 300},
     "plane_seg_coarse": {"support_prior": 300},
     "plane_min": {"support_prior": 300},

@@ -92,7 +92,6 @@ void validate_params(const StereoParams& p) {
   check_range("prior.trunc", p.prior.trunc, 1, 256);
   check_range("prior.support_conf", p.prior.support_conf, kMinMeasuredConfidence, 255);
   check_range("prior.uniqueness_pct", p.prior.uniqueness_pct, 0, 100);
-  check_range("prior.gate", p.prior.gate, 0, 255);
   check_range("prior.seg_fine", p.prior.seg_fine, 0, 255);
   check_range("prior.seg_coarse", p.prior.seg_coarse, 0, 255);
   check_range("prior.plane_min", p.prior.plane_min, 3, 65535);

@@ -90,30 +90,10 @@ int support_prior(const ImageU8& lg, const Samples& samples, const StereoParams&
   std::vector<bool> support(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
     support[static_cast<std::size_t>(i)] = disp[static_cast<std::size_t>(i)] != kInvalidDispQ4 && conf[static_cast<std::size_t>(i)] >= pp.support_conf;
-  // 2. Propagated prior (LLONG_MIN = none).
+  // 2. The prior: a plane's value (LLONG_MIN = none).
   const std::int64_t kNone = LLONG_MIN;
   std::vector<std::int64_t> pi(static_cast<std::size_t>(n), kNone);
-  for (int i = 0; i < n; ++i)
-    if (support[static_cast<std::size_t>(i)]) pi[static_cast<std::size_t>(i)] = disp[static_cast<std::size_t>(i)];
-  for (int gated = 1; gated >= 0; --gated) {
-    for (;;) {
-      std::vector<std::int64_t> next = pi;
-      bool any = false;
-      for (int i = 0; i < n; ++i) {
-        if (pi[static_cast<std::size_t>(i)] != kNone) continue;
-        for (int q : nb[static_cast<std::size_t>(i)]) {
-          if (pi[static_cast<std::size_t>(q)] == kNone) continue;
-          if (gated && std::abs(I(q) - I(i)) > pp.gate) continue;
-          if (next[static_cast<std::size_t>(i)] == kNone || pi[static_cast<std::size_t>(q)] < next[static_cast<std::size_t>(i)])
-            next[static_cast<std::size_t>(i)] = pi[static_cast<std::size_t>(q)];
-          any = true;
-        }
-      }
-      pi = next;
-      if (!any) break;
-    }
-  }
-  // 3. Planes on two segment levels.
+  // Planes on two segment levels.
   std::vector<bool> covered(static_cast<std::size_t>(n), false);
   for (int tau : {pp.seg_fine, pp.seg_coarse}) {
     if (tau == 0) continue;
@@ -169,7 +149,7 @@ int support_prior(const ImageU8& lg, const Samples& samples, const StereoParams&
       }
     }
   }
-  // 4. Pass 2.
+  // 3. Pass 2.
   int redecided = 0;
   *rejected = 0;
   for (int i = 0; i < n; ++i) {

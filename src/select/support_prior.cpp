@@ -14,7 +14,6 @@ namespace tristereo {
 
 namespace {
 constexpr std::uint8_t kSupport = 1, kCovered = 2;
-constexpr std::int32_t kNone = INT_MIN;
 // Work items on the pool: segment roots, and samples decided again (a few
 // tens of microseconds each on a KITTI frame).
 constexpr int kRootsPerChunk = 2048;
@@ -23,8 +22,6 @@ constexpr int kRedoPerChunk = 256;
 
 void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
   const auto n = static_cast<std::size_t>(max_samples);
-  adj_start_ = large_array<std::int32_t>(n + 1);
-  adj_ = large_array<std::int32_t>(6 * static_cast<std::size_t>(max_triangles));
   edges_ = large_array<Edge>(3 * static_cast<std::size_t>(max_triangles));
   fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int32_t>(n);
@@ -39,14 +36,13 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   workers = std::max(1, workers);
   s2_.assign(static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers), 0);
   worker_counts_.assign(static_cast<std::size_t>(workers), SupportPriorCounts{});
-  bytes_ = (8 * n + 1) * sizeof(std::int32_t) + 6 * static_cast<std::size_t>(max_triangles) * sizeof(std::int32_t) +
-           3 * static_cast<std::size_t>(max_triangles) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
+  bytes_ = (6 * n + 1) * sizeof(std::int32_t) + 3 * static_cast<std::size_t>(max_triangles) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
            4 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers) +
            static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts);
 }
 
 void SupportPrior::release() {
-  for (LargeArray<std::int32_t>* a : {&adj_start_, &adj_, &prior_, &cand_, &pending_, &parent_, &count_, &order_})
+  for (LargeArray<std::int32_t>* a : {&prior_, &cand_, &pending_, &parent_, &count_, &order_})
     *a = LargeArray<std::int32_t>{};
   inten_ = LargeArray<std::uint8_t>{};
   flags_ = LargeArray<std::uint8_t>{};
@@ -197,34 +193,15 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   const Mesh& mesh = *samples.mesh;
   const int n = samples.count();
   n_ = n;
-  // Mesh neighbours: each triangle offers its two other corners to each corner.
-  std::int32_t* start = adj_start_.get();
-  std::int32_t* adj = adj_.get();
-  std::fill_n(start, n + 1, 0);
-  for (const Triangle& t : mesh.triangles)
-    for (int e = 0; e < 3; ++e) start[t[static_cast<std::size_t>(e)] + 1] += 2;
-  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
-  std::int32_t* fill = cand_.get();
-  std::copy_n(start, n, fill);
-  for (const Triangle& t : mesh.triangles)
-    for (int e = 0; e < 3; ++e) {
-      const int a = t[static_cast<std::size_t>(e)];
-      adj[fill[a]++] = t[static_cast<std::size_t>((e + 1) % 3)];
-      adj[fill[a]++] = t[static_cast<std::size_t>((e + 2) % 3)];
-    }
   std::uint8_t* inten = inten_.get();
   std::uint8_t* flags = flags_.get();
   std::int32_t* prior = prior_.get();
-  std::int32_t* cand = cand_.get();
   std::int32_t* pending = pending_.get();
-  int n_pending = 0;
   for (int i = 0; i < n; ++i) {
     inten[i] = left.row(samples.y_of(i))[samples.x_of(i)];
     const bool support = disp[i] != kInvalidDispQ4 && conf[i] >= pp.support_conf;
     flags[i] = support ? kSupport : 0;
-    prior[i] = support ? disp[i] : kNone;
     if (support) ++counts.support;
-    else pending[n_pending++] = i;
   }
   // The mesh edges the segment levels use (|dI| <= the larger threshold),
   // each triangle's three (an edge between two triangles comes twice).
@@ -242,53 +219,6 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
         }
     n_edges_ = ne;
   }
-  // Propagation: gated rounds until one gives nothing, then ungated ones.
-  // A round's first candidates are every sample still without a prior; after
-  // it, only the neighbours of the samples the last round gave one can get
-  // one (the others' neighbourhoods did not change), so each later round
-  // visits the frontier only. Values are written after the round's walk.
-  std::int32_t* list = order_.get();
-  std::int32_t* frontier = parent_.get();
-  std::int32_t* mark = count_.get();
-  std::fill_n(mark, n, -1);
-  int round = 0;
-  for (int phase = 0; phase < 2; ++phase) {
-    const bool gated = phase == 0;
-    int nc = 0;
-    for (int j = 0; j < n_pending; ++j)
-      if (prior[pending[j]] == kNone) list[nc++] = pending[j];
-    while (nc > 0) {
-      ++round;
-      for (int j = 0; j < nc; ++j) {
-        const int i = list[j];
-        int best = kNone;
-        for (int e = start[i]; e < start[i + 1]; ++e) {
-          const int q = adj[e];
-          if (prior[q] == kNone) continue;
-          if (gated && std::abs(inten[q] - inten[i]) > pp.gate) continue;
-          if (best == kNone || prior[q] < best) best = prior[q];
-        }
-        cand[j] = best;
-      }
-      int nf = 0;
-      for (int j = 0; j < nc; ++j)
-        if (cand[j] != kNone) {
-          prior[list[j]] = cand[j];
-          frontier[nf++] = list[j];
-        }
-      nc = 0;
-      for (int j = 0; j < nf; ++j) {
-        const int f = frontier[j];
-        for (int e = start[f]; e < start[f + 1]; ++e) {
-          const int q = adj[e];
-          if (prior[q] != kNone || mark[q] == round) continue;
-          if (gated && std::abs(inten[q] - inten[f]) > pp.gate) continue;
-          mark[q] = round;
-          list[nc++] = q;
-        }
-      }
-    }
-  }
   // Planes: the fine level, then the coarse one for samples still uncovered.
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
   if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool);
@@ -304,7 +234,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   // sample writes only its own outputs, so the list may be shared.
   int n_redo = 0;
   for (int i = 0; i < n; ++i)
-    if (!(flags[i] & kSupport) && prior[i] != kNone) pending[n_redo++] = i;
+    if (flags[i] & kCovered) pending[n_redo++] = i;
   constexpr int kAhead = 8;
   const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
   for_chunks(pool, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {

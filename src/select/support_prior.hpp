@@ -3,12 +3,10 @@
 // After the matcher (winner, uniqueness, left-right check from the summed
 // costs), before the fill:
 //  1. support: samples measured with a confidence >= support_conf;
-//  2. a prior disparity for every other sample: the background side of its
-//     neighbours, propagated from the support in rounds, first only across
-//     mesh edges whose intensities differ by at most `gate`, then across any;
-//     then, on each of two segment levels (mesh edges with |dI| <= seg_fine,
-//     then seg_coarse), a robust integer least-squares plane through the
-//     support of each segment, where it is well supported, replaces it;
+//  2. planes: on each of two segment levels (mesh edges with |dI| <=
+//     seg_fine, then seg_coarse), a robust integer least-squares plane
+//     through the support of each segment; where it is well supported, it
+//     gives every other sample of the segment not yet covered its prior;
 //  3. pass 2: each non-support sample with a prior takes the smallest argmin
 //     of S'(k) = S(k) + lambda min(|k - k_prior|, trunc), subject to a
 //     uniqueness test on S' (rejected: invalid, for the fill).
@@ -72,7 +70,6 @@ class SupportPrior {
   std::size_t bytes_ = 0;
   int n_ = 0;
   int n_edges_ = 0;
-  LargeArray<std::int32_t> adj_start_, adj_;  // mesh neighbours (CSR; an edge may repeat)
   LargeArray<std::int32_t> prior_, cand_, pending_, parent_, count_, order_;
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
   LargeArray<Edge> edges_;                  // the segment levels' mesh edges
