@@ -49,8 +49,8 @@ VARIANTS = [
      "(docs/model.md section 3)"),
     ("no sub-pixel", ["--no-subpixel"], "whole disparities at the samples (the planes still interpolate between them)"),
     ("support prior 300", ["--support-prior", "300"],
-     "weak samples chosen again with a prior from the confident ones: planes of intensity segments on the mesh, "
-     "else the gated background side (docs/model.md section 6b; serial for now)"),
+     "the samples of intensity segments on the mesh whose confident samples lie on a plane, other than those, "
+     "chosen again near the plane (docs/model.md section 6b)"),
 ]
 
 COLUMNS = [  # (set, metric, header)
