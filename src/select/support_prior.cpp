@@ -23,6 +23,7 @@ constexpr int kRedoPerChunk = 256;
 void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
   const auto n = static_cast<std::size_t>(max_samples);
   edges_ = large_array<Edge>(3 * static_cast<std::size_t>(max_triangles));
+  edge_cap_ = 3 * max_triangles;
   fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int32_t>(n);
   cand_ = large_array<std::int32_t>(n);
@@ -47,6 +48,7 @@ void SupportPrior::release() {
   inten_ = LargeArray<std::uint8_t>{};
   flags_ = LargeArray<std::uint8_t>{};
   edges_ = LargeArray<Edge>{};
+  edge_cap_ = n_low_ = high_begin_ = 0;
   fit_ = LargeArray<FitPoint>{};
   s2_ = std::vector<std::uint32_t>{};
   worker_counts_ = std::vector<SupportPriorCounts>{};
@@ -77,12 +79,16 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   if (joined < 0)
     for (int i = 0; i < n; ++i) parent[i] = i;
   const Edge* edges = edges_.get();
-  for (int j = 0; j < n_edges_; ++j) {
-    const Edge e = edges[j];
-    if (e.di > tau || e.di <= joined) continue;
-    const int a = find(e.a), b = find(e.b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
+  const auto join = [&](int j0, int j1) {
+    for (int j = j0; j < j1; ++j) {
+      const Edge e = edges[j];
+      if (e.di > tau || e.di <= joined) continue;
+      const int a = find(e.a), b = find(e.b);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  };
+  join(0, n_low_);
+  join(high_begin_, edge_cap_);
   // Members grouped by segment (counting sort by root, ascending ids).
   std::int32_t* count = count_.get();
   std::int32_t* order = order_.get();
@@ -204,20 +210,34 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     if (support) ++counts.support;
   }
   // The mesh edges the segment levels use (|dI| <= the larger threshold),
-  // each triangle's three (an edge between two triangles comes twice).
+  // each once: the mesh is conforming and its triangles turn one way, so an
+  // inner edge comes as (a, b) from one triangle and (b, a) from the other;
+  // (a, b) with a < b is kept, and the frame's border edges, which only one
+  // triangle has, whichever way. Those with |dI| <= the smaller threshold
+  // go to the front of edges_, the others to its back, so that each level
+  // reads only the edges it can join.
   {
     const int most = std::max(pp.seg_fine, pp.seg_coarse);
+    const int split = std::min(pp.seg_fine, pp.seg_coarse);
+    const int right = left.width - 1, bottom = left.height - 1;
     Edge* edges = edges_.get();
-    int ne = 0;
+    int lo = 0, hi = edge_cap_;
     if (most > 0)
       for (const Triangle& t : mesh.triangles)
         for (int e = 0; e < 3; ++e) {
           const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
           const int di = std::abs(inten[a] - inten[b]);
-          edges[ne] = Edge{a, b, di};
-          ne += di <= most ? 1 : 0;
+          if (di > most) continue;
+          if (a > b) {
+            const int xa = samples.x_of(a), ya = samples.y_of(a), xb = samples.x_of(b), yb = samples.y_of(b);
+            const bool border = (xa == xb && (xa == 0 || xa == right)) || (ya == yb && (ya == 0 || ya == bottom));
+            if (!border) continue;
+          }
+          if (di <= split) edges[lo++] = Edge{a, b, di};
+          else edges[--hi] = Edge{a, b, di};
         }
-    n_edges_ = ne;
+    n_low_ = lo;
+    high_begin_ = hi;
   }
   // Planes: the fine level, then the coarse one for samples still uncovered.
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
