@@ -9,14 +9,40 @@
 
 namespace tristereo {
 
-// Sums over a fit set of n >= 1 points (x, y, d), d in Q4.
+// Second moments about a centroid.
+struct PlaneMoments {
+  std::int64_t uu = 0, uv = 0, vv = 0, uw = 0, vw = 0, su = 0, sv = 0, sw = 0;
+};
+
+// Raw sums over a fit set of n >= 1 points (x, y, d), d in Q4: one pass
+// gives the centroid and, exactly, the moments about it. With x, y < 2^12,
+// |d| < 2^15 and n <= 2^24 every sum and every term of moments() is below
+// 2^52, so int64 holds them with room to spare.
 struct PlaneSums {
-  std::int64_t n = 0, sx = 0, sy = 0, sd = 0;
-  void add(int x, int y, int d) {
+  std::int64_t n = 0, sx = 0, sy = 0, sd = 0, sxx = 0, sxy = 0, syy = 0, sxd = 0, syd = 0;
+  void add(std::int64_t x, std::int64_t y, std::int64_t d) {
     ++n;
     sx += x;
     sy += y;
     sd += d;
+    sxx += x * x;
+    sxy += x * y;
+    syy += y * y;
+    sxd += x * d;
+    syd += y * d;
+  }
+  // The moments of u = x - xb, v = y - yb, w = d - db (the sums expanded).
+  PlaneMoments moments(std::int64_t xb, std::int64_t yb, std::int64_t db) const {
+    PlaneMoments m;
+    m.uu = sxx - 2 * xb * sx + n * xb * xb;
+    m.uv = sxy - xb * sy - yb * sx + n * xb * yb;
+    m.vv = syy - 2 * yb * sy + n * yb * yb;
+    m.uw = sxd - xb * sd - db * sx + n * xb * db;
+    m.vw = syd - yb * sd - db * sy + n * yb * db;
+    m.su = sx - n * xb;
+    m.sv = sy - n * yb;
+    m.sw = sd - n * db;
+    return m;
   }
 };
 
@@ -26,21 +52,6 @@ struct IntPlane {
   std::int64_t a = 0, b = 0, c = 0;
   int at(int x, int y) const {
     return dbar + static_cast<int>(floor_div(c + a * (x - xbar) + b * (y - ybar) + 128, 256));
-  }
-};
-
-// Second moments about the floored centroid.
-struct PlaneMoments {
-  std::int64_t uu = 0, uv = 0, vv = 0, uw = 0, vw = 0, su = 0, sv = 0, sw = 0;
-  void add(int u, int v, int w) {
-    uu += std::int64_t{u} * u;
-    uv += std::int64_t{u} * v;
-    vv += std::int64_t{v} * v;
-    uw += std::int64_t{u} * w;
-    vw += std::int64_t{v} * w;
-    su += u;
-    sv += v;
-    sw += w;
   }
 };
 

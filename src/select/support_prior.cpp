@@ -22,8 +22,11 @@ constexpr int kRedoPerChunk = 256;
 
 void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
   const auto n = static_cast<std::size_t>(max_samples);
-  edges_ = large_array<Edge>(3 * static_cast<std::size_t>(max_triangles));
-  edge_cap_ = 3 * max_triangles;
+  // A triangulation of n samples, b of them on the border, has 2 n - 2 - b
+  // triangles: their 3 (2 n - 2 - b) edges and the b border edges written
+  // again stay below 6 n.
+  edge_cap_ = 3 * std::max(max_triangles, 2 * max_samples);
+  edges_ = large_array<Edge>(static_cast<std::size_t>(edge_cap_));
   fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int32_t>(n);
   cand_ = large_array<std::int32_t>(n);
@@ -37,7 +40,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   workers = std::max(1, workers);
   s2_.assign(static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers), 0);
   worker_counts_.assign(static_cast<std::size_t>(workers), SupportPriorCounts{});
-  bytes_ = (6 * n + 1) * sizeof(std::int32_t) + 3 * static_cast<std::size_t>(max_triangles) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
+  bytes_ = (6 * n + 1) * sizeof(std::int32_t) + static_cast<std::size_t>(edge_cap_) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
            4 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers) +
            static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts);
 }
@@ -48,7 +51,7 @@ void SupportPrior::release() {
   inten_ = LargeArray<std::uint8_t>{};
   flags_ = LargeArray<std::uint8_t>{};
   edges_ = LargeArray<Edge>{};
-  edge_cap_ = n_low_ = high_begin_ = 0;
+  edge_cap_ = n_edges_ = 0;
   fit_ = LargeArray<FitPoint>{};
   s2_ = std::vector<std::uint32_t>{};
   worker_counts_ = std::vector<SupportPriorCounts>{};
@@ -79,16 +82,12 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   if (joined < 0)
     for (int i = 0; i < n; ++i) parent[i] = i;
   const Edge* edges = edges_.get();
-  const auto join = [&](int j0, int j1) {
-    for (int j = j0; j < j1; ++j) {
-      const Edge e = edges[j];
-      if (e.di > tau || e.di <= joined) continue;
-      const int a = find(e.a), b = find(e.b);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  };
-  join(0, n_low_);
-  join(high_begin_, edge_cap_);
+  for (int j = 0; j < n_edges_; ++j) {
+    const Edge e = edges[j];
+    if (e.di > tau || e.di <= joined) continue;
+    const int a = find(e.a), b = find(e.b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
   // Members grouped by segment (counting sort by root, ascending ids).
   std::int32_t* count = count_.get();
   std::int32_t* order = order_.get();
@@ -142,12 +141,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       next_plane.xbar = static_cast<int>(floor_div(sums.sx, sums.n));
       next_plane.ybar = static_cast<int>(floor_div(sums.sy, sums.n));
       next_plane.dbar = static_cast<int>(floor_div(sums.sd, sums.n));
-      PlaneMoments m;
-      for (int j = 0; j < np; ++j) {
-        const FitPoint p = pts[j];
-        if (fit > 0 && abs64(plane.at(p.x, p.y) - p.d) > 2 * tol) continue;
-        m.add(p.x - next_plane.xbar, p.y - next_plane.ybar, p.d - next_plane.dbar);
-      }
+      const PlaneMoments m = sums.moments(next_plane.xbar, next_plane.ybar, next_plane.dbar);
       ok = solve_plane(m, sums.n, &next_plane);
       plane = next_plane;
     }
@@ -210,34 +204,47 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     if (support) ++counts.support;
   }
   // The mesh edges the segment levels use (|dI| <= the larger threshold),
-  // each once: the mesh is conforming and its triangles turn one way, so an
-  // inner edge comes as (a, b) from one triangle and (b, a) from the other;
-  // (a, b) with a < b is kept, and the frame's border edges, which only one
-  // triangle has, whichever way. Those with |dI| <= the smaller threshold
-  // go to the front of edges_, the others to its back, so that each level
-  // reads only the edges it can join.
+  // each once. The mesh is conforming and its triangles turn one way, so an
+  // inner edge comes as (a, b) from one triangle and (b, a) from the other:
+  // (a, b) with a < b is kept. A border edge has one triangle, and the
+  // frame's sides are cut exactly at their samples: the pairs of samples
+  // next to each other along a side are added again (twice changes nothing
+  // in the union-find). Each is written and counted when kept (a branch
+  // here mispredicts on a third of the edges).
   {
     const int most = std::max(pp.seg_fine, pp.seg_coarse);
-    const int split = std::min(pp.seg_fine, pp.seg_coarse);
-    const int right = left.width - 1, bottom = left.height - 1;
     Edge* edges = edges_.get();
-    int lo = 0, hi = edge_cap_;
-    if (most > 0)
+    int lo = 0;
+    const auto add = [&](int a, int b, int keep) {
+      const int di = std::abs(inten[a] - inten[b]);
+      keep &= di <= most;
+      edges[lo] = Edge{a, b, di};  // lo < edge_cap_: fewer are written
+      lo += keep;
+    };
+    if (most > 0) {
       for (const Triangle& t : mesh.triangles)
         for (int e = 0; e < 3; ++e) {
           const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-          const int di = std::abs(inten[a] - inten[b]);
-          if (di > most) continue;
-          if (a > b) {
-            const int xa = samples.x_of(a), ya = samples.y_of(a), xb = samples.x_of(b), yb = samples.y_of(b);
-            const bool border = (xa == xb && (xa == 0 || xa == right)) || (ya == yb && (ya == 0 || ya == bottom));
-            if (!border) continue;
-          }
-          if (di <= split) edges[lo++] = Edge{a, b, di};
-          else edges[--hi] = Edge{a, b, di};
+          add(a, b, a < b);
         }
-    n_low_ = lo;
-    high_begin_ = hi;
+      const int h = left.height;
+      for (int y : {0, h - 1})  // along the top and bottom rows
+        for (int i = samples.row_begin(y); i + 1 < samples.row_begin(y + 1); ++i) add(i, i + 1, 1);
+      int prev_left = -1, prev_right = -1;  // along the left and right columns
+      for (int y = 0; y < h; ++y) {
+        const int first = samples.row_begin(y), last = samples.row_begin(y + 1) - 1;
+        if (last < first) continue;
+        if (samples.x_of(first) == 0) {
+          if (prev_left >= 0) add(prev_left, first, 1);
+          prev_left = first;
+        }
+        if (samples.x_of(last) == left.width - 1) {
+          if (prev_right >= 0) add(prev_right, last, 1);
+          prev_right = last;
+        }
+      }
+    }
+    n_edges_ = lo;
   }
   // Planes: the fine level, then the coarse one for samples still uncovered.
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};

@@ -70,8 +70,7 @@ class SupportPrior {
   std::size_t bytes_ = 0;
   int n_ = 0;
   int edge_cap_ = 0;
-  int n_low_ = 0;        // edges_[0, n_low_): |dI| <= the smaller threshold
-  int high_begin_ = 0;   // edges_[high_begin_, end): above it, up to the larger
+  int n_edges_ = 0;
   LargeArray<std::int32_t> prior_, cand_, pending_, parent_, count_, order_;
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
   LargeArray<Edge> edges_;                  // the segment levels' mesh edges, each once
