@@ -30,6 +30,7 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.normalize_costs_u8 = &NormalizeCostsU8<xsimd::avx2>::call;
   set.path_step_u16 = &PathStepU16<xsimd::avx2>::call;
   set.winner_u16 = &WinnerU16<xsimd::avx2>::call;
+  set.add_saturate_u16 = &AddSaturateU16<xsimd::avx2>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::avx2>::call;
   set.bgr_to_gray_row_u8 = &BgrToGrayRowU8<xsimd::avx2>::call;
   set.side4_tests_u8 = &Side4TestsU8<xsimd::avx2>::call;

@@ -30,6 +30,7 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.normalize_costs_u8 = &NormalizeCostsU8<xsimd::neon>::call;
   set.path_step_u16 = &PathStepU16<xsimd::neon>::call;
   set.winner_u16 = &WinnerU16<xsimd::neon>::call;
+  set.add_saturate_u16 = &AddSaturateU16<xsimd::neon>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::neon>::call;
   set.bgr_to_gray_row_u8 = &BgrToGrayRowU8<xsimd::neon>::call;
   set.side4_tests_u8 = &Side4TestsU8<xsimd::neon>::call;

@@ -1169,6 +1169,23 @@ int WinnerU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* riva
   return k;
 }
 
+// A saturating add per lane; the last partial block is the full block
+// ending at n (out is written, never read, so the shared lanes get the same
+// value twice).
+template <class Arch>
+void AddSaturateU16<Arch>::call(const std::uint16_t* total, const std::uint16_t* penalty, int n,
+                                std::uint16_t* out) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  if (n < lanes) return add_saturate_u16_scalar(total, penalty, n, out);
+  const auto add = [&](int j) {
+    xsimd::sadd(b16::load_unaligned(total + j), b16::load_unaligned(penalty + j)).store_unaligned(out + j);
+  };
+  int j = 0;
+  for (; j + lanes <= n; j += lanes) add(j);
+  if (j < n) add(n - lanes);
+}
+
 // ---------------------------------------------------------------- tritree
 
 namespace detail {

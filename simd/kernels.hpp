@@ -123,6 +123,11 @@ struct WinnerU16 {
 };
 
 template <class Arch>
+struct AddSaturateU16 {
+  static void call(const std::uint16_t* total, const std::uint16_t* penalty, int n, std::uint16_t* out);
+};
+
+template <class Arch>
 struct RgbToGrayRowU8 {
   static void call(const std::uint8_t* rgb, int n, std::uint8_t* gray);
 };
@@ -185,6 +190,7 @@ struct MidpointsRowConfQ4 {
   KEYWORD template struct NormalizeCostsU8<ARCH>;             \
   KEYWORD template struct PathStepU16<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
+  KEYWORD template struct AddSaturateU16<ARCH>;             \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \
   KEYWORD template struct BgrToGrayRowU8<ARCH>;                \
   KEYWORD template struct Side4TestsU8<ARCH>;                  \

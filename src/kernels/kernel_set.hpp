@@ -160,6 +160,14 @@ struct KernelSet {
   int (*winner_u16)(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
                     std::uint16_t* best_k) = nullptr;
 
+  // The support prior's costs (docs/model.md section 6b), n >= 1:
+  //   out[k] = min(total[k] + penalty[k], 65535).
+  // penalty is the prior's table shifted to the sample's k_prior; a sum that
+  // saturates is above every S'(k') (<= 65534), so winner_u16 on out finds
+  // the exact winner, and its rival whenever that is below 65535.
+  void (*add_saturate_u16)(const std::uint16_t* total, const std::uint16_t* penalty, int n,
+                           std::uint16_t* out) = nullptr;
+
   // The tritree's side-4 level (src/tritree/side4_shapes.hpp, docs/tritree.md)
   // for n >= 1 squares of 4 x 4 pixels side by side: square m's pixel (dx, dy)
   // is rows[dy][4 m + dx] (dy <= 4: row 4 and column 4 n hold the lower and

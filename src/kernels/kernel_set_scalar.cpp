@@ -26,6 +26,7 @@ const KernelSet& scalar_kernel_set() {
     s.path_step_u16 = path_step_u16_scalar;
     s.sum_rows_u16 = sum_rows_u16_scalar;
     s.winner_u16 = winner_u16_scalar;
+    s.add_saturate_u16 = add_saturate_u16_scalar;
     s.rgb_to_gray_row_u8 = rgb_to_gray_row_scalar;
     s.bgr_to_gray_row_u8 = bgr_to_gray_row_scalar;
     s.side4_tests_u8 = side4_tests_u8_scalar;

@@ -53,6 +53,9 @@ void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_co
                        std::uint16_t* best_k);
 int winner_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
                       std::uint16_t* best_k);
+// In src/select/prior_kernels_scalar.cpp.
+void add_saturate_u16_scalar(const std::uint16_t* total, const std::uint16_t* penalty, int n,
+                             std::uint16_t* out);
 // In src/tritree/side4_tests_scalar.cpp.
 void side4_tests_u8_scalar(const std::uint8_t* const* rows, int n, int first_backslash,
                            const std::int32_t* sse_limit, std::uint32_t* wants, std::int32_t* sums,

@@ -569,7 +569,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   validity.lr_rejected = rejected.left_right;
   // Support prior (docs/model.md section 6b): weak samples chosen again.
   if (params.prior.lambda_q4 > 0) {
-    const SupportPriorCounts pc = m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf, &m.pool);
+    const SupportPriorCounts pc = m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf, *m.kernels, &m.pool);
     validity.prior_redecided = pc.redecided;
     validity.prior_rejected = pc.rejected;
   }

@@ -6,6 +6,7 @@
 
 #include "platform/thread_pool.hpp"
 #include "src/dp/subpixel.hpp"
+#include "src/kernels/kernel_set.hpp"
 #include "src/select/confidence.hpp"
 #include "src/select/plane_fit.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -39,9 +40,10 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   max_disp_ = max_disp;
   workers = std::max(1, workers);
   s2_.assign(static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers), 0);
+  penalty_.assign(2 * static_cast<std::size_t>(max_disp), 0);
   worker_counts_.assign(static_cast<std::size_t>(workers), SupportPriorCounts{});
   bytes_ = (6 * n + 1) * sizeof(std::int32_t) + static_cast<std::size_t>(edge_cap_) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
-           4 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers) +
+           2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
            static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts);
 }
 
@@ -53,7 +55,8 @@ void SupportPrior::release() {
   edges_ = LargeArray<Edge>{};
   edge_cap_ = n_edges_ = 0;
   fit_ = LargeArray<FitPoint>{};
-  s2_ = std::vector<std::uint32_t>{};
+  s2_ = std::vector<std::uint16_t>{};
+  penalty_ = std::vector<std::uint16_t>{};
   worker_counts_ = std::vector<SupportPriorCounts>{};
   bytes_ = 0;
   max_disp_ = 0;
@@ -186,7 +189,8 @@ void SupportPrior::for_chunks(ThreadPool* pool, int n, int chunk, Body body) {
 
 SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleLayout& samples,
                                        const PathMatcher& pm, ImageView<const std::uint8_t> left,
-                                       std::int16_t* disp, std::uint8_t* conf, ThreadPool* pool) {
+                                       std::int16_t* disp, std::uint8_t* conf, const KernelSet& ks,
+                                       ThreadPool* pool) {
   SupportPriorCounts counts;
   const SupportPriorParams& pp = params.prior;
   if (pp.lambda_q4 <= 0 || samples.dense()) return counts;
@@ -252,10 +256,19 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   if (pp.seg_coarse > 0)
     planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
            pool);
-  // Pass 2 on the summed costs.
+  // Pass 2 on the summed costs. S'(k) = S(k) + pen(k - kp), pen(j) =
+  // lambda min(|j|, T): the table penalty_[j + D - 1] holds it saturated
+  // to 16 bits, and the kernels take S' saturated too. S'(k') <= S(kp) <=
+  // 65534 never saturates, so the winner is exact; the rival is exact unless
+  // it saturated (then it is found again in 32 bits), and the sub-pixel fit
+  // takes its two neighbours unsaturated.
   const int d = params.num_disp, dmin = params.d_min;
   const std::uint32_t lambda = static_cast<std::uint32_t>(pp.lambda_q4);
   const int conf_cap = std::max<int>(kMinMeasuredConfidence, pp.support_conf - 1);
+  std::uint16_t* penalty = penalty_.data();
+  for (int j = 0; j < 2 * d - 1; ++j)
+    penalty[j] = static_cast<std::uint16_t>(
+        std::min<std::uint32_t>(0xFFFFu, lambda * static_cast<std::uint32_t>(std::min(std::abs(j - (d - 1)), pp.trunc))));
   // The samples to decide again, listed first: their rows of S are far
   // apart in memory, and each is prefetched a few samples ahead. Each
   // sample writes only its own outputs, so the list may be shared.
@@ -265,7 +278,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   constexpr int kAhead = 8;
   const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
   for_chunks(pool, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {
-    std::uint32_t* s2 = s2_.data() + static_cast<std::size_t>(w) * static_cast<std::size_t>(max_disp_);
+    std::uint16_t* s2 = s2_.data() + static_cast<std::size_t>(w) * static_cast<std::size_t>(max_disp_);
     SupportPriorCounts& wc = worker_counts_[static_cast<std::size_t>(w)];
     for (int j = j0; j < j1; ++j) {
       if (j + kAhead < j1) {
@@ -276,31 +289,32 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
       ++wc.redecided;
       const std::uint16_t* s = pm.summed_costs_row(i);
       const int kp = std::clamp(static_cast<int>(floor_div(prior[i] + 8, kDispOne)) - dmin, 0, d - 1);
-      // S', its smallest value and first argmin, and the rival: plain loops the
-      // compiler vectorises (the branchy single pass cost twice as much).
-      for (int q = 0; q < d; ++q)
-        s2[q] = s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
-      std::uint32_t best = s2[0];
-      for (int q = 1; q < d; ++q) best = std::min(best, s2[q]);
-      int k = 0;
-      while (s2[k] != best) ++k;
-      std::uint32_t rival = 0xFFFFFFFFu;
-      for (int q = 0; q < k - 1; ++q) rival = std::min(rival, s2[q]);
-      for (int q = k + 2; q < d; ++q) rival = std::min(rival, s2[q]);
+      const auto exact = [&](int q) {
+        return s[q] + lambda * static_cast<std::uint32_t>(std::min(std::abs(q - kp), pp.trunc));
+      };
+      ks.add_saturate_u16(s, penalty + (d - 1 - kp), d, s2);
+      std::uint16_t rival16 = 0xFFFF;
+      const int k = ks.winner_u16(s2, d, &rival16, nullptr, nullptr);
+      const std::uint32_t best = s2[k];
       const bool any_rival = k > 1 || k + 2 < d;
-      if (!any_rival) rival = 0xFFFFu;
+      std::uint32_t rival = rival16;
+      if (any_rival && rival16 == 0xFFFFu) {
+        rival = 0xFFFFFFFFu;
+        for (int q = 0; q < d; ++q)
+          if (q < k - 1 || q > k + 1) rival = std::min(rival, exact(q));
+      }
       if (pp.uniqueness_pct > 0 && any_rival &&
-          std::uint64_t{rival} * 100u <= std::uint64_t{s2[k]} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
+          std::uint64_t{rival} * 100u <= std::uint64_t{best} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
         disp[i] = kInvalidDispQ4;
         ++wc.rejected;
         continue;
       }
       int off = 0;
       if (params.dp.subpixel && k > 0 && k < d - 1)
-        off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(s2[k - 1]), static_cast<int>(s2[k]),
-                                 static_cast<int>(s2[k + 1]));
+        off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(exact(k - 1)), static_cast<int>(best),
+                                 static_cast<int>(exact(k + 1)));
       disp[i] = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
-      conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(s2[k], rival)));
+      conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(best, rival)));
     }
   });
   for (const SupportPriorCounts& c : worker_counts_) {

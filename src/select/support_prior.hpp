@@ -29,6 +29,7 @@
 namespace tristereo {
 
 class ThreadPool;
+struct KernelSet;
 
 struct SupportPriorCounts {
   int support = 0;     // support samples
@@ -47,7 +48,7 @@ class SupportPrior {
   // pool (optional; called from its owner thread): shares the work.
   SupportPriorCounts apply(const StereoParams& params, const SampleLayout& samples, const PathMatcher& pm,
                            ImageView<const std::uint8_t> left, std::int16_t* disp_q4, std::uint8_t* confidence,
-                           ThreadPool* pool = nullptr);
+                           const KernelSet& kernels, ThreadPool* pool = nullptr);
   std::size_t working_memory_bytes() const { return bytes_; }
 
  private:
@@ -75,7 +76,8 @@ class SupportPrior {
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
   LargeArray<Edge> edges_;                  // the segment levels' mesh edges, each once
   LargeArray<FitPoint> fit_;                // a segment's support points
-  std::vector<std::uint32_t> s2_;                    // S' of one sample, per worker
+  std::vector<std::uint16_t> s2_;                    // S' of one sample (saturated), per worker
+  std::vector<std::uint16_t> penalty_;               // lambda min(|j|, T) saturated, j = 1 - D .. D - 1
   std::vector<SupportPriorCounts> worker_counts_;   // per worker
   WorkChunks chunks_;
   int max_disp_ = 0;
