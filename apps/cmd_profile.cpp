@@ -481,6 +481,7 @@ int cmd_profile(int argc, char** argv) {
       s.stage_ns[static_cast<int>(ProfileStage::kTritree)] = t.tritree_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kCostAggregation)] = t.cost_aggregation_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kDp)] = t.dp_ns;
+      s.stage_ns[static_cast<int>(ProfileStage::kPrior)] = t.prior_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kRightPass)] = t.right_pass_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kFill)] = t.fill_ns;
       s.stage_ns[static_cast<int>(ProfileStage::kInterpolation)] = t.interpolation_ns;
@@ -532,6 +533,7 @@ int cmd_profile(int argc, char** argv) {
   rc.gpio = gpio_text;
   rc.mesh_output = mesh_output;
   rc.rectify = config.rectify != nullptr;
+  rc.prior = config.params.prior.lambda_q4 > 0 && !config.params.dense;
   rc.right_pass = config.params.validity.lr_max_diff_q4 >= 0 &&
                   config.params.validity.lr_source == LrSource::kMirroredPass;
   rc.warmup_frames = warmup;

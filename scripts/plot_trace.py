@@ -15,10 +15,12 @@ import sys
 COLOURS = {
     "tritree rows": "#4c72b0", "cost rows": "#dd8452", "path tile": "#55a868", "decide band": "#c44e52",
     "interpolation tiles": "#8172b3", "fill items": "#da8bc3", "run": "#d0d0d0",
+    "prior segments": "#8c8c8c", "prior samples": "#64b5cd",
 }
 STAGE_COLOURS = {
     "tritree": "#4c72b0", "costs": "#dd8452", "paths": "#55a868",
-    "row dp": "#55a868", "right pass": "#937860", "fill": "#da8bc3", "interpolation": "#8172b3",
+    "row dp": "#55a868", "support prior": "#ccb974", "right pass": "#937860", "fill": "#da8bc3",
+    "interpolation": "#8172b3",
 }
 
 

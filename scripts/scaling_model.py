@@ -57,7 +57,7 @@ import json
 import statistics
 import sys
 
-STAGES = ["tritree", "costs", "paths", "row dp", "right pass", "fill", "interpolation"]
+STAGES = ["tritree", "costs", "paths", "row dp", "support prior", "right pass", "fill", "interpolation"]
 # The contention's reference: work items that do not contend in the memory
 # system here, so that their slowdown on two workers is the machine's load.
 REFERENCE_KIND = ("costs", "cost rows")

@@ -240,10 +240,10 @@ TEST(FramesCsv, HeaderRowsAndExactValues) {
   EXPECT_EQ(rows[2][3], "9.000002");  // dp (k = 2) of frame 2: 9 ms + 2 ns
   EXPECT_EQ(rows[1][4], "10.000004");  // fill (k = 4) of frame 1: no right_pass column
   EXPECT_EQ(rows[1][5], "12.000005");  // interpolation (k = 5) of frame 1
-  // total of frame 0: 1+...+8 ms + (0+...+7) ns + 7 ns (the right-pass, mesh
-  // and rectify stages are in the total even when their columns are not written).
-  EXPECT_EQ(rows[0][6], "36.000035");
-  EXPECT_EQ(rows[0][7], "72.000070");
+  // total of frame 0: 1+...+9 ms + (0+...+8) ns + 7 ns (the right-pass, mesh,
+  // rectify and prior stages are in the total even when their columns are not written).
+  EXPECT_EQ(rows[0][6], "45.000043");
+  EXPECT_EQ(rows[0][7], "90.000086");
 }
 
 TEST(FramesCsv, RectifyColumnComesFirstWhenFramesAreRaw) {
@@ -278,6 +278,34 @@ TEST(FramesCsv, MeshOutputColumnAndNegativeNs) {
 
 // A mirrored left-right check's right-view pass is a column (after dp) and a
 // stage only when the run had one.
+// The support prior (k = 8, after dp in the reports) only when it ran.
+TEST(FramesCsv, PriorColumnOnlyWhenConfigured) {
+  const FrameLog log = make_log(2);
+  ProfileRunConfig config = make_config(/*mesh_output=*/false, 2);
+  config.prior = true;
+  std::ostringstream os;
+  write_frames_csv(os, log, config);
+  std::istringstream in(os.str());
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line, "frame,tritree_ms,cost_aggregation_ms,dp_ms,prior_ms,fill_ms,interpolation_ms,total_ms,cpu_ms");
+  ASSERT_TRUE(std::getline(in, line));
+  ASSERT_TRUE(std::getline(in, line));
+  const std::vector<std::string> row = split(line, ',');
+  ASSERT_EQ(row.size(), 9u);
+  EXPECT_EQ(row[4], "18.000008");  // prior (k = 8) of frame 1
+  const ProfileReport r = make_profile_report(config, log, 1000, 0, kMachine);
+  ASSERT_EQ(r.stages.size(), 6u);
+  EXPECT_EQ(r.stages[3].name, "prior");
+  std::ostringstream json;
+  write_profile_json(json, r);
+  const Json j = parse_json_or_fail(json.str());
+  EXPECT_TRUE(j["config"]["prior"].boolean);
+  EXPECT_NEAR(j["stages"]["prior"]["max_ms"].number, 18.000008, 1e-9);
+  config.prior = false;
+  EXPECT_EQ(frames_csv_columns(config).size(), 8u);
+}
+
 TEST(FramesCsv, RightPassColumnOnlyWhenConfigured) {
   const FrameLog log = make_log(2);
   ProfileRunConfig config = make_config(/*mesh_output=*/false, 2);
@@ -326,8 +354,8 @@ TEST(ProfileReport, SummaryNumbers) {
   EXPECT_NEAR(r.stages[2].stats.min_ms, 3.000002, 1e-12);
   EXPECT_NEAR(r.stages[2].stats.max_ms, 30.000002, 1e-12);
   EXPECT_EQ(r.total.count, 10u);
-  // Stages (k + 1) ms summed over the 8 stages: 36 ms a frame-unit, plus 0 + .. + 7 + 7 ns.
-  EXPECT_NEAR(r.total.mean_ms, 36.0 * 5.5 + 35e-6, 1e-9);
+  // Stages (k + 1) ms summed over the 9 stages: 45 ms a frame-unit, plus 0 + .. + 8 + 7 ns.
+  EXPECT_NEAR(r.total.mean_ms, 45.0 * 5.5 + 43e-6, 1e-9);
   EXPECT_NEAR(r.cpu.mean_ms, 2 * r.total.mean_ms, 1e-9);
   EXPECT_NEAR(r.fps_from_mean, 1000.0 / r.total.mean_ms, 1e-9);
   EXPECT_DOUBLE_EQ(r.wall_s, 0.5);

@@ -52,6 +52,7 @@ struct FrameTimings {
   std::int64_t tritree_ns = 0;
   std::int64_t cost_aggregation_ns = 0;
   std::int64_t dp_ns = 0;
+  std::int64_t prior_ns = 0;         // the support prior (0 when it is off)
   std::int64_t interpolation_ns = 0;
   std::int64_t right_pass_ns = 0;    // left-right check: the whole right-view pass
   std::int64_t fill_ns = 0;          // validity checks and the fill of invalid samples

@@ -52,6 +52,9 @@ enum class TraceKind : std::uint8_t {
   kLeftRightRows,    // the mirrored pass's left-right check: image rows a .. b - 1; c = 0 the
                      // images mirrored, 1 the samples checked
   kSampleStates,     // samples a .. b - 1: confidence and state settled after the fill
+  kPrior,            // pipeline track: the support prior (docs/model.md section 6b)
+  kPriorSegments,    // the prior's segments a .. b - 1 (roots) fitted; c = the level's threshold
+  kPriorSamples,     // the prior's covered samples a .. b - 1 (in list order) decided again
   kCount
 };
 

@@ -568,8 +568,11 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   validity.uniqueness_rejected = rejected.uniqueness;
   validity.lr_rejected = rejected.left_right;
   // Support prior (docs/model.md section 6b): weak samples chosen again.
-  if (params.prior.lambda_q4 > 0) {
-    const SupportPriorCounts pc = m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf, *m.kernels, &m.pool);
+  const std::int64_t t_prior = monotonic_ns();
+  const bool prior_on = params.prior.lambda_q4 > 0 && !params.dense;
+  if (prior_on) {
+    const SupportPriorCounts pc =
+        m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf, *m.kernels, &m.pool, m.trace);
     validity.prior_redecided = pc.redecided;
     validity.prior_rejected = pc.rejected;
   }
@@ -657,6 +660,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
 
   if (m.config.rectify) m.span(TraceKind::kRectify, t_start, t_rectified);
   m.span(TraceKind::kTritree, t_rectified, t_tritree);
+  if (prior_on) m.span(TraceKind::kPrior, t_prior, t_matched);
   if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass)
     m.span(TraceKind::kRightPass, t_matched, t_right);
   m.span(TraceKind::kFill, t_right, t_filled);
@@ -668,6 +672,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   m.timings.tritree_ns = t_tritree - t_rectified;
   m.timings.cost_aggregation_ns = cost_ns;
   m.timings.dp_ns = dp_ns;
+  m.timings.prior_ns = t_matched - t_prior;
   m.timings.right_pass_ns = t_right - t_matched;
   m.timings.fill_ns = t_filled - t_right;
   m.timings.interpolation_ns = t_end - t_filled;

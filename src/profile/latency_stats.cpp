@@ -77,6 +77,8 @@ const char* profile_stage_name(ProfileStage stage) {
       return "cost_aggregation";
     case ProfileStage::kDp:
       return "dp";
+    case ProfileStage::kPrior:
+      return "prior";
     case ProfileStage::kRightPass:
       return "right_pass";
     case ProfileStage::kFill:

@@ -53,17 +53,18 @@ enum class ProfileStage : int {
   kMeshOutput,  // PLY writing of the mesh, only with --mesh-output
   kRectify,     // raw frames only (--rig): both views remapped (FrameTimings::rectify_ns);
                 // first in the reports' pipeline order (profile_stage_order)
+  kPrior,       // the support prior, only when it is on (FrameTimings::prior_ns)
 };
-constexpr int kProfileStageCount = 8;
+constexpr int kProfileStageCount = 9;
 
 // "tritree", "cost_aggregation", "dp", "right_pass", "fill", "interpolation",
-// "mesh_output", "rectify".
+// "mesh_output", "rectify", "prior".
 const char* profile_stage_name(ProfileStage stage);
 // The stages in pipeline order, as the reports list them (rectify first).
 constexpr ProfileStage kProfileStageOrder[kProfileStageCount] = {
     ProfileStage::kRectify, ProfileStage::kTritree,       ProfileStage::kCostAggregation,
-    ProfileStage::kDp,      ProfileStage::kRightPass,     ProfileStage::kFill,
-    ProfileStage::kInterpolation, ProfileStage::kMeshOutput};
+    ProfileStage::kDp,      ProfileStage::kPrior,         ProfileStage::kRightPass,
+    ProfileStage::kFill,    ProfileStage::kInterpolation, ProfileStage::kMeshOutput};
 
 // One measured frame. total_ns is the wall time of the whole frame (pipeline
 // plus mesh output when enabled); cpu_ns is the process CPU time (all threads)

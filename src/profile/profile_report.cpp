@@ -38,6 +38,7 @@ double mib(std::int64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1
 bool stage_enabled(ProfileStage s, const ProfileRunConfig& c) {
   if (s == ProfileStage::kMeshOutput) return c.mesh_output;
   if (s == ProfileStage::kRightPass) return c.right_pass;
+  if (s == ProfileStage::kPrior) return c.prior;
   if (s == ProfileStage::kRectify) return c.rectify;
   return true;
 }
@@ -198,6 +199,7 @@ void write_profile_json(std::ostream& os, const ProfileReport& r) {
      << "    \"gpio\": " << json_quote(c.gpio) << ",\n"
      << "    \"mesh_output\": " << b[c.mesh_output] << ",\n"
      << "    \"right_pass\": " << b[c.right_pass] << ",\n"
+     << "    \"prior\": " << b[c.prior] << ",\n"
      << "    \"rectify\": " << b[c.rectify] << ",\n"
      << "    \"warmup_frames\": " << c.warmup_frames << ",\n"
      << "    \"frames\": " << c.frames << "\n"

@@ -39,6 +39,8 @@ struct ProfileRunConfig {
   // The left-right check ran a right-view pass (lr_source mirror): timed as a
   // stage, which the other modes do not have.
   bool right_pass = false;
+  // The support prior ran (docs/model.md section 6b): a stage of its own.
+  bool prior = false;
   // Raw frames rectified by the pipeline's stage (--rig): timed as a stage.
   bool rectify = false;
   int warmup_frames = 0;

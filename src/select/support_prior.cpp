@@ -4,12 +4,14 @@
 #include <climits>
 #include <cstdlib>
 
+#include "platform/clock.hpp"
 #include "platform/thread_pool.hpp"
 #include "src/dp/subpixel.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "src/select/confidence.hpp"
 #include "src/select/plane_fit.hpp"
 #include "tristereo/fixed_point.hpp"
+#include "tristereo/trace.hpp"
 
 namespace tristereo {
 
@@ -72,7 +74,7 @@ int SupportPrior::find(int a) {
 }
 
 void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
-                          int tau, int joined, ThreadPool* pool) {
+                          int tau, int joined, ThreadPool* pool, FrameTrace* trace) {
   const int n = n_;
   const SupportPriorParams& pp = params.prior;
   std::int32_t* parent = parent_.get();
@@ -168,29 +170,35 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     }
     return true;
   };
-  for_chunks(pool, n, kRootsPerChunk, [&](int w, int r0, int r1) {
+  for_chunks(pool, trace, TraceKind::kPriorSegments, tau, n, kRootsPerChunk, [&](int w, int r0, int r1) {
     for (int r = r0; r < r1; ++r) worker_counts_[static_cast<std::size_t>(w)].planes += fit_segment(r) ? 1 : 0;
   });
 }
 
 template <class Body>
-void SupportPrior::for_chunks(ThreadPool* pool, int n, int chunk, Body body) {
+void SupportPrior::for_chunks(ThreadPool* pool, FrameTrace* trace, TraceKind kind, int tag, int n, int chunk,
+                              Body body) {
+  const auto traced = [&](int w, int j0, int j1) {
+    const std::int64_t t0 = trace != nullptr ? monotonic_ns() : 0;
+    body(w, j0, j1);
+    if (trace != nullptr) trace->record(w, kind, t0, monotonic_ns(), j0, j1, tag);
+  };
   if (pool == nullptr || pool->size() < 2 || n < 2 * chunk) {
-    body(0, 0, n);
+    if (n > 0) traced(0, 0, n);
     return;
   }
   chunks_.reset(0, n, chunk);
   pool->run([&](int w) {
     if (w >= static_cast<int>(worker_counts_.size())) return;
     int j0 = 0, j1 = 0;
-    while (chunks_.next(&j0, &j1)) body(w, j0, j1);
+    while (chunks_.next(&j0, &j1)) traced(w, j0, j1);
   });
 }
 
 SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleLayout& samples,
                                        const PathMatcher& pm, ImageView<const std::uint8_t> left,
                                        std::int16_t* disp, std::uint8_t* conf, const KernelSet& ks,
-                                       ThreadPool* pool) {
+                                       ThreadPool* pool, FrameTrace* trace) {
   SupportPriorCounts counts;
   const SupportPriorParams& pp = params.prior;
   if (pp.lambda_q4 <= 0 || samples.dense()) return counts;
@@ -252,10 +260,10 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   }
   // Planes: the fine level, then the coarse one for samples still uncovered.
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
-  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool);
+  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool, trace);
   if (pp.seg_coarse > 0)
     planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
-           pool);
+           pool, trace);
   // Pass 2 on the summed costs. S'(k) = S(k) + pen(k - kp), pen(j) =
   // lambda min(|j|, T): the table penalty_[j + D - 1] holds it saturated
   // to 16 bits, and the kernels take S' saturated too. S'(k') <= S(kp) <=
@@ -277,7 +285,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     if (flags[i] & kCovered) pending[n_redo++] = i;
   constexpr int kAhead = 8;
   const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
-  for_chunks(pool, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {
+  for_chunks(pool, trace, TraceKind::kPriorSamples, 0, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {
     std::uint16_t* s2 = s2_.data() + static_cast<std::size_t>(w) * static_cast<std::size_t>(max_disp_);
     SupportPriorCounts& wc = worker_counts_[static_cast<std::size_t>(w)];
     for (int j = j0; j < j1; ++j) {

@@ -29,6 +29,8 @@
 namespace tristereo {
 
 class ThreadPool;
+class FrameTrace;
+enum class TraceKind : std::uint8_t;
 struct KernelSet;
 
 struct SupportPriorCounts {
@@ -48,7 +50,7 @@ class SupportPrior {
   // pool (optional; called from its owner thread): shares the work.
   SupportPriorCounts apply(const StereoParams& params, const SampleLayout& samples, const PathMatcher& pm,
                            ImageView<const std::uint8_t> left, std::int16_t* disp_q4, std::uint8_t* confidence,
-                           const KernelSet& kernels, ThreadPool* pool = nullptr);
+                           const KernelSet& kernels, ThreadPool* pool = nullptr, FrameTrace* trace = nullptr);
   std::size_t working_memory_bytes() const { return bytes_; }
 
  private:
@@ -57,11 +59,12 @@ class SupportPrior {
   // segments. joined >= 0: parent_ already holds the segments of threshold
   // joined <= tau (the previous level's).
   void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
-              ThreadPool* pool);
+              ThreadPool* pool, FrameTrace* trace);
   // body(worker, j0, j1) over [0, n) in chunks, on the pool's workers (up to
-  // the configured count) from two chunks up, else body(0, 0, n) here.
+  // the configured count) from two chunks up, else body(0, 0, n) here; each
+  // call recorded in the trace as `kind` (a = j0, b = j1, c = tag).
   template <class Body>
-  void for_chunks(ThreadPool* pool, int n, int chunk, Body body);
+  void for_chunks(ThreadPool* pool, FrameTrace* trace, TraceKind kind, int tag, int n, int chunk, Body body);
   struct Edge {
     std::int32_t a, b, di;  // samples a and b, |I(a) - I(b)|
   };

@@ -33,6 +33,9 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kVertexSamples: return "vertex samples";
     case TraceKind::kLeftRightRows: return "left-right rows";
     case TraceKind::kSampleStates: return "sample states";
+    case TraceKind::kPrior: return "support prior";
+    case TraceKind::kPriorSegments: return "prior segments";
+    case TraceKind::kPriorSamples: return "prior samples";
     case TraceKind::kCount: break;
   }
   return "?";
