@@ -17,19 +17,29 @@ namespace tristereo {
 
 namespace {
 constexpr std::uint8_t kSupport = 1, kCovered = 2;
-// Work items on the pool: segment roots, and samples decided again (a few
-// tens of microseconds each on a KITTI frame).
+// Work items on the pool (a few tens of microseconds each on a KITTI frame):
+// samples (set-up, roots), triangles (edges), segment roots (planes) and
+// samples decided again.
+constexpr int kSamplesPerChunk = 8192;
+constexpr int kTrianglesPerChunk = 4096;
 constexpr int kRootsPerChunk = 2048;
 constexpr int kRedoPerChunk = 256;
+
+// parent[] is shared by the workers while they join segments: every access
+// is atomic (relaxed: each link and each shortcut only ever points a sample
+// at one of its ancestors, a smaller sample, whatever the others do).
+std::int32_t load(const std::int32_t* p) { return __atomic_load_n(p, __ATOMIC_RELAXED); }
+void store(std::int32_t* p, std::int32_t v) { __atomic_store_n(p, v, __ATOMIC_RELAXED); }
 }  // namespace
 
 void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
   const auto n = static_cast<std::size_t>(max_samples);
-  // A triangulation of n samples, b of them on the border, has 2 n - 2 - b
-  // triangles: their 3 (2 n - 2 - b) edges and the b border edges written
-  // again stay below 6 n.
-  edge_cap_ = 3 * std::max(max_triangles, 2 * max_samples);
+  // Each chunk of triangles has 3 slots a triangle (the last chunk's run
+  // past the triangles), then the border's pairs: at most 2 (W + H).
+  const int tri_chunks = (max_triangles + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
+  edge_cap_ = 3 * tri_chunks * kTrianglesPerChunk + 4 * kMaxImageSide;
   edges_ = large_array<Edge>(static_cast<std::size_t>(edge_cap_));
+  edge_count_.assign(static_cast<std::size_t>(tri_chunks) + 1, 0);
   fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int32_t>(n);
   cand_ = large_array<std::int32_t>(n);
@@ -46,7 +56,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   worker_counts_.assign(static_cast<std::size_t>(workers), SupportPriorCounts{});
   bytes_ = (6 * n + 1) * sizeof(std::int32_t) + static_cast<std::size_t>(edge_cap_) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
-           static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts);
+           static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts) + edge_count_.size() * sizeof(int);
 }
 
 void SupportPrior::release() {
@@ -55,7 +65,8 @@ void SupportPrior::release() {
   inten_ = LargeArray<std::uint8_t>{};
   flags_ = LargeArray<std::uint8_t>{};
   edges_ = LargeArray<Edge>{};
-  edge_cap_ = n_edges_ = 0;
+  edge_cap_ = n_edge_chunks_ = 0;
+  edge_count_ = std::vector<int>{};
   fit_ = LargeArray<FitPoint>{};
   s2_ = std::vector<std::uint16_t>{};
   penalty_ = std::vector<std::uint16_t>{};
@@ -64,13 +75,38 @@ void SupportPrior::release() {
   max_disp_ = 0;
 }
 
+// Path halving: each sample on the way points at its grandparent.
 int SupportPrior::find(int a) {
   std::int32_t* parent = parent_.get();
-  while (parent[a] != a) {
-    parent[a] = parent[parent[a]];
-    a = parent[a];
+  std::int32_t p = load(parent + a);
+  while (p != a) {
+    const std::int32_t g = load(parent + p);
+    store(parent + a, g);
+    a = g;
+    p = load(parent + a);
   }
   return a;
+}
+
+// The larger root goes under the smaller, only while it is still a root (a
+// compare-and-swap when other workers join too; alone, a plain store, a
+// fifth of the joins' time): the partition and its roots, each segment's
+// smallest sample, do not depend on the order of the unions nor on the
+// workers.
+void SupportPrior::unite(int a, int b, bool shared) {
+  std::int32_t* parent = parent_.get();
+  for (;;) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    if (!shared) {
+      parent[a] = b;
+      return;
+    }
+    std::int32_t expected = a;
+    if (__atomic_compare_exchange_n(parent + a, &expected, b, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) return;
+  }
 }
 
 void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
@@ -80,27 +116,34 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   std::int32_t* parent = parent_.get();
   std::uint8_t* flags = flags_.get();
   // Segments: the components of the mesh edges with |dI| <= tau; each one's
-  // root is its smallest sample (the larger root goes under the smaller: the
-  // partition and its roots do not depend on the order of the edges).
-  // joined >= 0: parent holds the segments of that smaller threshold (a
-  // finer partition), so only the edges with joined < |dI| <= tau remain.
+  // root is its smallest sample. joined >= 0: parent holds the segments of
+  // that smaller threshold (a finer partition), so only the edges with
+  // joined < |dI| <= tau remain. Edges in their triangle chunks' slots (the
+  // last chunk: the border's), then every sample points at its root.
   if (joined < 0)
-    for (int i = 0; i < n; ++i) parent[i] = i;
+    for_chunks(pool, nullptr, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
+      for (int i = i0; i < i1; ++i) parent[i] = i;
+    });
   const Edge* edges = edges_.get();
-  for (int j = 0; j < n_edges_; ++j) {
-    const Edge e = edges[j];
-    if (e.di > tau || e.di <= joined) continue;
-    const int a = find(e.a), b = find(e.b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
+  const bool shared = pool != nullptr && pool->size() > 1 && n_edge_chunks_ > 1;
+  for_chunks(pool, trace, TraceKind::kPriorJoins, tau, n_edge_chunks_, 1, [&](int, int c0, int c1) {
+    for (int c = c0; c < c1; ++c) {
+      const Edge* e = edges + 3 * static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
+      const int m = edge_count_[static_cast<std::size_t>(c)], hi = tau, lo = joined;
+      for (int j = 0; j < m; ++j) {
+        const Edge ej = e[j];
+        if (ej.di <= hi && ej.di > lo) unite(ej.a, ej.b, shared);
+      }
+    }
+  });
+  for_chunks(pool, trace, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
+    for (int i = i0; i < i1; ++i) store(parent + i, find(i));
+  });
   // Members grouped by segment (counting sort by root, ascending ids).
   std::int32_t* count = count_.get();
   std::int32_t* order = order_.get();
   std::fill_n(count, n + 1, 0);
-  for (int i = 0; i < n; ++i) {
-    parent[i] = find(i);
-    ++count[parent[i] + 1];
-  }
+  for (int i = 0; i < n; ++i) ++count[parent[i] + 1];
   for (int r = 0; r < n; ++r) count[r + 1] += count[r];
   // count[r] = the segment's first slot; cand_ holds the running slot.
   std::int32_t* next = cand_.get();
@@ -209,57 +252,84 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   std::uint8_t* flags = flags_.get();
   std::int32_t* prior = prior_.get();
   std::int32_t* pending = pending_.get();
-  for (int i = 0; i < n; ++i) {
-    inten[i] = left.row(samples.y_of(i))[samples.x_of(i)];
-    const bool support = disp[i] != kInvalidDispQ4 && conf[i] >= pp.support_conf;
-    flags[i] = support ? kSupport : 0;
-    if (support) ++counts.support;
-  }
+  for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
+  // (Locals in the loops: their byte stores may alias anything the lambda
+  // captured, which it would load again for every sample.)
+  for_chunks(pool, trace, TraceKind::kPriorSetup, 0, n, kSamplesPerChunk, [&](int w, int i0, int i1) {
+    const Vertex* v = mesh.vertices.data();
+    const std::uint8_t* image = left.data;
+    const std::ptrdiff_t stride = left.stride_bytes;  // u8 pixels: bytes
+    const int min_conf = pp.support_conf;
+    std::uint8_t* in = inten;
+    std::uint8_t* fl = flags;
+    const std::int16_t* dq = disp;
+    const std::uint8_t* cf = conf;
+    int support = 0;
+    for (int i = i0; i < i1; ++i) {
+      in[i] = image[v[i].y * stride + v[i].x];
+      const bool s = dq[i] != kInvalidDispQ4 && cf[i] >= min_conf;
+      fl[i] = s ? kSupport : 0;
+      support += s ? 1 : 0;
+    }
+    worker_counts_[static_cast<std::size_t>(w)].support += support;
+  });
   // The mesh edges the segment levels use (|dI| <= the larger threshold),
   // each once. The mesh is conforming and its triangles turn one way, so an
   // inner edge comes as (a, b) from one triangle and (b, a) from the other:
   // (a, b) with a < b is kept. A border edge has one triangle, and the
   // frame's sides are cut exactly at their samples: the pairs of samples
   // next to each other along a side are added again (twice changes nothing
-  // in the union-find). Each is written and counted when kept (a branch
-  // here mispredicts on a third of the edges).
-  {
-    const int most = std::max(pp.seg_fine, pp.seg_coarse);
-    Edge* edges = edges_.get();
-    int lo = 0;
-    const auto add = [&](int a, int b, int keep) {
-      const int di = std::abs(inten[a] - inten[b]);
-      keep &= di <= most;
-      edges[lo] = Edge{a, b, di};  // lo < edge_cap_: fewer are written
-      lo += keep;
-    };
-    if (most > 0) {
-      for (const Triangle& t : mesh.triangles)
-        for (int e = 0; e < 3; ++e) {
-          const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-          add(a, b, a < b);
+  // in the union-find). Each chunk of triangles writes its edges to its own
+  // slots (3 per triangle), the border's go last; each edge is written and
+  // counted when kept (a branch here mispredicts on a third of the edges).
+  const int most = std::max(pp.seg_fine, pp.seg_coarse);
+  const int n_tri = static_cast<int>(mesh.triangles.size());
+  const int tri_chunks = (n_tri + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
+  n_edge_chunks_ = most > 0 ? tri_chunks + 1 : 0;
+  Edge* edges = edges_.get();
+  const auto add = [most, inten](Edge* out, int& m, int a, int b, int keep) {
+    const int di = std::abs(inten[a] - inten[b]);
+    out[m] = Edge{a, b, di};  // m < the chunk's slots: fewer are written
+    m += keep & (di <= most);
+  };
+  if (most > 0) {
+    for_chunks(pool, trace, TraceKind::kPriorEdges, 0, tri_chunks, 1, [&](int, int c0, int c1) {
+      const Triangle* tris = mesh.triangles.data();
+      for (int c = c0; c < c1; ++c) {
+        Edge* out = edges + 3 * static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
+        int m = 0;
+        const int t1 = std::min(n_tri, (c + 1) * kTrianglesPerChunk);
+        for (int ti = c * kTrianglesPerChunk; ti < t1; ++ti) {
+          const Triangle t = tris[ti];
+          for (int e = 0; e < 3; ++e) {
+            const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
+            add(out, m, a, b, a < b);
+          }
         }
-      const int h = left.height;
-      for (int y : {0, h - 1})  // along the top and bottom rows
-        for (int i = samples.row_begin(y); i + 1 < samples.row_begin(y + 1); ++i) add(i, i + 1, 1);
-      int prev_left = -1, prev_right = -1;  // along the left and right columns
-      for (int y = 0; y < h; ++y) {
-        const int first = samples.row_begin(y), last = samples.row_begin(y + 1) - 1;
-        if (last < first) continue;
-        if (samples.x_of(first) == 0) {
-          if (prev_left >= 0) add(prev_left, first, 1);
-          prev_left = first;
-        }
-        if (samples.x_of(last) == left.width - 1) {
-          if (prev_right >= 0) add(prev_right, last, 1);
-          prev_right = last;
-        }
+        edge_count_[static_cast<std::size_t>(c)] = m;
+      }
+    });
+    Edge* out = edges + 3 * static_cast<std::ptrdiff_t>(tri_chunks) * kTrianglesPerChunk;
+    int m = 0;
+    const int h = left.height;
+    for (int y : {0, h - 1})  // along the top and bottom rows
+      for (int i = samples.row_begin(y); i + 1 < samples.row_begin(y + 1); ++i) add(out, m, i, i + 1, 1);
+    int prev_left = -1, prev_right = -1;  // along the left and right columns
+    for (int y = 0; y < h; ++y) {
+      const int first = samples.row_begin(y), last = samples.row_begin(y + 1) - 1;
+      if (last < first) continue;
+      if (samples.x_of(first) == 0) {
+        if (prev_left >= 0) add(out, m, prev_left, first, 1);
+        prev_left = first;
+      }
+      if (samples.x_of(last) == left.width - 1) {
+        if (prev_right >= 0) add(out, m, prev_right, last, 1);
+        prev_right = last;
       }
     }
-    n_edges_ = lo;
+    edge_count_[static_cast<std::size_t>(tri_chunks)] = m;
   }
   // Planes: the fine level, then the coarse one for samples still uncovered.
-  for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
   if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool, trace);
   if (pp.seg_coarse > 0)
     planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
@@ -326,6 +396,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     }
   });
   for (const SupportPriorCounts& c : worker_counts_) {
+    counts.support += c.support;
     counts.redecided += c.redecided;
     counts.rejected += c.rejected;
     counts.planes += c.planes;

@@ -55,6 +55,7 @@ class SupportPrior {
 
  private:
   int find(int a);
+  void unite(int a, int b, bool shared);
   // One segment level with threshold tau: planes for its well-supported
   // segments. joined >= 0: parent_ already holds the segments of threshold
   // joined <= tau (the previous level's).
@@ -74,7 +75,8 @@ class SupportPrior {
   std::size_t bytes_ = 0;
   int n_ = 0;
   int edge_cap_ = 0;
-  int n_edges_ = 0;
+  int n_edge_chunks_ = 0;           // chunks of triangles, then the border's
+  std::vector<int> edge_count_;     // edges kept per chunk
   LargeArray<std::int32_t> prior_, cand_, pending_, parent_, count_, order_;
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
   LargeArray<Edge> edges_;                  // the segment levels' mesh edges, each once

@@ -36,6 +36,10 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kPrior: return "support prior";
     case TraceKind::kPriorSegments: return "prior segments";
     case TraceKind::kPriorSamples: return "prior samples";
+    case TraceKind::kPriorSetup: return "prior set-up";
+    case TraceKind::kPriorEdges: return "prior edges";
+    case TraceKind::kPriorJoins: return "prior joins";
+    case TraceKind::kPriorRoots: return "prior roots";
     case TraceKind::kCount: break;
   }
   return "?";
