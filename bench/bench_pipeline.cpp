@@ -13,6 +13,8 @@
 // frame's (counter `ceiling`) is what this machine gives N cores at that
 // moment with no sharing at all, and `of_ceiling` = speedup / ceiling is the
 // part of it the parallel pipeline achieves.
+// prior_pair/<scene>/D<d>/sparse/<kernels>/t1 alternates one-worker frames
+// without and with the support prior: `ratio` is the median of with / without.
 // census_pixels/<scene>/D<d>/<kernels> times the census work a frame does at
 // every pixel in both modes: the census transform of both images and every
 // pixel's Hamming costs, row by row (counter `census_pixels_ms`); perf_report.py
@@ -69,8 +71,9 @@ std::vector<Pair> load_pairs() {
 // A pipeline for the pair (pinned unless `pin` is false), configured and
 // warmed up by one frame.
 std::unique_ptr<Pipeline> warm_pipeline(const Pair* pair, int ndisp, bool dense, KernelChoice k,
-                                        int threads, bool pin = true) {
+                                        int threads, bool pin = true, int prior_lambda_q4 = 0) {
   PipelineConfig c;
+  c.params.prior.lambda_q4 = prior_lambda_q4;
   c.max_width = pair->left.width;
   c.max_height = pair->left.height;
   c.params.num_disp = ndisp;
@@ -219,6 +222,42 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
   state.counters["pairs"] = static_cast<double>(ratio.size());
 }
 
+// Frames without and with the support prior (docs/model.md section 6b) in
+// alternation on one worker: the median over the pairs of with / without
+// (counter `ratio`), and the prior stage's share (`prior_ms`).
+void bench_prior_pair(benchmark::State& state, const Pair* pair, int ndisp, KernelChoice k, int lambda_q4) {
+  const std::unique_ptr<Pipeline> off = warm_pipeline(pair, ndisp, false, k, 1);
+  const std::unique_ptr<Pipeline> on = warm_pipeline(pair, ndisp, false, k, 1, true, lambda_q4);
+  std::vector<double> ms_off, ms_on, ratio, prior_ms;
+  int turn = 0;
+  for (auto _ : state) {
+    FrameTimings a, b;
+    for (int step = 0; step < 2; ++step) {
+      if ((turn + step) % 2 == 0) {
+        off->process(pair->left.view(), pair->right.view());
+        a = off->last_timings();
+      } else {
+        on->process(pair->left.view(), pair->right.view());
+        b = on->last_timings();
+      }
+    }
+    turn ^= 1;
+    ms_off.push_back(static_cast<double>(a.total_ns) / 1e6);
+    ms_on.push_back(static_cast<double>(b.total_ns) / 1e6);
+    ratio.push_back(a.total_ns > 0 ? static_cast<double>(b.total_ns) / static_cast<double>(a.total_ns) : 0.0);
+    prior_ms.push_back(static_cast<double>(b.prior_ns) / 1e6);
+  }
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+  };
+  state.counters["off_ms"] = median(ms_off);
+  state.counters["on_ms"] = median(ms_on);
+  state.counters["ratio"] = median(ratio);
+  state.counters["prior_ms"] = median(prior_ms);
+}
+
 // <kind>/<scene>/D<d>/<sparse|dense>/<kernels>
 std::string bench_name(const char* kind, const Pair& p, int ndisp, bool dense, KernelChoice k) {
   return std::string(kind) + "/" + p.name + "/D" + std::to_string(ndisp) + "/" + (dense ? "dense" : "sparse") +
@@ -289,6 +328,22 @@ int main(int argc, char** argv) {
             ->Iterations(30)
             ->Repetitions(5);
       }
+    }
+  }
+  if (!pairs.empty()) {
+    // The support prior's cost on one worker: the synthetic 640x480 scene at
+    // D = 128 and KITTI 000000 at D = 80, lambda 300.
+    const KernelChoice best = available_kernel_sets().back();
+    for (const Pair& p : pairs) {
+      const bool synthetic = &p == &pairs.front();
+      if (!synthetic && p.name != "kitti000000") continue;
+      const int ndisp = synthetic ? 128 : 80;
+      const std::string name = bench_name("prior_pair", p, ndisp, false, best) + "/t1";
+      benchmark::RegisterBenchmark(name.c_str(), bench_prior_pair, &p, ndisp, best, 300)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(30)
+          ->Repetitions(5);
     }
   }
   benchmark::Initialize(&argc, argv);

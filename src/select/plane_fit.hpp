@@ -31,6 +31,17 @@ struct PlaneSums {
     sxd += x * d;
     syd += y * d;
   }
+  void merge(const PlaneSums& o) {
+    n += o.n;
+    sx += o.sx;
+    sy += o.sy;
+    sd += o.sd;
+    sxx += o.sxx;
+    sxy += o.sxy;
+    syy += o.syy;
+    sxd += o.sxd;
+    syd += o.syd;
+  }
   // The moments of u = x - xb, v = y - yb, w = d - db (the sums expanded).
   PlaneMoments moments(std::int64_t xb, std::int64_t yb, std::int64_t db) const {
     PlaneMoments m;

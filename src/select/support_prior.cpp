@@ -23,6 +23,9 @@ constexpr std::uint8_t kSupport = 1, kCovered = 2;
 constexpr int kSamplesPerChunk = 8192;
 constexpr int kTrianglesPerChunk = 4096;
 constexpr int kRootsPerChunk = 2048;
+// A segment this large is fitted with its members in chunks on every worker.
+constexpr int kBigSegment = 2048;
+constexpr int kBigChunk = 1024;
 constexpr int kRedoPerChunk = 256;
 
 // parent[] is shared by the workers while they join segments: every access
@@ -54,9 +57,16 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   s2_.assign(static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers), 0);
   penalty_.assign(2 * static_cast<std::size_t>(max_disp), 0);
   worker_counts_.assign(static_cast<std::size_t>(workers), SupportPriorCounts{});
+  big_.assign(n / kBigSegment + 1, 0);
+  big_points_.assign(n / kBigChunk + 1, 0);
+  big_census_.assign(static_cast<std::size_t>(workers), Census{});
+  big_sums_.assign(static_cast<std::size_t>(workers), PlaneSums{});
+  big_residuals_.assign(static_cast<std::size_t>(workers), Residuals{});
   bytes_ = (6 * n + 1) * sizeof(std::int32_t) + static_cast<std::size_t>(edge_cap_) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
-           static_cast<std::size_t>(workers) * sizeof(SupportPriorCounts) + edge_count_.size() * sizeof(int);
+           static_cast<std::size_t>(workers) * (sizeof(SupportPriorCounts) + sizeof(Census) + sizeof(PlaneSums) +
+                                                sizeof(Residuals)) +
+           (edge_count_.size() + big_.size() + big_points_.size()) * sizeof(int);
 }
 
 void SupportPrior::release() {
@@ -71,6 +81,12 @@ void SupportPrior::release() {
   s2_ = std::vector<std::uint16_t>{};
   penalty_ = std::vector<std::uint16_t>{};
   worker_counts_ = std::vector<SupportPriorCounts>{};
+  big_ = std::vector<std::int32_t>{};
+  big_points_ = std::vector<int>{};
+  big_census_ = std::vector<Census>{};
+  big_sums_ = std::vector<PlaneSums>{};
+  big_residuals_ = std::vector<Residuals>{};
+  n_big_ = 0;
   bytes_ = 0;
   max_disp_ = 0;
 }
@@ -139,83 +155,163 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   for_chunks(pool, trace, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
     for (int i = i0; i < i1; ++i) store(parent + i, find(i));
   });
-  // Members grouped by segment (counting sort by root, ascending ids).
+  // Members grouped by segment (counting sort by root, ascending ids). The
+  // segments of at least kBigSegment samples are listed apart: one of them
+  // (a road, a wall) can take more than all the others of its level
+  // together, so its own passes are shared by the workers.
   std::int32_t* count = count_.get();
   std::int32_t* order = order_.get();
   std::fill_n(count, n + 1, 0);
   for (int i = 0; i < n; ++i) ++count[parent[i] + 1];
-  for (int r = 0; r < n; ++r) count[r + 1] += count[r];
+  n_big_ = 0;
+  for (int r = 0; r < n; ++r) {
+    if (count[r + 1] >= kBigSegment) big_[static_cast<std::size_t>(n_big_++)] = r;
+    count[r + 1] += count[r];
+  }
   // count[r] = the segment's first slot; cand_ holds the running slot.
   std::int32_t* next = cand_.get();
   std::copy_n(count, n, next);
   for (int i = 0; i < n; ++i) order[next[parent[i]]++] = i;
   const std::int64_t tol = pp.plane_tol_q4;
-  // Segment r (its members order[count[r] .. count[r + 1])): true when it
-  // gets a plane. Segments share no sample, and each gathers its support
-  // points in its own slots of fit_, so they may go to any worker.
-  const auto fit_segment = [&](int r) {
-    const int g0 = count[r], g1 = count[r + 1];
-    if (g1 - g0 < 2) return false;  // a plane needs support and another sample to give to
-    int support = 0;
-    bool other = false;
+  const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
+  FitPoint* fit_points = fit_.get();
+  std::int32_t* prior = prior_.get();
+  // The steps of a segment's plane over members [g0, g1) of order, each
+  // writing only its own members' values and slots of fit_ (the support
+  // points of members [g0, g1) go to fit_[g0 ..]).
+  const auto census = [&](int g0, int g1, Census* c) {
     for (int j = g0; j < g1; ++j) {
       const std::uint8_t f = flags[order[j]];
-      if (f & kSupport) ++support;
-      else if (!(f & kCovered)) other = true;
+      if (f & kSupport) ++c->support;
+      else if (!(f & kCovered)) c->other = true;
     }
-    if (!other || support < pp.plane_min) return false;
-    // The segment's support points, in order, gathered once for the fits.
-    FitPoint* pts = fit_.get() + g0;
+  };
+  const auto gather = [&](int g0, int g1) {
+    FitPoint* pts = fit_points + g0;
     int np = 0;
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
       if (flags[i] & kSupport) pts[np++] = FitPoint{samples.x_of(i), samples.y_of(i), disp[i]};
     }
-    IntPlane plane;
-    bool ok = true;
-    // Fit 0 on every support sample, fits 1..3 on those within 2 tol of the previous plane.
-    for (int fit = 0; fit < 4 && ok; ++fit) {
-      PlaneSums sums;
-      for (int j = 0; j < np; ++j) {
-        const FitPoint p = pts[j];
-        if (fit > 0 && abs64(plane.at(p.x, p.y) - p.d) > 2 * tol) continue;
-        sums.add(p.x, p.y, p.d);
-      }
-      if (sums.n < 3) {
-        ok = false;
-        break;
-      }
-      IntPlane next_plane;
-      next_plane.xbar = static_cast<int>(floor_div(sums.sx, sums.n));
-      next_plane.ybar = static_cast<int>(floor_div(sums.sy, sums.n));
-      next_plane.dbar = static_cast<int>(floor_div(sums.sd, sums.n));
-      const PlaneMoments m = sums.moments(next_plane.xbar, next_plane.ybar, next_plane.dbar);
-      ok = solve_plane(m, sums.n, &next_plane);
-      plane = next_plane;
+    return np;
+  };
+  // Fit 0 on every support point, fits 1..3 on those within 2 tol of the previous plane.
+  const auto add_points = [&](const FitPoint* pts, int np, int fit, const IntPlane& plane, PlaneSums* sums) {
+    for (int j = 0; j < np; ++j) {
+      const FitPoint p = pts[j];
+      if (fit > 0 && abs64(plane.at(p.x, p.y) - p.d) > 2 * tol) continue;
+      sums->add(p.x, p.y, p.d);
     }
-    if (!ok) return false;
-    // Accepted when at least half the support lies within tol and the
-    // residuals, each capped at 2 tol, have a mean square of at most tol^2.
-    std::int64_t inliers = 0, sq = 0;
+  };
+  const auto next_plane = [&](const PlaneSums& sums, IntPlane* plane) {
+    if (sums.n < 3) return false;
+    IntPlane np;
+    np.xbar = static_cast<int>(floor_div(sums.sx, sums.n));
+    np.ybar = static_cast<int>(floor_div(sums.sy, sums.n));
+    np.dbar = static_cast<int>(floor_div(sums.sd, sums.n));
+    if (!solve_plane(sums.moments(np.xbar, np.ybar, np.dbar), sums.n, &np)) return false;
+    *plane = np;
+    return true;
+  };
+  // Accepted when at least half the support lies within tol and the
+  // residuals, each capped at 2 tol, have a mean square of at most tol^2.
+  const auto residuals = [&](const FitPoint* pts, int np, const IntPlane& plane, Residuals* res) {
     for (int j = 0; j < np; ++j) {
       const FitPoint p = pts[j];
       const std::int64_t e = abs64(plane.at(p.x, p.y) - p.d);
-      if (e <= tol) ++inliers;
-      sq += std::min(e * e, 4 * tol * tol);
+      if (e <= tol) ++res->inliers;
+      res->sq += std::min(e * e, 4 * tol * tol);
     }
-    if (2 * inliers < support || sq > tol * tol * support) return false;
-    const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
+  };
+  const auto accepted = [&](const Residuals& res, int support) {
+    return 2 * res.inliers >= support && res.sq <= tol * tol * support;
+  };
+  const auto cover = [&](int g0, int g1, const IntPlane& plane) {
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
       if (flags[i] & (kSupport | kCovered)) continue;
       flags[i] |= kCovered;
-      prior_.get()[i] = std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi);
+      prior[i] = std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi);
     }
+  };
+  // Segment r on one worker: true when it gets a plane.
+  const auto fit_segment = [&](int r) {
+    const int g0 = count[r], g1 = count[r + 1];
+    if (g1 - g0 < 2 || g1 - g0 >= kBigSegment) return false;  // a plane needs support and another sample
+    Census c;
+    census(g0, g1, &c);
+    if (!c.other || c.support < pp.plane_min) return false;
+    const FitPoint* pts = fit_points + g0;
+    const int np = gather(g0, g1);
+    IntPlane plane;
+    for (int fit = 0; fit < 4; ++fit) {
+      PlaneSums sums;
+      add_points(pts, np, fit, plane, &sums);
+      if (!next_plane(sums, &plane)) return false;
+    }
+    Residuals res;
+    residuals(pts, np, plane, &res);
+    if (!accepted(res, c.support)) return false;
+    cover(g0, g1, plane);
     return true;
   };
   for_chunks(pool, trace, TraceKind::kPriorSegments, tau, n, kRootsPerChunk, [&](int w, int r0, int r1) {
     for (int r = r0; r < r1; ++r) worker_counts_[static_cast<std::size_t>(w)].planes += fit_segment(r) ? 1 : 0;
   });
+  // The big segments, one after another, each step in chunks of members:
+  // every chunk gathers its support points to its own slots, and the sums
+  // of the chunks are added per worker, then together (integer sums: the
+  // same in any order).
+  for (int b = 0; b < n_big_; ++b) {
+    const int r = big_[static_cast<std::size_t>(b)];
+    const int g0 = count[r], g1 = count[r + 1], members = g1 - g0;
+    const int chunks = (members + kBigChunk - 1) / kBigChunk;
+    const auto chunk_begin = [&](int c) { return g0 + c * kBigChunk; };
+    const auto chunk_end = [&](int c) { return std::min(g1, g0 + (c + 1) * kBigChunk); };
+    for (Census& c : big_census_) c = Census{};
+    for_chunks(pool, trace, TraceKind::kPriorSegments, tau, chunks, 1, [&](int w, int c0, int c1) {
+      for (int c = c0; c < c1; ++c) {
+        census(chunk_begin(c), chunk_end(c), &big_census_[static_cast<std::size_t>(w)]);
+        big_points_[static_cast<std::size_t>(c)] = gather(chunk_begin(c), chunk_end(c));
+      }
+    });
+    Census all;
+    for (const Census& c : big_census_) {
+      all.support += c.support;
+      all.other = all.other || c.other;
+    }
+    if (!all.other || all.support < pp.plane_min) continue;
+    IntPlane plane;
+    bool ok = true;
+    for (int fit = 0; fit < 4 && ok; ++fit) {
+      for (PlaneSums& s : big_sums_) s = PlaneSums{};
+      for_chunks(pool, trace, TraceKind::kPriorSegments, tau, chunks, 1, [&](int w, int c0, int c1) {
+        for (int c = c0; c < c1; ++c)
+          add_points(fit_points + chunk_begin(c), big_points_[static_cast<std::size_t>(c)], fit, plane,
+                     &big_sums_[static_cast<std::size_t>(w)]);
+      });
+      PlaneSums sums;
+      for (const PlaneSums& s : big_sums_) sums.merge(s);
+      ok = next_plane(sums, &plane);
+    }
+    if (!ok) continue;
+    for (Residuals& res : big_residuals_) res = Residuals{};
+    for_chunks(pool, trace, TraceKind::kPriorSegments, tau, chunks, 1, [&](int w, int c0, int c1) {
+      for (int c = c0; c < c1; ++c)
+        residuals(fit_points + chunk_begin(c), big_points_[static_cast<std::size_t>(c)], plane,
+                  &big_residuals_[static_cast<std::size_t>(w)]);
+    });
+    Residuals res;
+    for (const Residuals& x : big_residuals_) {
+      res.inliers += x.inliers;
+      res.sq += x.sq;
+    }
+    if (!accepted(res, all.support)) continue;
+    for_chunks(pool, trace, TraceKind::kPriorSegments, tau, chunks, 1, [&](int, int c0, int c1) {
+      for (int c = c0; c < c1; ++c) cover(chunk_begin(c), chunk_end(c), plane);
+    });
+    ++worker_counts_[0].planes;
+  }
 }
 
 template <class Body>
@@ -227,7 +323,9 @@ void SupportPrior::for_chunks(ThreadPool* pool, FrameTrace* trace, TraceKind kin
     if (trace != nullptr) trace->record(w, kind, t0, monotonic_ns(), j0, j1, tag);
   };
   if (pool == nullptr || pool->size() < 2 || n < 2 * chunk) {
-    if (n > 0) traced(0, 0, n);
+    // Here, in the same chunks: a one-worker trace shows the items that
+    // more workers would share (the scaling model replays them).
+    for (int j0 = 0; j0 < n; j0 += chunk) traced(0, j0, std::min(n, j0 + chunk));
     return;
   }
   chunks_.reset(0, n, chunk);

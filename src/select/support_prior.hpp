@@ -21,6 +21,7 @@
 
 #include "src/aggregate/path_matcher.hpp"
 #include "src/aggregate/samples.hpp"
+#include "src/select/plane_fit.hpp"
 #include "platform/work_chunks.hpp"
 #include "src/memory/large_array.hpp"
 #include "tristereo/image.hpp"
@@ -62,7 +63,7 @@ class SupportPrior {
   void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
               ThreadPool* pool, FrameTrace* trace);
   // body(worker, j0, j1) over [0, n) in chunks, on the pool's workers (up to
-  // the configured count) from two chunks up, else body(0, 0, n) here; each
+  // the configured count) from two chunks up, else chunk by chunk here; each
   // call recorded in the trace as `kind` (a = j0, b = j1, c = tag).
   template <class Body>
   void for_chunks(ThreadPool* pool, FrameTrace* trace, TraceKind kind, int tag, int n, int chunk, Body body);
@@ -71,6 +72,13 @@ class SupportPrior {
   };
   struct FitPoint {
     std::int32_t x, y, d;  // a support sample's pixel and disparity (Q4)
+  };
+  struct Census {  // of a segment's members
+    int support = 0;
+    bool other = false;  // a member neither support nor covered
+  };
+  struct Residuals {  // of a segment's support points from its last plane
+    std::int64_t inliers = 0, sq = 0;
   };
   std::size_t bytes_ = 0;
   int n_ = 0;
@@ -85,6 +93,13 @@ class SupportPrior {
   std::vector<std::uint16_t> penalty_;               // lambda min(|j|, T) saturated, j = 1 - D .. D - 1
   std::vector<SupportPriorCounts> worker_counts_;   // per worker
   WorkChunks chunks_;
+  // The segments of at least kBigSegment samples (roots), fitted apart.
+  std::vector<std::int32_t> big_;
+  int n_big_ = 0;
+  std::vector<int> big_points_;            // support points per chunk of members
+  std::vector<Census> big_census_;         // per worker
+  std::vector<PlaneSums> big_sums_;        // per worker
+  std::vector<Residuals> big_residuals_;   // per worker
   int max_disp_ = 0;
 };
 
