@@ -64,6 +64,11 @@ struct IntPlane {
   int at(int x, int y) const {
     return dbar + static_cast<int>(floor_div(c + a * (x - xbar) + b * (y - ybar) + 128, 256));
   }
+  // t with floor(t / 256) = at(x, y) - d: |at - d| <= m exactly when
+  // -256 m <= t < 256 (m + 1), two compares instead of a division.
+  std::int64_t residual_q8(int x, int y, int d) const {
+    return c + a * (x - xbar) + b * (y - ybar) + 128 - 256 * std::int64_t{d - dbar};
+  }
 };
 
 inline std::int64_t abs64(std::int64_t v) { return v < 0 ? -v : v; }

@@ -197,10 +197,15 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   };
   // Fit 0 on every support point, fits 1..3 on those within 2 tol of the previous plane.
   const auto add_points = [&](const FitPoint* pts, int np, int fit, const IntPlane& plane, PlaneSums* sums) {
+    if (fit == 0) {
+      for (int j = 0; j < np; ++j) sums->add(pts[j].x, pts[j].y, pts[j].d);
+      return;
+    }
+    const std::int64_t low = -512 * tol, high = 256 * (2 * tol + 1);  // |at - d| <= 2 tol
     for (int j = 0; j < np; ++j) {
       const FitPoint p = pts[j];
-      if (fit > 0 && abs64(plane.at(p.x, p.y) - p.d) > 2 * tol) continue;
-      sums->add(p.x, p.y, p.d);
+      const std::int64_t t = plane.residual_q8(p.x, p.y, p.d);
+      if (t >= low && t < high) sums->add(p.x, p.y, p.d);
     }
   };
   const auto next_plane = [&](const PlaneSums& sums, IntPlane* plane) {
