@@ -533,7 +533,7 @@ int cmd_profile(int argc, char** argv) {
   rc.gpio = gpio_text;
   rc.mesh_output = mesh_output;
   rc.rectify = config.rectify != nullptr;
-  rc.prior = config.params.prior.lambda_q4 > 0 && !config.params.dense;
+  rc.prior = support_prior_applies(config.params);
   rc.right_pass = config.params.validity.lr_max_diff_q4 >= 0 &&
                   config.params.validity.lr_source == LrSource::kMirroredPass;
   rc.warmup_frames = warmup;

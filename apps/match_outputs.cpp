@@ -224,12 +224,13 @@ std::string stats_json_text(const MatchRun& run) {
                 "\"weights\": \"%s\", \"truncation\": %d, \"lambda_q4\": %d, \"gap\": \"%s\", "
                 "\"subpixel\": %s, \"subpixel_fit\": \"%s\", \"cost\": \"%s\", \"census\": \"%dx%d\", \"optimizer\": \"%s\", "
                 "\"paths\": %d, \"p1_q4\": %d, \"p2_q4\": %d, \"p2_edge\": %d, \"lr_max_diff_q4\": %d, "
-                "\"lr_source\": \"%s\", \"uniqueness_pct\": %d, \"fill\": \"%s\"},\n"
+                "\"lr_source\": \"%s\", \"uniqueness_pct\": %d, \"fill\": \"%s\", \"support_prior\": %d},\n"
                 "  \"validity\": {\"samples\": %d, \"uniqueness_rejected\": %d, \"lr_rejected\": %d, "
+                "\"prior_redecided\": %d, \"prior_rejected\": %d, \"prior_recovered\": %d, \"prior_lost\": %d, "
                 "\"invalid_fraction\": %.6f, \"filled\": %d, \"min_confidence\": %d, "
                 "\"min_confidence_rejected\": %d},\n"
                 "  \"pixels\": {\"measured\": %lld, \"filled\": %lld, \"invalid\": %lld},\n"
-                "  \"ms\": {\"tritree\": %.3f, \"cost_aggregation\": %.3f, \"dp\": %.3f, "
+                "  \"ms\": {\"tritree\": %.3f, \"cost_aggregation\": %.3f, \"dp\": %.3f, \"prior\": %.3f, "
                 "\"right_pass\": %.3f, \"fill\": %.3f, \"interpolation\": %.3f, \"total\": %.3f}\n"
                 "}\n",
                 run.implementation.c_str(), run.threads, o.mesh.width, o.mesh.height, p.num_disp,
@@ -243,15 +244,18 @@ std::string stats_json_text(const MatchRun& run) {
                 p.cost.census_w,
                 p.cost.census_h, to_string(p.optimizer), p.paths.directions, p.paths.p1_q4,
                 p.paths.p2_q4, p.paths.p2_edge_scale, p.validity.lr_max_diff_q4, to_string(p.validity.lr_source),
-                p.validity.uniqueness_pct, to_string(p.validity.fill), o.validity.samples,
-                o.validity.uniqueness_rejected, o.validity.lr_rejected,
+                p.validity.uniqueness_pct, to_string(p.validity.fill),
+                support_prior_applies(p) ? p.prior.lambda_q4 : 0, o.validity.samples,
+                o.validity.uniqueness_rejected, o.validity.lr_rejected, o.validity.prior_redecided,
+                o.validity.prior_rejected, o.validity.prior_recovered, o.validity.prior_lost,
                 o.validity.samples > 0
-                    ? static_cast<double>(o.validity.uniqueness_rejected + o.validity.lr_rejected) /
+                    ? static_cast<double>(o.validity.uniqueness_rejected + o.validity.lr_rejected -
+                                          o.validity.prior_recovered + o.validity.prior_lost) /
                           o.validity.samples
                     : 0.0,
                 o.validity.filled, p.validity.min_confidence, o.validity.min_confidence_rejected,
                 counts.measured, counts.filled, counts.invalid, ms(run.timings.tritree_ns),
-                ms(run.timings.cost_aggregation_ns), ms(run.timings.dp_ns),
+                ms(run.timings.cost_aggregation_ns), ms(run.timings.dp_ns), ms(run.timings.prior_ns),
                 ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns));
   std::string text = buf;
@@ -492,9 +496,10 @@ void print_match_summary(std::ostream& os, const MatchRun& run) {
   std::snprintf(buf, sizeof buf,
                 "%dx%d, D=%d (%s, %s): %zu vertices (%.2f%% of pixels), %zu triangles, "
                 "%lld forced splits\n"
-                "time: tritree %.2f ms, cost aggregation %.2f ms, %s %.2f ms, right view %.2f ms, "
-                "fill %.2f ms, interpolation %.2f ms, total %.2f ms\n"
-                "invalid samples: %d by uniqueness, %d by the left-right check (of %d); %d filled; "
+                "time: tritree %.2f ms, cost aggregation %.2f ms, %s %.2f ms, support prior %.2f ms, "
+                "right view %.2f ms, fill %.2f ms, interpolation %.2f ms, total %.2f ms\n"
+                "invalid samples: %d by uniqueness, %d by the left-right check (of %d); the support prior "
+                "chose %d again (%d invalid ones got a disparity, %d valid ones lost theirs); %d filled; "
                 "%d below the minimum confidence\n",
                 o.mesh.width, o.mesh.height, run.config.params.num_disp, run.implementation.c_str(),
                 run.config.params.dense ? "dense" : "sparse", o.mesh.vertices.size(),
@@ -502,9 +507,10 @@ void print_match_summary(std::ostream& os, const MatchRun& run) {
                 o.mesh.triangles.size(), static_cast<long long>(o.mesh.forced_splits),
                 ms(run.timings.tritree_ns), ms(run.timings.cost_aggregation_ns),
                 run.config.params.optimizer == Optimizer::kPaths ? "paths" : "dp", ms(run.timings.dp_ns),
-                ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
+                ms(run.timings.prior_ns), ms(run.timings.right_pass_ns), ms(run.timings.fill_ns),
                 ms(run.timings.interpolation_ns), ms(run.timings.total_ns),
                 o.validity.uniqueness_rejected, o.validity.lr_rejected, o.validity.samples,
+                o.validity.prior_redecided, o.validity.prior_recovered, o.validity.prior_lost,
                 o.validity.filled, o.validity.min_confidence_rejected);
   os << buf;
   if (run.config.rectify) os << "rectification (raw frames in): " << ms(run.timings.rectify_ns) << " ms of the total\n";

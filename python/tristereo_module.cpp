@@ -700,6 +700,15 @@ PYBIND11_MODULE(_tristereo, m) {
           "lr_rejected", [](const Output& o) { return o.validity.lr_rejected; },
           "samples that failed the left-right check")
       .def_property_readonly(
+          "prior_redecided", [](const Output& o) { return o.validity.prior_redecided; },
+          "samples the support prior chose again")
+      .def_property_readonly(
+          "prior_recovered", [](const Output& o) { return o.validity.prior_recovered; },
+          "invalid samples the support prior gave a disparity")
+      .def_property_readonly(
+          "prior_lost", [](const Output& o) { return o.validity.prior_lost; },
+          "valid samples the support prior's uniqueness test made invalid")
+      .def_property_readonly(
           "filled", [](const Output& o) { return o.validity.filled; },
           "invalid samples given a neighbour's disparity by the fill")
       .def_property_readonly(

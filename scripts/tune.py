@@ -20,8 +20,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # (label, options, why the variant is measured). The first is the defaults.
 VARIANTS = [
-    ("defaults", [], "tritree at 44 dB with a minimum area of 2 px^2, census 5x5, 3x3 box, 4 paths, P1 120 / P2 800, P2 edge 30, uniqueness 10 %, "
-                     "left-right check from the summed costs, background fill"),
+    ("defaults", [], "tritree at 44 dB with a minimum area of 2 px^2, census 5x5, 3x3 box, 4 paths, P1 120 / P2 800, P2 edge 30, uniqueness 20 %, "
+                     "left-right check from the summed costs, support prior 300 (planes of two segment levels, 2 and 8 grey "
+                     "levels), background fill"),
     ("PSNR 40 dB", ["--psnr", "40"], "the paper's threshold, with the default minimum area"),
     ("PSNR 48 dB", ["--psnr", "48"], "a stricter threshold: more of the mesh at its finest level"),
     ("minimum area 1 px^2", ["--min-area", "1"], "leaves down to 1 px^2 (the paper's hierarchy), at 44 dB"),
@@ -40,6 +41,7 @@ VARIANTS = [
     ("no P2 edge", ["--p2-edge", "0"], "the same P2 across intensity edges"),
     ("P1, P2 by edge length", ["--path-gap", "inv"], "penalties scaled by tau(g) = 1/g of the mesh edge's length g"),
     ("no uniqueness", ["--uniqueness", "0"], "every sample's winner kept however close its rival"),
+    ("uniqueness 10", ["--uniqueness", "10"], "the margin chosen without the support prior"),
     ("left-right by mirrored pass", ["--lr-source", "mirror"], "the right view matched again as the left view "
                                                                "of the mirrored pair (its own tritree, costs and "
                                                                "paths: about twice the matching work)"),
@@ -48,9 +50,14 @@ VARIANTS = [
      "the sub-pixel offset from the symmetric V through the three summed costs instead of the parabola "
      "(docs/model.md section 3)"),
     ("no sub-pixel", ["--no-subpixel"], "whole disparities at the samples (the planes still interpolate between them)"),
-    ("support prior 300", ["--support-prior", "300"],
-     "the samples of intensity segments on the mesh whose confident samples lie on a plane, other than those, "
-     "chosen again near the plane (docs/model.md section 6b)"),
+    ("no support prior", ["--support-prior", "0"],
+     "no planes: every sample keeps the winner of its summed costs (docs/model.md section 6b)"),
+    ("support prior 200", ["--support-prior", "200"], "a weaker pull towards the planes"),
+    ("support prior 450", ["--support-prior", "450"], "a stronger pull towards the planes"),
+    ("one segment level", ["--plane-seg-fine", "0"], "the planes of the coarse segments (8 grey levels) only"),
+    ("planes from 6 support samples", ["--plane-min", "6"], "smaller segments get planes"),
+    ("no support prior, uniqueness 10", ["--support-prior", "0", "--uniqueness", "10"],
+     "the defaults until 2026-12-06"),
 ]
 
 COLUMNS = [  # (set, metric, header)
@@ -110,23 +117,25 @@ def main():
            "Every known-GT pixel counts, invalid counts as bad, sparse mode (the default), one thread. "
            "Each row changes one choice of the defaults; lower is better. The defaults are the choice "
            "that is best or within noise on every set at once, not on one: a variant that wins on one "
-           "set and loses on another is not taken. One variant is better on every set and still not the default: "
-           "the left-right check by a mirrored second pass, which repeats the tritree, the costs and the "
-           "paths on the mirrored pair, about twice the matching time (issue #14's speed budget, "
-           "docs/performance.md); it stays available as `--lr-source mirror`. The tritree's two choices "
-           "are speed against accuracy too (issue #15: a sparse frame at most half a dense one, every set "
-           "within 0.3 points of the earlier defaults, the row \"minimum area 1 px^2, 40 dB\"): leaves "
-           "down to 1 px^2 score better on every set but keep 1.8 times the samples (the matching's work "
-           "grows with them); 48 dB scores better on most sets than 44 dB but widens the PianoL gap past "
-           "issue #14's 5 points; 40 dB with 2 px^2 leaves loses 0.2-0.3 points on three sets. "
-           "The sub-pixel fit stays the parabola: the equiangular fit (`--subpixel-fit equiangular`) "
+           "set and loses on another is not taken. The support prior (docs/model.md section 6b) is on "
+           "since 2026-12-06: on every set it scores better than the defaults before it (the row \"no "
+           "support prior, uniqueness 10\"), and with it the larger uniqueness margin (20 %) is better on "
+           "Middlebury 2014 and KITTI and within 0.02 points on the others; it costs one worker 1.17x the "
+           "earlier frame on the synthetic 640x480 D = 128 scene and 1.30x on KITTI (docs/performance.md). "
+           "The left-right check by a mirrored second pass, which repeats the tritree, the costs and the "
+           "paths on the mirrored pair at about twice the matching time, scores better on Middlebury v2 "
+           "and ETH3D and worse on Middlebury 2014 and KITTI; it stays available as `--lr-source mirror`. "
+           "The tritree's choices are speed against accuracy too (issue #15: a sparse frame at most half a "
+           "dense one): leaves down to 1 px^2 score better on Middlebury v2 and ETH3D and worse on the "
+           "other two with 1.8 times the samples; 48 dB scores better on Middlebury v2 and 2014 than 44 dB "
+           "but worse on KITTI, and widens the PianoL gap past issue #14's 5 points; 40 dB loses on every "
+           "set. The sub-pixel fit stays the parabola: the equiangular fit (`--subpixel-fit equiangular`) "
            "removes the parabola's pull of the measured samples towards whole disparities (docs/model.md "
-           "section 3: on Middlebury 2014 the share of measured samples at a whole disparity falls from "
-           "12.5 % to 6.6 %, the ground truth's own 6.5 %; scripts/subpixel_histogram.py) but moves the sets' mean bad 0.5 / 1 / 2 px by -0.8 to "
-           "+0.2 points and their end-point errors by at most 0.01 px (second table): most errors above 0.5 px are whole-pixel errors of the winners, which no "
-           "fit through three costs corrects. Whole disparities (`--no-subpixel`) lose 1.7 points of bad "
-           "1 px on KITTI and 10 points of bad 0.5 px on ETH3D; they score better on Middlebury v2's "
-           "bad 1 px, most of it on Tsukuba, whose ground truth is whole pixels.", ""]
+           "section 3; scripts/subpixel_histogram.py) but changes the sets' bad 0.5 / 1 / 2 px and "
+           "end-point errors by less than a point and 0.01 px either way (second table): most errors "
+           "above 0.5 px are whole-pixel errors of the winners, which no fit through three costs corrects. "
+           "Whole disparities (`--no-subpixel`) lose on every set but Middlebury v2's bad 1 px, most of "
+           "it on Tsukuba, whose ground truth is whole pixels.", ""]
     hdr = ["variant"] + [c[2] for c in COLUMNS] + ["scenes worse than SGBM", "E / L gap (motorcycle, piano)",
                                                     "samples (mean fraction)", "ms per frame (mean)"]
     out.append("| " + " | ".join(hdr) + " |")

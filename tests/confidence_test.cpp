@@ -78,9 +78,15 @@ TEST(Confidence, StatesMatchTheValidityStageCounts) {
     // Samples: the vertices (sparse) or the pixels (dense).
     const Counts c = count(dense ? o.pixel_state.pixels : o.vertex_state);
     const SampleValidity& v = o.validity;
-    EXPECT_EQ(c.measured, v.samples - v.uniqueness_rejected - v.lr_rejected);
+    // Invalid after matching: the checks' rejections, less the support
+    // prior's recoveries, plus its losses (dense frames have no prior).
+    const int invalid = v.uniqueness_rejected + v.lr_rejected - v.prior_recovered + v.prior_lost;
+    if (!dense) {
+      EXPECT_GT(v.prior_redecided, 0);
+    }
+    EXPECT_EQ(c.measured, v.samples - invalid);
     EXPECT_EQ(c.filled, v.filled);
-    EXPECT_EQ(c.invalid, v.uniqueness_rejected + v.lr_rejected - v.filled);
+    EXPECT_EQ(c.invalid, invalid - v.filled);
     EXPECT_GT(c.filled, 0);
     EXPECT_GT(c.measured, c.filled);
   }

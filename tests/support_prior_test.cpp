@@ -110,23 +110,36 @@ TEST(SupportPrior, ValidatesItsParameters) {
   q = p;
   q.prior.plane_tol_q4 = 0;
   rejects(q, "prior.plane_tol_q4");
+  // Dense frames and the row DP go without it: valid, and it does not apply.
   q = p;
   q.dense = true;
-  rejects(q, "prior.lambda_q4");
+  EXPECT_NO_THROW(validate_params(q));
+  EXPECT_FALSE(support_prior_applies(q));
   q = p;
   q.optimizer = Optimizer::kRowDp;
   q.validity.lr_source = LrSource::kMirroredPass;
-  rejects(q, "prior.lambda_q4");
-  q.prior.lambda_q4 = 0;  // off: no constraint on the optimizer
   EXPECT_NO_THROW(validate_params(q));
+  EXPECT_FALSE(support_prior_applies(q));
+  EXPECT_TRUE(support_prior_applies(p));
+  q = p;
+  q.prior.lambda_q4 = 0;
+  EXPECT_FALSE(support_prior_applies(q));
 }
 
-TEST(SupportPrior, OffByDefaultAndChangesNothingThen) {
-  EXPECT_EQ(StereoParams{}.prior.lambda_q4, 0);
+// On by default (lambda 300), off in the paper's model; off, it changes nothing.
+TEST(SupportPrior, OnByDefaultOffInThePaperModel) {
+  EXPECT_EQ(StereoParams{}.prior.lambda_q4, 300);
+  EXPECT_TRUE(support_prior_applies(StereoParams{}));
+  EXPECT_EQ(paper_params().prior.lambda_q4, 0);
   const WeakPlane s = weak_plane(192, 144);
   const StereoOutput a = run(s, params(0));
   EXPECT_EQ(a.validity.prior_redecided, 0);
   EXPECT_EQ(a.validity.prior_rejected, 0);
+  EXPECT_EQ(a.validity.prior_recovered, 0);
+  EXPECT_EQ(a.validity.prior_lost, 0);
+  StereoParams dense = params(300);
+  dense.dense = true;
+  EXPECT_EQ(run(s, dense).validity.prior_redecided, 0);
 }
 
 TEST(SupportPrior, MovesAWeaklyTexturedSlantedPlaneTowardsItsGroundTruth) {

@@ -57,15 +57,20 @@ struct SampleValidity {
   // made invalid after the fill.
   std::int32_t min_confidence_rejected = 0;
   // Support prior (StereoParams::prior, docs/model.md section 6b): samples
-  // whose winner was chosen again, and those of them its uniqueness test
-  // made invalid (for the fill).
+  // whose winner was chosen again, those of them its uniqueness test made
+  // invalid (for the fill), the invalid ones it gave a disparity (recovered)
+  // and the valid ones it made invalid (lost). Before the fill,
+  // uniqueness_rejected + lr_rejected - prior_recovered + prior_lost samples
+  // are invalid.
   std::int32_t prior_redecided = 0;
   std::int32_t prior_rejected = 0;
+  std::int32_t prior_recovered = 0;
+  std::int32_t prior_lost = 0;
   bool operator==(const SampleValidity& o) const {
     return samples == o.samples && uniqueness_rejected == o.uniqueness_rejected &&
            lr_rejected == o.lr_rejected && filled == o.filled &&
            min_confidence_rejected == o.min_confidence_rejected && prior_redecided == o.prior_redecided &&
-           prior_rejected == o.prior_rejected;
+           prior_rejected == o.prior_rejected && prior_recovered == o.prior_recovered && prior_lost == o.prior_lost;
   }
 };
 
@@ -74,7 +79,8 @@ struct SampleValidity {
 enum class SampleState : std::uint8_t {
   kInvalid = 0,   // no disparity (kInvalidDispQ4)
   kFilled = 1,    // a neighbour's disparity, given by the fill
-  kMeasured = 2,  // matched, and passed the uniqueness test and the left-right check
+  kMeasured = 2,  // matched, and passed the uniqueness test and the left-right check (or
+                  // chosen again by the support prior and passed its uniqueness test)
 };
 
 // Confidence, 0..255 (docs/model.md section 7): 0 = invalid, 1..127 = filled

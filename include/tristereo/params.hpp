@@ -112,7 +112,7 @@ struct ValidityParams {
   LrSource lr_source = LrSource::kSummedCosts;
   // Uniqueness: the best summed cost times (100 + margin) must stay below 100 times
   // every cost two or more disparities away. 0 = off.
-  int uniqueness_pct = 10;
+  int uniqueness_pct = 20;
   FillMode fill = FillMode::kBackground;
   // After the fill, samples whose confidence (docs/model.md section 7) is
   // below this become invalid, 0..255. 0 = off; 1 changes nothing; 128 keeps
@@ -125,9 +125,10 @@ struct ValidityParams {
 // other sample in a segment of similar intensity on the mesh whose support
 // lies on a plane gets that plane's disparity as its prior, and its winner is
 // chosen again from the summed path costs plus lambda * min(|k - k_prior|,
-// trunc). Paths optimizer, sparse mode only.
+// trunc). It applies to the path optimizer in sparse mode
+// (support_prior_applies); dense frames and the row DP go without it.
 struct SupportPriorParams {
-  int lambda_q4 = 0;       // 0 = off; 1..16000 Q4 cost units per disparity step
+  int lambda_q4 = 300;     // 0 = off; 1..16000 Q4 cost units per disparity step
   int trunc = 8;           // 1..256: the prior's penalty stops growing this many steps away
   int support_conf = 160;  // 128..255
   int uniqueness_pct = 20; // on the re-decided costs, 0..100 (0 = keep every new winner)
@@ -147,7 +148,7 @@ struct StereoParams {
   DpParams dp;                      // optimizer = kRowDp
   PathParams paths;                 // optimizer = kPaths
   ValidityParams validity;
-  SupportPriorParams prior;         // optimizer = kPaths, sparse
+  SupportPriorParams prior;         // applies with optimizer = kPaths, sparse
 };
 
 // The paper's model (Sarkis & Diepold 2008): AD cost, one DP per row, no
@@ -159,6 +160,10 @@ TRISTEREO_API int max_cost_q4(const CostParams& cost);
 
 // Throws tristereo::Error(kInvalidArgument) naming the first bad field.
 TRISTEREO_API void validate_params(const StereoParams& params);
+
+// True when the support prior runs: lambda > 0, the path optimizer (its
+// summed costs) and sparse mode (the mesh's segments).
+TRISTEREO_API bool support_prior_applies(const StereoParams& params);
 
 TRISTEREO_API const char* to_string(Weights w);
 TRISTEREO_API const char* to_string(GapPolicy g);

@@ -178,6 +178,16 @@ def test_keywords_of_another_model_are_refused(keyword):
     assert p.params[keyword] == value
 
 
+def test_support_prior_keywords_are_refused_in_dense_mode():
+    # On by default, the prior works on the mesh: dense frames go without it,
+    # and its keywords have no effect there; turning it off is always taken.
+    for keyword, value in (("support_prior", 300), ("support_trunc", 4), ("plane_min", 6)):
+        with pytest.raises(ValueError, match=rf"^{keyword} has no effect with dense=True: the support prior works"):
+            tristereo.Pipeline(64, 48, ndisp=16, dense=True, **{keyword: value})
+    assert tristereo.Pipeline(64, 48, ndisp=16, dense=True, support_prior=0).params["support_prior"] == 0
+    assert tristereo.Pipeline(64, 48, ndisp=16).params["support_prior"] == 300
+
+
 def test_paper_mode_and_keywords_change_the_output_like_the_cli(tmp_path):
     cli("synth", tmp_path, "--width", 160, "--height", 120, "--ndisp", 24, "--seed", 5)
     left, right = (tristereo.read_image(tmp_path / n) for n in ("left.png", "right.png"))
@@ -198,9 +208,11 @@ def test_paper_mode_and_keywords_change_the_output_like_the_cli(tmp_path):
         s = json.loads(stats.read_text())
         assert s["vertices"] == out.vertices.shape[0], kw
         # The rejection counts are the command line's.
-        assert (out.samples, out.uniqueness_rejected, out.lr_rejected, out.filled) == (
+        assert (out.samples, out.uniqueness_rejected, out.lr_rejected, out.filled, out.prior_redecided,
+                out.prior_recovered, out.prior_lost) == (
             s["validity"]["samples"], s["validity"]["uniqueness_rejected"], s["validity"]["lr_rejected"],
-            s["validity"]["filled"]), kw
+            s["validity"]["filled"], s["validity"]["prior_redecided"], s["validity"]["prior_recovered"],
+            s["validity"]["prior_lost"]), kw
         cpp = read_pfm(tmp_path / "d.pfm")
         valid = out.disp_q4 != tristereo.INVALID_DISP_Q4
         assert np.array_equal(np.isinf(cpp), ~valid) and np.array_equal(cpp[valid], out.disparity[valid]), kw
@@ -209,7 +221,10 @@ def test_paper_mode_and_keywords_change_the_output_like_the_cli(tmp_path):
     # The default model's checks reject some samples on this scene, and fill them.
     out = tristereo.Pipeline(160, 120, ndisp=24).process(left, right)
     assert out.uniqueness_rejected > 0 and out.lr_rejected > 0
-    assert out.filled == out.uniqueness_rejected + out.lr_rejected
+    # The support prior chooses some again: it gives some invalid samples a
+    # disparity and may take one from a valid sample; the fill gives the rest one.
+    assert out.prior_redecided > 0
+    assert out.filled == out.uniqueness_rejected + out.lr_rejected - out.prior_recovered + out.prior_lost
     assert tristereo.Pipeline(160, 120, ndisp=24, fill="none").process(left, right).filled == 0
 
 

@@ -35,6 +35,9 @@ class Output:
     samples: int
     uniqueness_rejected: int
     lr_rejected: int
+    prior_redecided: int
+    prior_recovered: int
+    prior_lost: int
     filled: int
     min_confidence_rejected: int
     digest: str

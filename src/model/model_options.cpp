@@ -360,6 +360,17 @@ StereoParams model_params(const std::vector<GivenOption>& given, OptionSpelling 
       bad(option_shown(o, spelling) + " has no effect with " + shown_value(need, need.get(p), spelling) +
           ": it is used only with " + when);
     }
+    // The support prior works on the mesh: dense frames go without it (the
+    // table's one condition per option is the optimizer or the prior's own).
+    const ModelOption& dense = *find_model_option("dense");
+    if (p.dense)
+      for (const GivenOption& g : given) {
+        const std::string fields = g.option->fields ? g.option->fields : "";
+        if (fields.rfind("prior.", 0) != 0 || (std::string(g.option->name) == "support-prior" && p.prior.lambda_q4 == 0))
+          continue;
+        bad(option_shown(*g.option, spelling) + " has no effect with " + shown_value(dense, "1", spelling) +
+            ": the support prior works on the mesh (sparse mode)");
+      }
   }
   try {
     validate_params(p);

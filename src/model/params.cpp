@@ -96,10 +96,10 @@ void validate_params(const StereoParams& p) {
   check_range("prior.seg_coarse", p.prior.seg_coarse, 0, 255);
   check_range("prior.plane_min", p.prior.plane_min, 3, 65535);
   check_range("prior.plane_tol_q4", p.prior.plane_tol_q4, 1, 1024);
-  if (p.prior.lambda_q4 > 0 && (p.optimizer != Optimizer::kPaths || p.dense))
-    bad("prior.lambda_q4 = " + std::to_string(p.prior.lambda_q4) +
-        ": the support prior needs the path optimizer's summed costs and the mesh (sparse mode); "
-        "set it to 0 with --optimizer dp or --dense");
+}
+
+bool support_prior_applies(const StereoParams& p) {
+  return p.prior.lambda_q4 > 0 && p.optimizer == Optimizer::kPaths && !p.dense;
 }
 
 int max_cost_q4(const CostParams& c) {
@@ -127,6 +127,7 @@ StereoParams paper_params() {
   p.validity.lr_max_diff_q4 = -1;
   p.validity.uniqueness_pct = 0;
   p.validity.fill = FillMode::kBackground;
+  p.prior.lambda_q4 = 0;
   return p;
 }
 

@@ -50,7 +50,7 @@ struct Pipeline::Impl {
   MatchContext match;
   PathMatcher paths;
   SampleFill fill;
-  SupportPrior prior;  // params.prior.lambda_q4 > 0 only
+  SupportPrior prior;  // support_prior_applies(params) only
   ThreadPool pool;
   struct Worker {
     RowMatcher matcher;
@@ -203,7 +203,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px, threads);
-  if (sp.prior.lambda_q4 > 0) m.prior.configure(max_px, 2 * max_px, sp.num_disp, threads);
+  if (support_prior_applies(sp)) m.prior.configure(max_px, 2 * max_px, sp.num_disp, threads);
   else m.prior.release();
   const bool lr = sp.validity.lr_max_diff_q4 >= 0 && sp.validity.lr_source == LrSource::kMirroredPass;
   const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;
@@ -569,12 +569,14 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   validity.lr_rejected = rejected.left_right;
   // Support prior (docs/model.md section 6b): weak samples chosen again.
   const std::int64_t t_prior = monotonic_ns();
-  const bool prior_on = params.prior.lambda_q4 > 0 && !params.dense;
+  const bool prior_on = support_prior_applies(params);
   if (prior_on) {
     const SupportPriorCounts pc =
         m.prior.apply(params, samples, m.paths, lg, sample_disp, sample_conf, *m.kernels, &m.pool, m.trace);
     validity.prior_redecided = pc.redecided;
     validity.prior_rejected = pc.rejected;
+    validity.prior_recovered = pc.recovered;
+    validity.prior_lost = pc.lost;
   }
   const std::int64_t t_matched = monotonic_ns();
   m.mark(PipelineStage::kMatching, false);

@@ -51,11 +51,11 @@ std::vector<std::int16_t> match_paths(const ImageU8& left_gray, const ImageU8& r
                                       std::vector<std::vector<std::int64_t>>* summed = nullptr);
 
 // Support prior (docs/model.md section 6b) on the matcher's disparities and
-// confidences, from the summed path costs `summed` (match_paths). Returns the
-// samples re-decided; *rejected counts those its uniqueness test made invalid.
-int support_prior(const ImageU8& left_gray, const Samples& samples, const StereoParams& params,
-                  const std::vector<std::vector<std::int64_t>>& summed, std::vector<std::int16_t>& disp_q4,
-                  std::vector<std::uint8_t>& confidence, int* rejected);
+// confidences, from the summed path costs `summed` (match_paths). Sets the
+// validity's prior_* counts.
+void support_prior(const ImageU8& left_gray, const Samples& samples, const StereoParams& params,
+                   const std::vector<std::vector<std::int64_t>>& summed, std::vector<std::int16_t>& disp_q4,
+                   std::vector<std::uint8_t>& confidence, SampleValidity* validity);
 
 // Background fill (docs/model.md section 6); returns the number of samples
 // filled. confidence (optional): a filled sample's confidence from its round

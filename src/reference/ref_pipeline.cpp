@@ -74,16 +74,12 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
   const reference::Samples samples = reference::make_samples(params.dense ? nullptr : &mesh, w, h);
   std::vector<std::uint8_t> conf;
   std::vector<std::vector<std::int64_t>> summed;
-  const bool prior = params.prior.lambda_q4 > 0;
+  const bool prior = support_prior_applies(params);
   std::vector<std::int16_t> disp = match_view(lg, rg, samples, params, &out.validity.uniqueness_rejected,
                                               &out.validity.lr_rejected, &conf, prior ? &summed : nullptr);
   out.validity.samples = static_cast<std::int32_t>(disp.size());
   // Section 6b: the support prior.
-  if (prior) {
-    int rejected = 0;
-    out.validity.prior_redecided = reference::support_prior(lg, samples, params, summed, disp, conf, &rejected);
-    out.validity.prior_rejected = rejected;
-  }
+  if (prior) reference::support_prior(lg, samples, params, summed, disp, conf, &out.validity);
 
   // Left-right check by a second pass: the right view is the left view of the mirrored pair.
   if (params.validity.lr_max_diff_q4 >= 0 && params.validity.lr_source == LrSource::kMirroredPass) {

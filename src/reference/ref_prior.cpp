@@ -76,9 +76,9 @@ bool fit(const std::vector<std::array<std::int64_t, 3>>& pts, Plane* out) {
 
 }  // namespace
 
-int support_prior(const ImageU8& lg, const Samples& samples, const StereoParams& params,
-                  const std::vector<std::vector<std::int64_t>>& summed, std::vector<std::int16_t>& disp,
-                  std::vector<std::uint8_t>& conf, int* rejected) {
+void support_prior(const ImageU8& lg, const Samples& samples, const StereoParams& params,
+                   const std::vector<std::vector<std::int64_t>>& summed, std::vector<std::int16_t>& disp,
+                   std::vector<std::uint8_t>& conf, SampleValidity* v) {
   const SupportPriorParams& pp = params.prior;
   const int n = static_cast<int>(samples.points.size());
   const int nd = params.num_disp, dmin = params.d_min;
@@ -150,11 +150,11 @@ int support_prior(const ImageU8& lg, const Samples& samples, const StereoParams&
     }
   }
   // 3. Pass 2.
-  int redecided = 0;
-  *rejected = 0;
+  v->prior_redecided = v->prior_rejected = v->prior_recovered = v->prior_lost = 0;
   for (int i = 0; i < n; ++i) {
     if (support[static_cast<std::size_t>(i)] || pi[static_cast<std::size_t>(i)] == kNone) continue;
-    ++redecided;
+    ++v->prior_redecided;
+    const bool was_valid = disp[static_cast<std::size_t>(i)] != kInvalidDispQ4;
     const std::int64_t kp = std::clamp<std::int64_t>(fdiv(pi[static_cast<std::size_t>(i)] + 8, 16) - dmin, 0, nd - 1);
     std::vector<std::int64_t> s2(static_cast<std::size_t>(nd));
     for (int k = 0; k < nd; ++k)
@@ -167,20 +167,25 @@ int support_prior(const ImageU8& lg, const Samples& samples, const StereoParams&
     const std::int64_t best = s2[static_cast<std::size_t>(k)];
     if (pp.uniqueness_pct > 0 && rival >= 0 && 100 * rival <= (100 + pp.uniqueness_pct) * best) {
       disp[static_cast<std::size_t>(i)] = kInvalidDispQ4;
-      ++*rejected;
+      ++v->prior_rejected;
+      if (was_valid) ++v->prior_lost;
       continue;
     }
-    int off = 0;
-    if (params.dp.subpixel && k > 0 && k < nd - 1)
+    if (!was_valid) ++v->prior_recovered;
+    // The plane's value within half a pixel of the winner, else the fit through S'.
+    const std::int64_t whole = 16 * (dmin + k);
+    std::int64_t off = 0;
+    if (params.dp.subpixel && std::abs(pi[static_cast<std::size_t>(i)] - whole) <= 8)
+      off = pi[static_cast<std::size_t>(i)] - whole;
+    else if (params.dp.subpixel && k > 0 && k < nd - 1)
       off = subpixel_offset_q4(params.dp, static_cast<int>(s2[static_cast<std::size_t>(k - 1)]), static_cast<int>(best),
                                static_cast<int>(s2[static_cast<std::size_t>(k + 1)]));
-    disp[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(16 * (dmin + k) + off);
+    disp[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(whole + off);
     if (rival < 0) rival = 65535;
     // Measured confidence of S' (an integer quotient, taken exactly), below the support.
     const std::int64_t c = rival == 0 ? 128 : 128 + (127 * (rival - best)) / rival;
     conf[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(std::min<std::int64_t>(std::max(128, pp.support_conf - 1), c));
   }
-  return redecided;
 }
 
 }  // namespace reference

@@ -484,22 +484,33 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
         for (int q = 0; q < d; ++q)
           if (q < k - 1 || q > k + 1) rival = std::min(rival, exact(q));
       }
+      const bool was_valid = disp[i] != kInvalidDispQ4;
       if (pp.uniqueness_pct > 0 && any_rival &&
           std::uint64_t{rival} * 100u <= std::uint64_t{best} * static_cast<std::uint64_t>(100 + pp.uniqueness_pct)) {
         disp[i] = kInvalidDispQ4;
         ++wc.rejected;
+        wc.lost += was_valid ? 1 : 0;
         continue;
       }
+      wc.recovered += was_valid ? 0 : 1;
+      // The sub-pixel value: the plane's, when it lies within half a pixel
+      // of the new winner (the penalty's kink at kp would pull a fit through
+      // S' towards the whole disparity), else the fit through S'.
+      const int whole = kDispOne * (dmin + k);
       int off = 0;
-      if (params.dp.subpixel && k > 0 && k < d - 1)
+      if (params.dp.subpixel && std::abs(prior[i] - whole) <= kDispOne / 2)
+        off = prior[i] - whole;
+      else if (params.dp.subpixel && k > 0 && k < d - 1)
         off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(exact(k - 1)), static_cast<int>(best),
                                  static_cast<int>(exact(k + 1)));
-      disp[i] = static_cast<std::int16_t>(kDispOne * (dmin + k) + off);
+      disp[i] = static_cast<std::int16_t>(whole + off);
       conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(best, rival)));
     }
   });
   for (const SupportPriorCounts& c : worker_counts_) {
     counts.support += c.support;
+    counts.recovered += c.recovered;
+    counts.lost += c.lost;
     counts.redecided += c.redecided;
     counts.rejected += c.rejected;
     counts.planes += c.planes;

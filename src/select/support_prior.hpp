@@ -39,6 +39,8 @@ struct SupportPriorCounts {
   int redecided = 0;   // non-support samples whose winner was chosen again
   int rejected = 0;    // of those, rejected by the uniqueness test on S' (invalid)
   int planes = 0;      // segments given a plane
+  int recovered = 0;   // of the re-decided, invalid before and valid after
+  int lost = 0;        // of the re-decided, valid before and invalid after
 };
 
 class SupportPrior {
