@@ -146,6 +146,12 @@ void bench_census_pixels(benchmark::State& state, const Pair* pair, int ndisp, K
   state.counters["census_pixels_ms"] = total / static_cast<double>(state.iterations()) / 1e6;
 }
 
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+}
+
 // Frames on a 1-thread and an N-thread pipeline in alternation, each timed on
 // its own: the speed-up is the median over the pairs of t1 / tN. On a shared
 // machine whose speed drifts over seconds, the two frames of a pair meet the
@@ -203,11 +209,6 @@ void bench_frame_pair(benchmark::State& state, const Pair* pair, int ndisp, bool
     ceiling.push_back(r(std::int64_t{threads} * a.total_ns, together_ns));
     of_ceiling.push_back(r(together_ns, std::int64_t{threads} * b.total_ns));
   }
-  const auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-  };
   state.counters["t1_ms"] = median(ms_one);
   state.counters["tN_ms"] = median(ms_many);
   state.counters["speedup"] = median(ratio);
@@ -247,11 +248,6 @@ void bench_prior_pair(benchmark::State& state, const Pair* pair, int ndisp, Kern
     ratio.push_back(a.total_ns > 0 ? static_cast<double>(b.total_ns) / static_cast<double>(a.total_ns) : 0.0);
     prior_ms.push_back(static_cast<double>(b.prior_ns) / 1e6);
   }
-  const auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-  };
   state.counters["off_ms"] = median(ms_off);
   state.counters["on_ms"] = median(ms_on);
   state.counters["ratio"] = median(ratio);

@@ -80,8 +80,21 @@ StereoParams draw_params(FuzzInput& in) {
   p.validity.uniqueness_pct = in.flag() ? 0 : in.int_in(1, 30);
   p.validity.fill = in.flag() ? FillMode::kNone : FillMode::kBackground;
   p.dp.subpixel_fit = in.flag() ? SubpixelFit::kEquiangular : SubpixelFit::kParabola;
+  // The support prior (docs/model.md 6b), from fields drawn above rather than
+  // bytes of its own, so that the corpus's inputs keep every other field: the
+  // adaptive weights' gammas and the truncation (both wide draws, used by
+  // few models).
+  const int g = p.cost.asw_gamma_proximity, c = p.cost.asw_gamma_color;
+  p.prior.lambda_q4 = g % 4 == 0 ? 0 : 1 + g % (g % 3 == 0 ? kMaxPathPenaltyQ4 : 2000);
+  p.prior.trunc = 1 + c % 32;
+  p.prior.support_conf = 128 + (c * 7) % 128;
+  p.prior.uniqueness_pct = p.cost.truncation % 51;
+  p.prior.seg_fine = p.tritree.psnr_deci_db % 5;
+  p.prior.seg_coarse = p.prior.seg_fine + (g / 5) % 9;
+  p.prior.plane_min = 3 + (g / 7) % 30;
+  p.prior.plane_tol_q4 = 1 + (g / 3) % 64;
   const bool above = in.flag();
-  switch (in.int_in(0, 53)) {  // 19 of 54: about one input in three
+  switch (in.int_in(0, 53)) {  // 24 of 54: not quite one input in two
     case 1: p.num_disp = above ? kMaxNumDisp + 1 : 0; break;
     case 2: p.d_min = above ? kMaxDispSpan - p.num_disp + 1 : -(kMaxDispSpan - p.num_disp) - 1; break;
     case 3: p.tritree.psnr_deci_db = above ? kMaxPsnrDeciDb + 1 : kMinPsnrDeciDb - 1; break;
@@ -110,6 +123,11 @@ StereoParams draw_params(FuzzInput& in) {
       }
       break;
     case 19: p.dp.subpixel_fit = static_cast<SubpixelFit>(above ? 2 : -1); break;  // no such fit
+    case 20: p.prior.lambda_q4 = above ? kMaxPathPenaltyQ4 + 1 : -1; break;
+    case 21: p.prior.trunc = above ? 257 : 0; break;
+    case 22: p.prior.support_conf = above ? 256 : 127; break;
+    case 23: p.prior.plane_min = above ? 65536 : 2; break;
+    case 24: p.prior.plane_tol_q4 = above ? 1025 : 0; break;
     default: break;  // valid
   }
   return p;
@@ -161,7 +179,9 @@ std::string describe(const StereoParams& p, int w, int h, int c) {
          " optimizer=" + to_string(p.optimizer) + " paths=" + std::to_string(p.paths.directions) + " p1=" +
          std::to_string(p.paths.p1_q4) + " p2=" + std::to_string(p.paths.p2_q4) + " lr=" +
          std::to_string(p.validity.lr_max_diff_q4) + "/" + to_string(p.validity.lr_source) + " uniq=" +
-         std::to_string(p.validity.uniqueness_pct) + " fill=" + to_string(p.validity.fill);
+         std::to_string(p.validity.uniqueness_pct) + " fill=" + to_string(p.validity.fill) + " prior=" +
+         std::to_string(p.prior.lambda_q4) + "/" + std::to_string(p.prior.seg_fine) + "," +
+         std::to_string(p.prior.seg_coarse);
 }
 
 }  // namespace

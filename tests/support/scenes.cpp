@@ -126,6 +126,17 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   // From the threshold's digits rather than a draw of its own (as the minimum
   // area), so the draws of the callers (and the coverage they give) stay as they were.
   p.dp.subpixel_fit = (p.tritree.psnr_deci_db / 3) % 2 ? SubpixelFit::kEquiangular : SubpixelFit::kParabola;
+  // The support prior (docs/model.md 6b), likewise from values drawn above:
+  // off in a quarter of the cases, else any weight, levels and plane rules.
+  const int g = p.cost.asw_gamma_proximity, c = p.cost.asw_gamma_color;
+  p.prior.lambda_q4 = g % 4 == 0 ? 0 : 1 + (g * 37) % 2000;
+  p.prior.trunc = 1 + c % 16;
+  p.prior.support_conf = 128 + (c * 7) % 128;
+  p.prior.uniqueness_pct = g % 41;
+  p.prior.seg_fine = p.tritree.psnr_deci_db % 4;
+  p.prior.seg_coarse = (g / 5) % 12;
+  p.prior.plane_min = 3 + (g / 7) % 20;
+  p.prior.plane_tol_q4 = 1 + (g / 3) % 48;
   return p;
 }
 
