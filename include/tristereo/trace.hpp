@@ -56,8 +56,8 @@ enum class TraceKind : std::uint8_t {
   kPriorSegments,    // the prior's segments a .. b - 1 (roots) fitted; c = the level's threshold
   kPriorSamples,     // the prior's covered samples a .. b - 1 (in list order) decided again
   kPriorSetup,       // the prior's samples a .. b - 1: intensity and support
-  kPriorEdges,       // the prior's chunks a .. b - 1 of triangles: their mesh edges listed
-  kPriorJoins,       // the prior's chunks a .. b - 1 of edges joined; c = the level's threshold
+  kPriorJoins,       // the prior's chunks a .. b - 1 of triangles (the last: the frame's border)
+                     // whose mesh edges were joined; c = the level's threshold
   kPriorRoots,       // the prior's samples a .. b - 1 pointed at their segment's root; c = threshold
   kCount
 };

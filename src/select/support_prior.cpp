@@ -18,7 +18,7 @@ namespace tristereo {
 namespace {
 constexpr std::uint8_t kSupport = 1, kCovered = 2;
 // Work items on the pool (a few tens of microseconds each on a KITTI frame):
-// samples (set-up, roots), triangles (edges), segment roots (planes) and
+// samples (set-up, roots), triangles (joins), segment roots (planes) and
 // samples decided again.
 constexpr int kSamplesPerChunk = 8192;
 constexpr int kTrianglesPerChunk = 4096;
@@ -37,16 +37,9 @@ void store(std::int32_t* p, std::int32_t v) { __atomic_store_n(p, v, __ATOMIC_RE
 
 void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
   const auto n = static_cast<std::size_t>(max_samples);
-  // Each chunk of triangles has 3 slots a triangle (the last chunk's run
-  // past the triangles), then the border's pairs: at most 2 (W + H).
-  const int tri_chunks = (max_triangles + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
-  edge_cap_ = 3 * tri_chunks * kTrianglesPerChunk + 4 * kMaxImageSide;
-  edges_ = large_array<Edge>(static_cast<std::size_t>(edge_cap_));
-  edge_count_.assign(static_cast<std::size_t>(tri_chunks) + 1, 0);
   fit_ = large_array<FitPoint>(n);
-  prior_ = large_array<std::int32_t>(n);
+  prior_ = large_array<std::int16_t>(n);
   cand_ = large_array<std::int32_t>(n);
-  pending_ = large_array<std::int32_t>(n);
   parent_ = large_array<std::int32_t>(n);
   count_ = large_array<std::int32_t>(n + 1);
   order_ = large_array<std::int32_t>(n);
@@ -62,21 +55,19 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   big_census_.assign(static_cast<std::size_t>(workers), Census{});
   big_sums_.assign(static_cast<std::size_t>(workers), PlaneSums{});
   big_residuals_.assign(static_cast<std::size_t>(workers), Residuals{});
-  bytes_ = (6 * n + 1) * sizeof(std::int32_t) + static_cast<std::size_t>(edge_cap_) * sizeof(Edge) + n * sizeof(FitPoint) + 2 * n +
+  bytes_ = (4 * n + 1) * sizeof(std::int32_t) + n * (sizeof(FitPoint) + sizeof(std::int16_t)) + 2 * n +
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
            static_cast<std::size_t>(workers) * (sizeof(SupportPriorCounts) + sizeof(Census) + sizeof(PlaneSums) +
                                                 sizeof(Residuals)) +
-           (edge_count_.size() + big_.size() + big_points_.size()) * sizeof(int);
+           (big_.size() + big_points_.size()) * sizeof(int);
 }
 
 void SupportPrior::release() {
-  for (LargeArray<std::int32_t>* a : {&prior_, &cand_, &pending_, &parent_, &count_, &order_})
+  prior_ = LargeArray<std::int16_t>{};
+  for (LargeArray<std::int32_t>* a : {&cand_, &parent_, &count_, &order_})
     *a = LargeArray<std::int32_t>{};
   inten_ = LargeArray<std::uint8_t>{};
   flags_ = LargeArray<std::uint8_t>{};
-  edges_ = LargeArray<Edge>{};
-  edge_cap_ = n_edge_chunks_ = 0;
-  edge_count_ = std::vector<int>{};
   fit_ = LargeArray<FitPoint>{};
   s2_ = std::vector<std::uint16_t>{};
   penalty_ = std::vector<std::uint16_t>{};
@@ -134,21 +125,57 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   // Segments: the components of the mesh edges with |dI| <= tau; each one's
   // root is its smallest sample. joined >= 0: parent holds the segments of
   // that smaller threshold (a finer partition), so only the edges with
-  // joined < |dI| <= tau remain. Edges in their triangle chunks' slots (the
-  // last chunk: the border's), then every sample points at its root.
+  // joined < |dI| <= tau remain; then every sample points at its root.
   if (joined < 0)
     for_chunks(pool, nullptr, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
       for (int i = i0; i < i1; ++i) parent[i] = i;
     });
-  const Edge* edges = edges_.get();
-  const bool shared = pool != nullptr && pool->size() > 1 && n_edge_chunks_ > 1;
-  for_chunks(pool, trace, TraceKind::kPriorJoins, tau, n_edge_chunks_, 1, [&](int, int c0, int c1) {
+  // The mesh edges with joined < |dI| <= tau, each once: the mesh is
+  // conforming and its triangles turn one way, so an inner edge comes as
+  // (a, b) from one triangle and (b, a) from the other, and (a, b) with
+  // a < b is taken. A border edge has one triangle, and the frame's sides are
+  // cut exactly at their samples: the pairs of samples next to each other
+  // along a side are joined in a last chunk (twice changes nothing in the
+  // union-find). The edges are read from the triangles at each level rather
+  // than listed once: a list of every edge would be the largest buffer here.
+  const Mesh& mesh = *samples.mesh;
+  const int n_tri = static_cast<int>(mesh.triangles.size());
+  const int tri_chunks = (n_tri + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
+  const bool shared = pool != nullptr && pool->size() > 1 && tri_chunks > 0;
+  const std::uint8_t* inten = inten_.get();
+  const auto join = [&, inten, tau, joined](int a, int b) {
+    const int di = std::abs(inten[a] - inten[b]);
+    if (di <= tau && di > joined) unite(a, b, shared);
+  };
+  for_chunks(pool, trace, TraceKind::kPriorJoins, tau, tri_chunks + 1, 1, [&](int, int c0, int c1) {
+    const Triangle* tris = mesh.triangles.data();
     for (int c = c0; c < c1; ++c) {
-      const Edge* e = edges + 3 * static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
-      const int m = edge_count_[static_cast<std::size_t>(c)], hi = tau, lo = joined;
-      for (int j = 0; j < m; ++j) {
-        const Edge ej = e[j];
-        if (ej.di <= hi && ej.di > lo) unite(ej.a, ej.b, shared);
+      if (c == tri_chunks) {  // the border
+        const int w = samples.width, h = samples.height;
+        for (int y : {0, h - 1})  // along the top and bottom rows
+          for (int i = samples.row_begin(y); i + 1 < samples.row_begin(y + 1); ++i) join(i, i + 1);
+        int prev_left = -1, prev_right = -1;  // along the left and right columns
+        for (int y = 0; y < h; ++y) {
+          const int first = samples.row_begin(y), last = samples.row_begin(y + 1) - 1;
+          if (last < first) continue;
+          if (samples.x_of(first) == 0) {
+            if (prev_left >= 0) join(prev_left, first);
+            prev_left = first;
+          }
+          if (samples.x_of(last) == w - 1) {
+            if (prev_right >= 0) join(prev_right, last);
+            prev_right = last;
+          }
+        }
+        continue;
+      }
+      const int t1 = std::min(n_tri, (c + 1) * kTrianglesPerChunk);
+      for (int ti = c * kTrianglesPerChunk; ti < t1; ++ti) {
+        const Triangle t = tris[ti];
+        for (int e = 0; e < 3; ++e) {
+          const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
+          if (a < b) join(a, b);
+        }
       }
     }
   });
@@ -175,7 +202,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   const std::int64_t tol = pp.plane_tol_q4;
   const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
   FitPoint* fit_points = fit_.get();
-  std::int32_t* prior = prior_.get();
+  std::int16_t* prior = prior_.get();
   // The steps of a segment's plane over members [g0, g1) of order, each
   // writing only its own members' values and slots of fit_ (the support
   // points of members [g0, g1) go to fit_[g0 ..]).
@@ -191,7 +218,9 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     int np = 0;
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
-      if (flags[i] & kSupport) pts[np++] = FitPoint{samples.x_of(i), samples.y_of(i), disp[i]};
+      if (flags[i] & kSupport)
+        pts[np++] = FitPoint{static_cast<std::int16_t>(samples.x_of(i)), static_cast<std::int16_t>(samples.y_of(i)),
+                             disp[i]};
     }
     return np;
   };
@@ -236,7 +265,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       const int i = order[j];
       if (flags[i] & (kSupport | kCovered)) continue;
       flags[i] |= kCovered;
-      prior[i] = std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi);
+      prior[i] = static_cast<std::int16_t>(std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi));
     }
   };
   // Segment r on one worker: true when it gets a plane.
@@ -353,8 +382,8 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   n_ = n;
   std::uint8_t* inten = inten_.get();
   std::uint8_t* flags = flags_.get();
-  std::int32_t* prior = prior_.get();
-  std::int32_t* pending = pending_.get();
+  const std::int16_t* prior = prior_.get();
+  std::int32_t* pending = cand_.get();  // the list of samples decided again (the segments are done)
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
   // (Locals in the loops: their byte stores may alias anything the lambda
   // captured, which it would load again for every sample.)
@@ -376,62 +405,6 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     }
     worker_counts_[static_cast<std::size_t>(w)].support += support;
   });
-  // The mesh edges the segment levels use (|dI| <= the larger threshold),
-  // each once. The mesh is conforming and its triangles turn one way, so an
-  // inner edge comes as (a, b) from one triangle and (b, a) from the other:
-  // (a, b) with a < b is kept. A border edge has one triangle, and the
-  // frame's sides are cut exactly at their samples: the pairs of samples
-  // next to each other along a side are added again (twice changes nothing
-  // in the union-find). Each chunk of triangles writes its edges to its own
-  // slots (3 per triangle), the border's go last; each edge is written and
-  // counted when kept (a branch here mispredicts on a third of the edges).
-  const int most = std::max(pp.seg_fine, pp.seg_coarse);
-  const int n_tri = static_cast<int>(mesh.triangles.size());
-  const int tri_chunks = (n_tri + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
-  n_edge_chunks_ = most > 0 ? tri_chunks + 1 : 0;
-  Edge* edges = edges_.get();
-  const auto add = [most, inten](Edge* out, int& m, int a, int b, int keep) {
-    const int di = std::abs(inten[a] - inten[b]);
-    out[m] = Edge{a, b, di};  // m < the chunk's slots: fewer are written
-    m += keep & (di <= most);
-  };
-  if (most > 0) {
-    for_chunks(pool, trace, TraceKind::kPriorEdges, 0, tri_chunks, 1, [&](int, int c0, int c1) {
-      const Triangle* tris = mesh.triangles.data();
-      for (int c = c0; c < c1; ++c) {
-        Edge* out = edges + 3 * static_cast<std::ptrdiff_t>(c) * kTrianglesPerChunk;
-        int m = 0;
-        const int t1 = std::min(n_tri, (c + 1) * kTrianglesPerChunk);
-        for (int ti = c * kTrianglesPerChunk; ti < t1; ++ti) {
-          const Triangle t = tris[ti];
-          for (int e = 0; e < 3; ++e) {
-            const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-            add(out, m, a, b, a < b);
-          }
-        }
-        edge_count_[static_cast<std::size_t>(c)] = m;
-      }
-    });
-    Edge* out = edges + 3 * static_cast<std::ptrdiff_t>(tri_chunks) * kTrianglesPerChunk;
-    int m = 0;
-    const int h = left.height;
-    for (int y : {0, h - 1})  // along the top and bottom rows
-      for (int i = samples.row_begin(y); i + 1 < samples.row_begin(y + 1); ++i) add(out, m, i, i + 1, 1);
-    int prev_left = -1, prev_right = -1;  // along the left and right columns
-    for (int y = 0; y < h; ++y) {
-      const int first = samples.row_begin(y), last = samples.row_begin(y + 1) - 1;
-      if (last < first) continue;
-      if (samples.x_of(first) == 0) {
-        if (prev_left >= 0) add(out, m, prev_left, first, 1);
-        prev_left = first;
-      }
-      if (samples.x_of(last) == left.width - 1) {
-        if (prev_right >= 0) add(out, m, prev_right, last, 1);
-        prev_right = last;
-      }
-    }
-    edge_count_[static_cast<std::size_t>(tri_chunks)] = m;
-  }
   // Planes: the fine level, then the coarse one for samples still uncovered.
   if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool, trace);
   if (pp.seg_coarse > 0)

@@ -69,12 +69,11 @@ class SupportPrior {
   // call recorded in the trace as `kind` (a = j0, b = j1, c = tag).
   template <class Body>
   void for_chunks(ThreadPool* pool, FrameTrace* trace, TraceKind kind, int tag, int n, int chunk, Body body);
-  struct Edge {
-    std::int32_t a, b, di;  // samples a and b, |I(a) - I(b)|
-  };
+
   struct FitPoint {
-    std::int32_t x, y, d;  // a support sample's pixel and disparity (Q4)
+    std::int16_t x, y, d;  // a support sample's pixel (< 4096) and disparity (Q4)
   };
+
   struct Census {  // of a segment's members
     int support = 0;
     bool other = false;  // a member neither support nor covered
@@ -84,12 +83,9 @@ class SupportPrior {
   };
   std::size_t bytes_ = 0;
   int n_ = 0;
-  int edge_cap_ = 0;
-  int n_edge_chunks_ = 0;           // chunks of triangles, then the border's
-  std::vector<int> edge_count_;     // edges kept per chunk
-  LargeArray<std::int32_t> prior_, cand_, pending_, parent_, count_, order_;
+  LargeArray<std::int16_t> prior_;  // Q4, within the disparity range
+  LargeArray<std::int32_t> cand_, parent_, count_, order_;
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
-  LargeArray<Edge> edges_;                  // the segment levels' mesh edges, each once
   LargeArray<FitPoint> fit_;                // a segment's support points
   std::vector<std::uint16_t> s2_;                    // S' of one sample (saturated), per worker
   std::vector<std::uint16_t> penalty_;               // lambda min(|j|, T) saturated, j = 1 - D .. D - 1

@@ -37,7 +37,6 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kPriorSegments: return "prior segments";
     case TraceKind::kPriorSamples: return "prior samples";
     case TraceKind::kPriorSetup: return "prior set-up";
-    case TraceKind::kPriorEdges: return "prior edges";
     case TraceKind::kPriorJoins: return "prior joins";
     case TraceKind::kPriorRoots: return "prior roots";
     case TraceKind::kCount: break;
