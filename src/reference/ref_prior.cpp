@@ -181,9 +181,15 @@ void support_prior(const ImageU8& lg, const Samples& samples, const StereoParams
       off = subpixel_offset_q4(params.dp, static_cast<int>(s2[static_cast<std::size_t>(k - 1)]), static_cast<int>(best),
                                static_cast<int>(s2[static_cast<std::size_t>(k + 1)]));
     disp[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(whole + off);
-    if (rival < 0) rival = 65535;
-    // Measured confidence of S' (an integer quotient, taken exactly), below the support.
-    const std::int64_t c = rival == 0 ? 128 : 128 + (127 * (rival - best)) / rival;
+    // Confidence from S (the data): at k', against S's smallest value two or
+    // more steps away (65535 when none); the lowest measured one when that is
+    // not above S(k'); below the support.
+    const auto& sum = summed[static_cast<std::size_t>(i)];
+    std::int64_t data_rival = 65535;
+    for (int j = 0; j < nd; ++j)
+      if (std::abs(j - k) > 1) data_rival = std::min(data_rival, sum[static_cast<std::size_t>(j)]);
+    const std::int64_t b0 = sum[static_cast<std::size_t>(k)];
+    const std::int64_t c = data_rival <= b0 ? 128 : 128 + (127 * (data_rival - b0)) / data_rival;
     conf[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(std::min<std::int64_t>(std::max(128, pp.support_conf - 1), c));
   }
 }

@@ -8,6 +8,7 @@
 #include "platform/thread_pool.hpp"
 #include "src/dp/subpixel.hpp"
 #include "src/kernels/kernel_set.hpp"
+#include "src/kernels/kernels_scalar.hpp"
 #include "src/select/confidence.hpp"
 #include "src/select/plane_fit.hpp"
 #include "tristereo/fixed_point.hpp"
@@ -477,7 +478,18 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
         off = subpixel_offset_q4(params.dp.subpixel_fit, static_cast<int>(exact(k - 1)), static_cast<int>(best),
                                  static_cast<int>(exact(k + 1)));
       disp[i] = static_cast<std::int16_t>(whole + off);
-      conf[i] = static_cast<std::uint8_t>(std::min<int>(conf_cap, measured_confidence(best, rival)));
+      // The confidence is the data's, not the prior's: section 7's formula on
+      // S at the new winner, against S's smallest value two or more steps away
+      // (the lowest measured one when that is not above S(k')); below the
+      // support. (From S' the prior's penalty would widen every margin, and
+      // --min-confidence would keep samples the data do not single out.) S's
+      // own winner k0 gives it: k0 = k' has it as its rival, |k0 - k'| > 1 is
+      // below S(k'); only a neighbouring k0 needs the scan.
+      std::uint16_t data_rival = 0xFFFF;
+      const int k0 = ks.winner_u16(s, d, &data_rival, nullptr, nullptr);
+      if (k0 != k) data_rival = std::abs(k0 - k) > 1 ? s[k0] : min_outside_u16_scalar(s, d, k);
+      const int data_conf = data_rival > s[k] ? measured_confidence(s[k], data_rival) : kMinMeasuredConfidence;
+      conf[i] = static_cast<std::uint8_t>(std::min(conf_cap, data_conf));
     }
   });
   for (const SupportPriorCounts& c : worker_counts_) {
