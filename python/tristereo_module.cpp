@@ -408,6 +408,7 @@ void copy_mesh(const StereoOutput& o, const FrameTimings& t, Output& r) {
   r.timings_ms["tritree"] = t.tritree_ns / 1e6;
   r.timings_ms["cost_aggregation"] = t.cost_aggregation_ns / 1e6;
   r.timings_ms["dp"] = t.dp_ns / 1e6;
+  r.timings_ms["prior"] = t.prior_ns / 1e6;
   r.timings_ms["right_pass"] = t.right_pass_ns / 1e6;
   r.timings_ms["fill"] = t.fill_ns / 1e6;
   r.timings_ms["interpolation"] = t.interpolation_ns / 1e6;
