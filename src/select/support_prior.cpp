@@ -46,6 +46,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   order_ = large_array<std::int32_t>(n);
   inten_ = large_array<std::uint8_t>(n);
   flags_ = large_array<std::uint8_t>(n);
+  next_ = large_array<std::uint8_t>(static_cast<std::size_t>(max_triangles));
   max_disp_ = max_disp;
   workers = std::max(1, workers);
   s2_.assign(static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers), 0);
@@ -60,7 +61,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
            static_cast<std::size_t>(workers) * (sizeof(SupportPriorCounts) + sizeof(Census) + sizeof(PlaneSums) +
                                                 sizeof(Residuals)) +
-           (big_.size() + big_points_.size()) * sizeof(int);
+           static_cast<std::size_t>(max_triangles) + (big_.size() + big_points_.size()) * sizeof(int);
 }
 
 void SupportPrior::release() {
@@ -69,6 +70,7 @@ void SupportPrior::release() {
     *a = LargeArray<std::int32_t>{};
   inten_ = LargeArray<std::uint8_t>{};
   flags_ = LargeArray<std::uint8_t>{};
+  next_ = LargeArray<std::uint8_t>{};
   fit_ = LargeArray<FitPoint>{};
   s2_ = std::vector<std::uint16_t>{};
   penalty_ = std::vector<std::uint16_t>{};
@@ -103,22 +105,44 @@ int SupportPrior::find(int a) {
 // workers.
 void SupportPrior::unite(int a, int b, bool shared) {
   std::int32_t* parent = parent_.get();
+  if (!shared) {
+    // Alone: Rem's union with splicing, which walks both paths at once and
+    // hangs the one with the larger parent under the other's parent on the
+    // way (every parent stays at most its sample, so the roots are the same;
+    // half the joins' time of two finds and a link).
+    for (;;) {
+      const std::int32_t pa = parent[a], pb = parent[b];
+      if (pa == pb) return;
+      if (pa < pb) {
+        std::swap(a, b);
+        if (a == pb) {
+          parent[a] = pa;
+          return;
+        }
+        parent[a] = pa;
+        a = pb;
+      } else {
+        if (a == pa) {
+          parent[a] = pb;
+          return;
+        }
+        parent[a] = pb;
+        a = pa;
+      }
+    }
+  }
   for (;;) {
     a = find(a);
     b = find(b);
     if (a == b) return;
     if (a < b) std::swap(a, b);
-    if (!shared) {
-      parent[a] = b;
-      return;
-    }
     std::int32_t expected = a;
     if (__atomic_compare_exchange_n(parent + a, &expected, b, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) return;
   }
 }
 
 void SupportPrior::planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp,
-                          int tau, int joined, ThreadPool* pool, FrameTrace* trace) {
+                          int tau, int joined, int next, ThreadPool* pool, FrameTrace* trace) {
   const int n = n_;
   const SupportPriorParams& pp = params.prior;
   std::int32_t* parent = parent_.get();
@@ -144,6 +168,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   const int tri_chunks = (n_tri + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
   const bool shared = pool != nullptr && pool->size() > 1 && tri_chunks > 0;
   const std::uint8_t* inten = inten_.get();
+  std::uint8_t* edge_bits = next_.get();
   const auto join = [&, inten, tau, joined](int a, int b) {
     const int di = std::abs(inten[a] - inten[b]);
     if (di <= tau && di > joined) unite(a, b, shared);
@@ -170,13 +195,40 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
         }
         continue;
       }
-      const int t1 = std::min(n_tri, (c + 1) * kTrianglesPerChunk);
-      for (int ti = c * kTrianglesPerChunk; ti < t1; ++ti) {
-        const Triangle t = tris[ti];
-        for (int e = 0; e < 3; ++e) {
-          const int a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-          if (a < b) join(a, b);
+      const int t0 = c * kTrianglesPerChunk, t1 = std::min(n_tri, t0 + kTrianglesPerChunk);
+      if (joined >= 0) {  // the previous level marked this level's edges
+        for (int ti = t0; ti < t1; ++ti) {
+          const unsigned bits = edge_bits[ti];
+          if (bits == 0) continue;
+          const Triangle& t = tris[ti];
+          if (bits & 1u) unite(t[0], t[1], shared);
+          if (bits & 2u) unite(t[1], t[2], shared);
+          if (bits & 4u) unite(t[2], t[0], shared);
         }
+        continue;
+      }
+      // The edges' tests without a branch each (taken or not at random: a
+      // branch per edge mispredicted at one in three or so). With a next
+      // level, its edges (tau < |dI| <= next) are marked for it on the way.
+      const auto within = [](int a, int b, int ia, int ib, unsigned lo, unsigned span) {
+        return (a < b) & (static_cast<unsigned>(std::abs(ia - ib)) - lo < span);
+      };
+      const unsigned span = static_cast<unsigned>(tau + 1);
+      const unsigned next_lo = static_cast<unsigned>(tau + 1), next_span = static_cast<unsigned>(next - tau);
+      for (int ti = t0; ti < t1; ++ti) {
+        const Triangle& t = tris[ti];
+        const int a = t[0], b = t[1], cc = t[2];
+        const int ia = inten[a], ib = inten[b], ic = inten[cc];
+        if (next >= 0)
+          edge_bits[ti] = static_cast<std::uint8_t>(within(a, b, ia, ib, next_lo, next_span) |
+                                                    within(b, cc, ib, ic, next_lo, next_span) << 1 |
+                                                    within(cc, a, ic, ia, next_lo, next_span) << 2);
+        const bool ab = within(a, b, ia, ib, 0, span), bc = within(b, cc, ib, ic, 0, span),
+                   ca = within(cc, a, ic, ia, 0, span);
+        if (!(ab | bc | ca)) continue;
+        if (ab) unite(a, b, shared);
+        if (bc) unite(b, cc, shared);
+        if (ca) unite(cc, a, shared);
       }
     }
   });
@@ -197,9 +249,9 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     count[r + 1] += count[r];
   }
   // count[r] = the segment's first slot; cand_ holds the running slot.
-  std::int32_t* next = cand_.get();
-  std::copy_n(count, n, next);
-  for (int i = 0; i < n; ++i) order[next[parent[i]]++] = i;
+  std::int32_t* slot = cand_.get();
+  std::copy_n(count, n, slot);
+  for (int i = 0; i < n; ++i) order[slot[parent[i]]++] = i;
   const std::int64_t tol = pp.plane_tol_q4;
   const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
   FitPoint* fit_points = fit_.get();
@@ -407,10 +459,9 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     worker_counts_[static_cast<std::size_t>(w)].support += support;
   });
   // Planes: the fine level, then the coarse one for samples still uncovered.
-  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, pool, trace);
-  if (pp.seg_coarse > 0)
-    planes(params, samples, disp, pp.seg_coarse, pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine ? pp.seg_fine : -1,
-           pool, trace);
+  const bool nested = pp.seg_fine > 0 && pp.seg_coarse >= pp.seg_fine;  // the coarse level adds edges to the fine one's
+  if (pp.seg_fine > 0) planes(params, samples, disp, pp.seg_fine, -1, nested ? pp.seg_coarse : -1, pool, trace);
+  if (pp.seg_coarse > 0) planes(params, samples, disp, pp.seg_coarse, nested ? pp.seg_fine : -1, -1, pool, trace);
   // Pass 2 on the summed costs. S'(k) = S(k) + pen(k - kp), pen(j) =
   // lambda min(|j|, T): the table penalty_[j + D - 1] holds it saturated
   // to 16 bits, and the kernels take S' saturated too. S'(k') <= S(kp) <=

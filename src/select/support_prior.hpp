@@ -61,9 +61,11 @@ class SupportPrior {
   void unite(int a, int b, bool shared);
   // One segment level with threshold tau: planes for its well-supported
   // segments. joined >= 0: parent_ already holds the segments of threshold
-  // joined <= tau (the previous level's).
+  // joined <= tau (the previous level's), and the triangles' edge bits in
+  // next_ say which of their edges the level joins. next >= tau: a next
+  // level of threshold next follows; this one writes those bits for it.
   void planes(const StereoParams& params, const SampleLayout& samples, const std::int16_t* disp, int tau, int joined,
-              ThreadPool* pool, FrameTrace* trace);
+              int next, ThreadPool* pool, FrameTrace* trace);
   // body(worker, j0, j1) over [0, n) in chunks, on the pool's workers (up to
   // the configured count) from two chunks up, else chunk by chunk here; each
   // call recorded in the trace as `kind` (a = j0, b = j1, c = tag).
@@ -86,6 +88,7 @@ class SupportPrior {
   LargeArray<std::int16_t> prior_;  // Q4, within the disparity range
   LargeArray<std::int32_t> cand_, parent_, count_, order_;
   LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
+  LargeArray<std::uint8_t> next_;           // per triangle: bit e, its edge e joins at the next level
   LargeArray<FitPoint> fit_;                // a segment's support points
   std::vector<std::uint16_t> s2_;                    // S' of one sample (saturated), per worker
   std::vector<std::uint16_t> penalty_;               // lambda min(|j|, T) saturated, j = 1 - D .. D - 1
