@@ -259,22 +259,22 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   // The steps of a segment's plane over members [g0, g1) of order, each
   // writing only its own members' values and slots of fit_ (the support
   // points of members [g0, g1) go to fit_[g0 ..]).
-  const auto census = [&](int g0, int g1, Census* c) {
-    for (int j = g0; j < g1; ++j) {
-      const std::uint8_t f = flags[order[j]];
-      if (f & kSupport) ++c->support;
-      else if (!(f & kCovered)) c->other = true;
-    }
-  };
-  const auto gather = [&](int g0, int g1) {
+  // The support points of members [g0, g1) to fit_[g0 ..] (returns how
+  // many); also sets *other when a member is neither support nor covered.
+  const auto gather = [&](int g0, int g1, bool* other) {
     FitPoint* pts = fit_points + g0;
     int np = 0;
+    bool any_other = false;
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
-      if (flags[i] & kSupport)
+      const std::uint8_t f = flags[i];
+      if (f & kSupport)
         pts[np++] = FitPoint{static_cast<std::int16_t>(samples.x_of(i)), static_cast<std::int16_t>(samples.y_of(i)),
                              disp[i]};
+      else
+        any_other = any_other || !(f & kCovered);
     }
+    *other = *other || any_other;
     return np;
   };
   // Fit 0 on every support point, fits 1..3 on those within 2 tol of the previous plane.
@@ -325,11 +325,11 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   const auto fit_segment = [&](int r) {
     const int g0 = count[r], g1 = count[r + 1];
     if (g1 - g0 < 2 || g1 - g0 >= kBigSegment) return false;  // a plane needs support and another sample
-    Census c;
-    census(g0, g1, &c);
-    if (!c.other || c.support < pp.plane_min) return false;
+    // The census and the support points in one pass over the members.
     const FitPoint* pts = fit_points + g0;
-    const int np = gather(g0, g1);
+    bool other = false;
+    const int np = gather(g0, g1, &other);
+    if (!other || np < pp.plane_min) return false;
     IntPlane plane;
     for (int fit = 0; fit < 4; ++fit) {
       PlaneSums sums;
@@ -338,7 +338,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     }
     Residuals res;
     residuals(pts, np, plane, &res);
-    if (!accepted(res, c.support)) return false;
+    if (!accepted(res, np)) return false;
     cover(g0, g1, plane);
     return true;
   };
@@ -358,8 +358,10 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     for (Census& c : big_census_) c = Census{};
     for_chunks(pool, trace, TraceKind::kPriorSegments, tau, chunks, 1, [&](int w, int c0, int c1) {
       for (int c = c0; c < c1; ++c) {
-        census(chunk_begin(c), chunk_end(c), &big_census_[static_cast<std::size_t>(w)]);
-        big_points_[static_cast<std::size_t>(c)] = gather(chunk_begin(c), chunk_end(c));
+        Census& wc = big_census_[static_cast<std::size_t>(w)];
+        const int np = gather(chunk_begin(c), chunk_end(c), &wc.other);
+        big_points_[static_cast<std::size_t>(c)] = np;
+        wc.support += np;
       }
     });
     Census all;
