@@ -17,6 +17,7 @@
 #include "src/kernels/dispatch.hpp"
 #include "tristereo/kernels.hpp"
 #include "tristereo/synth.hpp"
+#include "bench_context.hpp"
 
 namespace tristereo {
 namespace {
@@ -75,6 +76,7 @@ void register_all() {
 
 int main(int argc, char** argv) {
   tristereo::register_all();
+  tristereo::add_binary_context();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

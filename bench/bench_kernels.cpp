@@ -18,6 +18,7 @@
 #include "src/kernels/dispatch.hpp"
 #include "src/kernels/kernel_set.hpp"
 #include "tristereo/kernels.hpp"
+#include "bench_context.hpp"
 
 namespace tristereo {
 namespace {
@@ -339,6 +340,7 @@ void register_tritree_kernels() {
 int main(int argc, char** argv) {
   tristereo::register_all();
   tristereo::register_tritree_kernels();
+  tristereo::add_binary_context();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -32,6 +32,8 @@
 #include "tristereo/pipeline.hpp"
 #include "tristereo/synth.hpp"
 
+#include "bench_context.hpp"
+
 #if TRISTEREO_BENCH_HAVE_OPENCV
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -177,6 +179,7 @@ int main(int argc, char** argv) {
 #endif
   }
   benchmark::AddCustomContext("opencv", TRISTEREO_BENCH_HAVE_OPENCV ? "yes" : "no (no peer rows)");
+  tristereo::add_binary_context();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

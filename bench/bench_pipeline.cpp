@@ -38,6 +38,7 @@
 #include "tristereo/io.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/synth.hpp"
+#include "bench_context.hpp"
 
 namespace {
 using namespace tristereo;
@@ -342,6 +343,7 @@ int main(int argc, char** argv) {
           ->Repetitions(5);
     }
   }
+  tristereo::add_binary_context();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -32,6 +32,8 @@
 #include "tristereo/rectify.hpp"
 #include "tristereo/rig.hpp"
 
+#include "bench_context.hpp"
+
 #if TRISTEREO_BENCH_HAVE_OPENCV
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -174,6 +176,7 @@ int main(int argc, char** argv) {
   }
   benchmark::AddCustomContext("opencv", TRISTEREO_BENCH_HAVE_OPENCV ? "yes" : "no (no OpenCV rows)");
   benchmark::AddCustomContext("data", p != nullptr ? "opencv-stereo-calib pair 01" : "missing: no rows");
+  tristereo::add_binary_context();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
