@@ -34,7 +34,7 @@ PipelineConfig stereo_config_from_args(const Args& a, int width, int height) {
   for (const ModelOption& o : model_options())
     if (a.has(o.name)) given.push_back({&o, o.kind == ModelOptionKind::kFlag ? "" : a.get(o.name, "")});
   try {
-    c.params = model_params(given, OptionSpelling::kCommandLine, /*refuse_without_effect=*/false);
+    c.params = model_params(given, OptionSpelling::kCommandLine, /*refuse_without_effect=*/true);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInvalidArgument) throw;
     throw UsageError(e.what());

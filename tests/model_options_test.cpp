@@ -127,14 +127,20 @@ TEST(ModelOptions, ChoicesAreTheParsersAndNothingElse) {
 
 TEST(ModelOptions, OptionsOfAnotherModelAreRefusedOnlyWhenAsked) {
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"lambda", "50"}}), "");
+  // The value that makes an option idle is named with where it came from.
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"lambda", "50"}}, true),
-            "--lambda has no effect with --optimizer paths: it is used only with --optimizer dp");
+            "--lambda has no effect with --optimizer paths (the default): it is used only with --optimizer dp");
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"mode", "paper"}, {"uniqueness", "5"}}, true),
-            "--uniqueness has no effect with --optimizer dp: it is used only with --optimizer paths");
+            "--uniqueness has no effect with --optimizer dp (from --mode paper): it is used only with --optimizer paths");
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"truncation", "20"}}, true),
-            "--truncation has no effect with --cost census: it is used only with --cost ad or --cost ad_census");
+            "--truncation has no effect with --cost census (the default): it is used only with --cost ad or --cost ad_census");
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"lr-max-diff", "-1"}, {"lr-source", "mirror"}}, true),
             "--lr-source has no effect with --lr-max-diff -1: it is used only with --lr-max-diff other than -1");
+  // A value out of range is named before an option without effect.
+  EXPECT_EQ(error_of({{"ndisp", "16"}, {"truncation", "256"}}, true), "--truncation 256 is out of range [1, 255]");
+  EXPECT_EQ(error_of({{"ndisp", "16"}, {"mode", "paper"}, {"support-conf", "170"}}, true),
+            "--support-conf has no effect with --support-prior 0 (from --mode paper): it is used only with "
+            "--support-prior other than 0");
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"mode", "paper"}, {"lambda", "50"}, {"gap", "inv"}}, true), "");
   // The row DP's left-right check defaults to the mirrored pass.
   EXPECT_EQ(build({{"ndisp", "16"}, {"optimizer", "dp"}}).validity.lr_source, LrSource::kMirroredPass);

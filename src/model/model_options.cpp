@@ -335,6 +335,12 @@ StereoParams model_params(const std::vector<GivenOption>& given, OptionSpelling 
         " px^2 (that needs " + ma + " >= " + std::to_string(needed) + "); add " +
         shown_value(min_area, "1", spelling));
   }
+  try {
+    validate_params(p);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kInvalidArgument) throw;
+    bad(name_options_in(e.what(), spelling));
+  }
   if (refuse_without_effect) {
     for (const GivenOption& g : given) {
       const ModelOption& o = *g.option;
@@ -357,7 +363,13 @@ StereoParams model_params(const std::vector<GivenOption>& given, OptionSpelling 
         }
         when = alternatives;
       }
-      bad(option_shown(o, spelling) + " has no effect with " + shown_value(need, need.get(p), spelling) +
+      // Say where a value nobody gave came from: the default or the paper mode.
+      const std::string* mode = given_text("mode");
+      const std::string origin = given_text(need.name) ? ""
+                                 : mode && *mode == "paper"
+                                     ? " (from " + shown_value(*find_model_option("mode"), "paper", spelling) + ")"
+                                     : " (the default)";
+      bad(option_shown(o, spelling) + " has no effect with " + shown_value(need, need.get(p), spelling) + origin +
           ": it is used only with " + when);
     }
     // The support prior works on the mesh: dense frames go without it (the
@@ -371,12 +383,6 @@ StereoParams model_params(const std::vector<GivenOption>& given, OptionSpelling 
         bad(option_shown(*g.option, spelling) + " has no effect with " + shown_value(dense, "1", spelling) +
             ": the support prior works on the mesh (sparse mode)");
       }
-  }
-  try {
-    validate_params(p);
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::kInvalidArgument) throw;
-    bad(name_options_in(e.what(), spelling));
   }
   return p;
 }

@@ -137,6 +137,13 @@ run error 2 '--confidence vc.png is also the --valid output' "state and confiden
   "$M --ndisp 16 --valid vc.png --confidence vc.png" "test ! -e vc.png" "nothing written"
 run error 2 '--gamma-color has no effect without --weights adaptive' "adaptive weight scale with box weights" \
   "$M --ndisp 16 --gamma-color 5"
+run error 2 '--support-trunc has no effect with --dense: the support prior works on the mesh' \
+  "a support prior option with dense matching" "$M --ndisp 16 --dense --support-trunc 4 --disp d.pfm" \
+  "test ! -e d.pfm" "nothing written"
+run error 2 '--p1 has no effect with --optimizer dp: it is used only with --optimizer paths' \
+  "a path penalty with the row DP" "$M --ndisp 16 --optimizer dp --p1 100"
+run error 2 '--plane-tol has no effect with --support-prior 0 \(from --mode paper\)' \
+  "a support prior option in the paper mode" "$M --ndisp 16 --mode paper --plane-tol 8"
 run error 2 '--calib-unit mm has no effect: --calib calib.txt is a middlebury calibration' \
   "a unit for a Middlebury file (whose unit is fixed)" "$M --ndisp 16 --calib calib.txt --calib-unit mm --depth z.pfm" \
   "test ! -e z.pfm" "no z.pfm"
