@@ -635,6 +635,12 @@ template <class A>
 batch<std::uint16_t, A> popcount_u16(const batch<std::uint16_t, A>& v) {
   return add_bytes_u16(byte_popcounts_u16(v));
 }
+// The bit count of each byte lane (the census's byte planes): byte_popcounts_u16
+// counts each byte on its own.
+template <class A>
+batch<std::uint8_t, A> popcount_u8(const batch<std::uint8_t, A>& v) {
+  return xsimd::bitwise_cast<batch<std::uint8_t, A>>(byte_popcounts_u16(xsimd::bitwise_cast<batch<std::uint16_t, A>>(v)));
+}
 template <std::size_t S, class A>
 batch<std::uint16_t, A> shift_up_u16(const batch<std::uint16_t, A>& a) {
   return detail::shift_up_u16<S>(a, A{});

@@ -845,20 +845,17 @@ int DpPointerU16<Arch>::call(const std::uint16_t* prev, std::uint32_t penalty, i
 
 
 // ------------------------------------------------------------------ census
-// Pixels are compared as int16 lanes (values 0..255), where every target has a
-// native signed compare; each neighbour ORs its bit into its plane's lanes.
-// The last width % lanes pixels go to the scalar twin.
-// One plane at a time: its low and high bytes accumulate in two u8 registers
-// (one lane per pixel, twice the pixels of u16 lanes), interleaved into the
-// plane's u16 words at the store. The width's last partial block is redone as
-// the full block ending at the last pixel (same values written twice) when
-// the row is at least a block wide.
+// Pixels are compared as int8 lanes with the top bit flipped (unsigned order
+// as signed order), where every target has a native signed compare; each
+// neighbour shifts its bit into its plane's byte, one lane per pixel. The
+// width's last partial block is redone as the full block ending at the last
+// pixel (same values written twice) when the row is at least a block wide,
+// else the row goes to the scalar twin.
 template <class Arch>
 void CensusRowU8<Arch>::call(const std::uint8_t* const* rows, int win_w, int win_h, int width,
-                             std::uint16_t* const* planes) {
+                             std::uint8_t* const* planes) {
   using b8 = xsimd::batch<std::uint8_t, Arch>;
   using bs8 = xsimd::batch<std::int8_t, Arch>;
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b8::size);
   if (width < lanes) {
     census_row_u8_scalar(rows, win_w, win_h, width, planes);
@@ -876,25 +873,18 @@ void CensusRowU8<Arch>::call(const std::uint8_t* const* rows, int win_w, int win
       nb_dx[b] = dx;
       ++b;
     }
-  // Unsigned order as signed order of the values with the top bit flipped.
   const b8 flip(std::uint8_t{0x80});
   const auto biased = [&](const std::uint8_t* p) { return xsimd::bitwise_cast<bs8>(b8::load_unaligned(p) ^ flip); };
   const bs8 zero(std::int8_t{0}), one(std::int8_t{1});
   const auto block = [&](int x) {
     const bs8 centre = biased(rows[ry] + x);
-    for (int p = 0, b0 = 0; b0 < bits; ++p, b0 += 16) {
-      // Bits b0 .. b0 + 7, then b0 + 8 .. b0 + 15: the highest first, each
-      // step doubling the byte (a shift by one) and adding the next bit.
-      const auto byte_of_bits = [&](int from, int to) {
-        bs8 acc = zero;
-        for (int b = std::min(bits, to) - 1; b >= from; --b)
-          acc = acc + acc + xsimd::select(biased(nb_row[b] + x + nb_dx[b]) < centre, one, zero);
-        return xsimd::bitwise_cast<b8>(acc);
-      };
-      b16 first, second;
-      escape::interleave_bytes(byte_of_bits(b0, b0 + 8), byte_of_bits(b0 + 8, b0 + 16), first, second);
-      first.store_unaligned(planes[p] + x);
-      second.store_unaligned(planes[p] + x + lanes / 2);
+    // Plane p holds bits 8p .. 8p + 7: the highest first, each step doubling
+    // the byte (a shift by one) and adding the next bit.
+    for (int p = 0, b0 = 0; b0 < bits; ++p, b0 += 8) {
+      bs8 acc = zero;
+      for (int b = std::min(bits, b0 + 8) - 1; b >= b0; --b)
+        acc = acc + acc + xsimd::select(biased(nb_row[b] + x + nb_dx[b]) < centre, one, zero);
+      xsimd::bitwise_cast<b8>(acc).store_unaligned(planes[p] + x);
     }
   };
   int x = 0;
@@ -925,76 +915,113 @@ inline __attribute__((always_inline)) void store_blocks(int n, T* out, Block blo
 }
 }  // namespace detail
 
-// The D sums stay in a register per block while the window's entries are
-// walked. A partial last block is redone as the full block ending at n (its
-// first lanes write the same sums again); only n < lanes reads the rows' slack
-// and stores n sums from a copy.
-template <class Arch>
-void CensusWindowU16<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* left,
-                                 int count, int n, std::uint16_t* sum) {
+namespace detail {
+// store_blocks for u16 values made a byte block at a time: pair(k, lo, hi)
+// gives values k .. k + lanes8 as two u16 registers. Same tails: the full
+// block ending at n, or below a block the first n values through a copy.
+template <class Arch, class Pair>
+inline __attribute__((always_inline)) void store_u16_pairs(int n, std::uint16_t* out, Pair pair) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr int lanes = static_cast<int>(b16::size);
-  const auto block = [&](int k) {
-    b16 acc(std::uint16_t{0});
-    for (int i = 0; i < count; ++i)
-      acc = acc + escape::popcount_u16(b16::load_unaligned(right_rev[i] + k) ^ b16(left[i]));
-    return acc;
+  constexpr int lanes8 = static_cast<int>(xsimd::batch<std::uint8_t, Arch>::size), half = lanes8 / 2;
+  const auto put = [&](int k, std::uint16_t* to) {
+    b16 lo, hi;
+    pair(k, lo, hi);
+    lo.store_unaligned(to);
+    hi.store_unaligned(to + half);
   };
-  detail::store_blocks<lanes>(n, sum, block);
+  int k = 0;
+  for (; k + lanes8 <= n; k += lanes8) put(k, out + k);
+  if (k == n) return;
+  if (n >= lanes8) {
+    put(n - lanes8, out + n - lanes8);
+  } else {
+    alignas(64) std::uint16_t tmp[lanes8];
+    put(k, tmp);
+    std::memcpy(out + k, tmp, static_cast<std::size_t>(n - k) * sizeof(std::uint16_t));
+  }
+}
+}  // namespace detail
+
+// A block's sums stay in registers while the window's entries are walked:
+// bytes for up to 31 entries (each counts at most 8), then widened into two
+// u16 registers (in widen_unordered's order, restored once at the end).
+template <class Arch>
+void CensusWindowU16<Arch>::call(const std::uint8_t* const* right_rev, const std::uint8_t* left,
+                                 int count, int n, std::uint16_t* sum) {
+  using b8 = xsimd::batch<std::uint8_t, Arch>;
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int kEntriesPerByte = 31;
+  detail::store_u16_pairs<Arch>(n, sum, [&](int k, b16& lo, b16& hi) {
+    lo = b16(std::uint16_t{0});
+    hi = b16(std::uint16_t{0});
+    for (int i0 = 0; i0 < count; i0 += kEntriesPerByte) {
+      const int i1 = std::min(count, i0 + kEntriesPerByte);
+      b8 acc(std::uint8_t{0});
+      for (int i = i0; i < i1; ++i) acc = acc + escape::popcount_u8(b8::load_unaligned(right_rev[i] + k) ^ b8(left[i]));
+      b16 l, h;
+      escape::widen_unordered(acc, l, h);
+      lo = lo + l;
+      hi = hi + h;
+    }
+    escape::restore_widened_order(lo, hi);
+  });
 }
 
 namespace detail {
 // A row's per-pixel Hamming costs with the plane count known: the planes' left
-// descriptors stay broadcast in registers across the pixel's disparity blocks.
-// The planes' counts are added per byte (at most 8 P <= 32 each), then each
-// lane's two bytes once. Byte costs (T = u8) narrow two u16 registers of them
-// into one.
+// descriptors stay broadcast in registers across the pixel's disparity blocks,
+// and the planes' counts are added as bytes (at most 8 P <= 64). u16 costs
+// widen each byte block into two registers.
 template <class Arch, int P, class T>
-void census_costs_row(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int width, int n,
+void census_costs_row(const std::uint8_t* const* right_rev, const std::uint8_t* const* left, int width, int n,
                       std::size_t stride, T* out) {
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
   using b8 = xsimd::batch<std::uint8_t, Arch>;
-  constexpr int lanes16 = static_cast<int>(b16::size), lanes8 = static_cast<int>(b8::size);
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes8 = static_cast<int>(b8::size);
   for (int x = 0; x < width; ++x) {
-    b16 l[P];
-    const std::uint16_t* r[P];
+    b8 l[P];
+    const std::uint8_t* r[P];
     for (int p = 0; p < P; ++p) {
-      l[p] = b16(left[p][x]);
+      l[p] = b8(left[p][x]);
       r[p] = right_rev[p] - x;
     }
     T* o = out + static_cast<std::size_t>(x) * stride;
-    const auto costs16 = [&](int k) {
-      b16 acc = escape::byte_popcounts_u16(b16::load_unaligned(r[0] + k) ^ l[0]);
-      for (int p = 1; p < P; ++p) acc = acc + escape::byte_popcounts_u16(b16::load_unaligned(r[p] + k) ^ l[p]);
-      return escape::add_bytes_u16(acc);
+    const auto costs8 = [&](int k) {
+      b8 acc = escape::popcount_u8(b8::load_unaligned(r[0] + k) ^ l[0]);
+      for (int p = 1; p < P; ++p) acc = acc + escape::popcount_u8(b8::load_unaligned(r[p] + k) ^ l[p]);
+      return acc;
     };
-    if constexpr (sizeof(T) == 2)
-      store_blocks<lanes16>(n, o, costs16);
+    if constexpr (sizeof(T) == 1)
+      store_blocks<lanes8>(n, o, costs8);
     else
-      store_blocks<lanes8>(n, o, [&](int k) { return escape::narrow_u16(costs16(k), costs16(k + lanes16)); });
+      store_u16_pairs<Arch>(n, o, [&](int k, b16& lo, b16& hi) { escape::widen(costs8(k), lo, hi); });
   }
 }
 
 template <class Arch, class T>
-void census_costs_row_of_planes(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+void census_costs_row_of_planes(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                                 int planes, int width, int n, std::size_t stride, T* out) {
   switch (planes) {
     case 1: census_costs_row<Arch, 1>(right_rev, left, width, n, stride, out); break;
     case 2: census_costs_row<Arch, 2>(right_rev, left, width, n, stride, out); break;
     case 3: census_costs_row<Arch, 3>(right_rev, left, width, n, stride, out); break;
-    default: census_costs_row<Arch, 4>(right_rev, left, width, n, stride, out); break;
+    case 4: census_costs_row<Arch, 4>(right_rev, left, width, n, stride, out); break;
+    case 5: census_costs_row<Arch, 5>(right_rev, left, width, n, stride, out); break;
+    case 6: census_costs_row<Arch, 6>(right_rev, left, width, n, stride, out); break;
+    case 7: census_costs_row<Arch, 7>(right_rev, left, width, n, stride, out); break;
+    default: census_costs_row<Arch, 8>(right_rev, left, width, n, stride, out); break;
   }
 }
 }  // namespace detail
 
 template <class Arch>
-void CensusCostsRowU16<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+void CensusCostsRowU16<Arch>::call(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                                    int planes, int width, int n, std::size_t stride, std::uint16_t* out) {
   detail::census_costs_row_of_planes<Arch>(right_rev, left, planes, width, n, stride, out);
 }
 
 template <class Arch>
-void CensusCostsRowU8<Arch>::call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+void CensusCostsRowU8<Arch>::call(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                                   int planes, int width, int n, std::size_t stride, std::uint8_t* out) {
   detail::census_costs_row_of_planes<Arch>(right_rev, left, planes, width, n, stride, out);
 }

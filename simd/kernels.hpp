@@ -73,24 +73,24 @@ struct DpPointerU16 {
 template <class Arch>
 struct CensusRowU8 {
   static void call(const std::uint8_t* const* rows, int win_w, int win_h, int width,
-                   std::uint16_t* const* planes);
+                   std::uint8_t* const* planes);
 };
 
 template <class Arch>
 struct CensusWindowU16 {
-  static void call(const std::uint16_t* const* right_rev, const std::uint16_t* left, int count,
+  static void call(const std::uint8_t* const* right_rev, const std::uint8_t* left, int count,
                    int n, std::uint16_t* sum);
 };
 
 template <class Arch>
 struct CensusCostsRowU16 {
-  static void call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int planes,
+  static void call(const std::uint8_t* const* right_rev, const std::uint8_t* const* left, int planes,
                    int width, int n, std::size_t stride, std::uint16_t* out);
 };
 
 template <class Arch>
 struct CensusCostsRowU8 {
-  static void call(const std::uint16_t* const* right_rev, const std::uint16_t* const* left, int planes,
+  static void call(const std::uint8_t* const* right_rev, const std::uint8_t* const* left, int planes,
                    int width, int n, std::size_t stride, std::uint8_t* out);
 };
 

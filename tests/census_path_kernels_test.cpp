@@ -30,17 +30,35 @@ TEST(CensusScalar, KnownDescriptorAndDistance) {
   // bits (raster order, centre skipped) below 5 are 0, 3 and 5.
   std::vector<std::uint8_t> r0 = {0, 1, 9, 5, 0}, r1 = {0, 4, 5, 6, 0}, r2 = {0, 0, 5, 7, 0};
   const std::uint8_t* rows[3] = {r0.data() + 2, r1.data() + 2, r2.data() + 2};
-  std::uint16_t plane = 0;
-  std::uint16_t* planes[1] = {&plane};
+  std::uint8_t plane = 0;
+  std::uint8_t* planes[1] = {&plane};
   census_row_u8_scalar(rows, 3, 3, 1, planes);
   EXPECT_EQ(plane, (1u << 0) | (1u << 3) | (1u << 5));
-  std::vector<std::uint16_t> right = {0x0000, 0xFFFF, 0x0029};
-  const std::uint16_t* rr[1] = {right.data()};
+  std::vector<std::uint8_t> right = {0x00, 0xFF, 0x29};
+  const std::uint8_t* rr[1] = {right.data()};
   std::uint16_t sum[3];
   census_window_u16_scalar(rr, &plane, 1, 3, sum);
   EXPECT_EQ(sum[0], 3);
-  EXPECT_EQ(sum[1], 13);
+  EXPECT_EQ(sum[1], 5);
   EXPECT_EQ(sum[2], 0);
+}
+
+TEST(CensusScalar, BitsGoToBytePlanesInOrder) {
+  // 5x5 window, 24 bits: every neighbour below the centre but the ones at
+  // bits 7, 8 and 23 (the last bit of plane 0, the first of plane 1, the last
+  // of plane 2).
+  std::vector<std::vector<std::uint8_t>> r(5, std::vector<std::uint8_t>(5, 10));
+  r[2][2] = 100;  // the centre
+  r[1][2] = r[1][3] = r[4][4] = 200;  // bits 7, 8 and 23 (raster order, centre skipped)
+  const std::uint8_t* rows[5];
+  for (int j = 0; j < 5; ++j) rows[j] = r[static_cast<std::size_t>(j)].data() + 2;
+  std::uint8_t p0 = 0, p1 = 0, p2 = 0, p3 = 0xAA;
+  std::uint8_t* planes[4] = {&p0, &p1, &p2, &p3};
+  census_row_u8_scalar(rows, 5, 5, 1, planes);
+  EXPECT_EQ(p0, 0x7F);
+  EXPECT_EQ(p1, 0xFE);
+  EXPECT_EQ(p2, 0x7F);
+  EXPECT_EQ(p3, 0xAA);  // three planes hold 24 bits: the fourth is not written
 }
 
 TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
@@ -50,7 +68,7 @@ TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
     for (int width : {1, 2, 7, 15, 16, 17, 31, 32, 33, 48, 63, 64, 65, 100, 257}) {
       const int w = win[0], h = win[1];
       const int rx = w / 2;
-      const int planes_n = (w * h - 1 + 15) / 16;
+      const int planes_n = (w * h - 1 + 7) / 8;
       std::uniform_int_distribution<int> px(0, 255), few(0, 3);
       std::vector<std::vector<std::uint8_t>> rows(static_cast<std::size_t>(h));
       std::vector<const std::uint8_t*> rp;
@@ -60,10 +78,10 @@ TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
         for (auto& v : r) v = static_cast<std::uint8_t>(ties ? few(rng) * 85 : px(rng));
         rp.push_back(r.data() + rx);
       }
-      std::vector<std::uint16_t> a(static_cast<std::size_t>(4 * width), 0xAAAA), b = a;
-      std::uint16_t* pa[4];
-      std::uint16_t* pb[4];
-      for (int p = 0; p < 4; ++p) {
+      std::vector<std::uint8_t> a(static_cast<std::size_t>(8 * width), 0xA5), b = a;
+      std::uint8_t* pa[8];
+      std::uint8_t* pb[8];
+      for (int p = 0; p < 8; ++p) {
         pa[p] = a.data() + p * width;
         pb[p] = b.data() + p * width;
       }
@@ -71,54 +89,59 @@ TEST_P(CensusPathKernels, CensusRowEqualsScalar) {
       scalar().census_row_u8(rp.data(), w, h, width, pb);
       ASSERT_EQ(a, b) << w << "x" << h << " width " << width;
       // Planes beyond the descriptor are not written.
-      for (int p = planes_n; p < 4; ++p) EXPECT_EQ(a[static_cast<std::size_t>(p * width)], 0xAAAA);
+      for (int p = planes_n; p < 8; ++p) EXPECT_EQ(a[static_cast<std::size_t>(p * width)], 0xA5);
     }
 }
 
 TEST_P(CensusPathKernels, CensusWindowEqualsScalar) {
   std::mt19937 rng(12);
-  std::uniform_int_distribution<int> bits(0, 0xFFFF);
+  std::uniform_int_distribution<int> bits(0, 0xFF);
   for (int n = 1; n <= 256; n += (n < 40 ? 1 : 13)) {
-    for (int count : {1, 2, 9, 36, 100, 3844}) {
-      std::vector<std::vector<std::uint16_t>> right(static_cast<std::size_t>(count));
-      std::vector<const std::uint16_t*> rp;
-      std::vector<std::uint16_t> left(static_cast<std::size_t>(count));
+    for (int count : {1, 2, 9, 30, 31, 32, 36, 62, 63, 100, 7688}) {
+      std::vector<std::vector<std::uint8_t>> right(static_cast<std::size_t>(count));
+      std::vector<const std::uint8_t*> rp;
+      std::vector<std::uint8_t> left(static_cast<std::size_t>(count));
       for (int i = 0; i < count; ++i) {
         right[static_cast<std::size_t>(i)].resize(static_cast<std::size_t>(n + kSlack));
-        const bool extreme = (i + n) % 5 == 0;
-        for (auto& v : right[static_cast<std::size_t>(i)]) v = static_cast<std::uint16_t>(extreme ? 0xFFFF : bits(rng));
-        left[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(extreme ? 0 : bits(rng));
+        // Every entry differing in all 8 bits for some (n, count): the byte
+        // sums at their limit (31 x 8 = 248) and the u16 sum at 7688 x 8.
+        const bool extreme = count == 7688 ? n % 2 == 0 : (i + n) % 5 == 0;
+        for (auto& v : right[static_cast<std::size_t>(i)]) v = static_cast<std::uint8_t>(extreme ? 0xFF : bits(rng));
+        left[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(extreme ? 0 : bits(rng));
         rp.push_back(right[static_cast<std::size_t>(i)].data());
       }
       std::vector<std::uint16_t> a(static_cast<std::size_t>(n) + 8, 0x5A5A), b = a;
       simd().census_window_u16(rp.data(), left.data(), count, n, a.data());
       scalar().census_window_u16(rp.data(), left.data(), count, n, b.data());
       ASSERT_EQ(a, b) << "n=" << n << " count=" << count;  // includes the untouched tail
+      if (count == 7688 && n % 2 == 0) {
+        ASSERT_EQ(b[0], 7688 * 8);
+      }
     }
   }
 }
 
 // A whole row of per-pixel costs: the SIMD set against the scalar twin, and
 // the scalar twin against census_window_u16 per pixel (its definition), for
-// 1..4 planes, widths around the lane counts and D from 1 to 256. The stride
+// 1..8 planes, widths around the lane counts and D from 1 to 256. The stride
 // leaves a gap after each pixel's D values that must stay untouched.
 TEST_P(CensusPathKernels, CensusCostsRowEqualsScalarAndWindows) {
   std::mt19937 rng(17);
-  std::uniform_int_distribution<int> bits(0, 0xFFFF);
+  std::uniform_int_distribution<int> bits(0, 0xFF);
   for (int n = 1; n <= 256; n += (n < 40 ? 1 : 13)) {
-    for (int planes = 1; planes <= 4; ++planes) {
+    for (int planes = 1; planes <= 8; ++planes) {
       const int width = 1 + (n * 7 + planes * 5) % 40;
       const std::size_t stride = static_cast<std::size_t>(n) + 3;
       // Reversed runs: pixel x reads run[k - x] for k < n (+ slack), x < width.
-      std::vector<std::vector<std::uint16_t>> run(static_cast<std::size_t>(planes)), left(run.size());
-      std::vector<const std::uint16_t*> rp, lp;
+      std::vector<std::vector<std::uint8_t>> run(static_cast<std::size_t>(planes)), left(run.size());
+      std::vector<const std::uint8_t*> rp, lp;
       for (int p = 0; p < planes; ++p) {
         auto& r = run[static_cast<std::size_t>(p)];
         r.resize(static_cast<std::size_t>(width + n + kSlack));
-        for (auto& v : r) v = static_cast<std::uint16_t>((p + n) % 5 == 0 ? 0xFFFF : bits(rng));
+        for (auto& v : r) v = static_cast<std::uint8_t>((p + n) % 5 == 0 ? 0xFF : bits(rng));
         auto& l = left[static_cast<std::size_t>(p)];
         l.resize(static_cast<std::size_t>(width));
-        for (auto& v : l) v = static_cast<std::uint16_t>(bits(rng));
+        for (auto& v : l) v = static_cast<std::uint8_t>((p + n) % 5 == 0 ? 0x00 : bits(rng));
         rp.push_back(r.data() + width);  // pixel 0's run; pixel x's starts x before
         lp.push_back(l.data());
       }
@@ -127,8 +150,8 @@ TEST_P(CensusPathKernels, CensusCostsRowEqualsScalarAndWindows) {
       scalar().census_costs_row_u16(rp.data(), lp.data(), planes, width, n, stride, b.data());
       ASSERT_EQ(a, b) << "n=" << n << " planes=" << planes << " width=" << width;
       for (int x = 0; x < width; ++x) {
-        std::vector<const std::uint16_t*> rx;
-        std::vector<std::uint16_t> lx;
+        std::vector<const std::uint8_t*> rx;
+        std::vector<std::uint8_t> lx;
         for (int p = 0; p < planes; ++p) {
           rx.push_back(rp[static_cast<std::size_t>(p)] - x);
           lx.push_back(lp[static_cast<std::size_t>(p)][x]);

@@ -76,12 +76,12 @@ void CensusScratch::resize(int max_width) {
   max_width_ = max_width;
   const std::size_t row = static_cast<std::size_t>(max_width) + 8 + kKernelSlack;
   rows_.assign(9 * row, 0);
-  planes_.assign(4 * (static_cast<std::size_t>(max_width) + kKernelSlack), 0);
+  planes_.assign(8 * (static_cast<std::size_t>(max_width) + kKernelSlack), 0);
 }
 
 void CostScratch::resize(int num_disp) {
-  census_right_.assign(std::size_t{kMaxWindowSide} * kMaxWindowSide * 4, nullptr);
-  census_left_.assign(std::size_t{kMaxWindowSide} * kMaxWindowSide * 4, 0);
+  census_right_.assign(std::size_t{kMaxWindowSide} * kMaxWindowSide * 8, nullptr);
+  census_left_.assign(std::size_t{kMaxWindowSide} * kMaxWindowSide * 8, 0);
   census_q4_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
   sum_u16_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
   sum_u32_.assign(static_cast<std::size_t>(num_disp) + kKernelSlack, 0);
@@ -131,13 +131,13 @@ void MatchContext::configure(int max_width, int max_height, const StereoParams& 
   const std::size_t stride =
       static_cast<std::size_t>(max_width + 2 * pad + kKernelSlack + 63) / 64 * 64;
   UntouchedVector<std::uint8_t> rev(stride * static_cast<std::size_t>(max_height));
-  const int planes = c.kind == CostKind::kAd ? 0 : (c.census_w * c.census_h - 1 + 15) / 16;
+  const int planes = c.kind == CostKind::kAd ? 0 : (c.census_w * c.census_h - 1 + 7) / 8;
   const std::size_t census_stride = static_cast<std::size_t>(max_width + 63) / 64 * 64;
-  UntouchedVector<std::uint16_t> left_census(static_cast<std::size_t>(planes) * max_height * census_stride);
-  UntouchedVector<std::uint16_t> right_census(static_cast<std::size_t>(planes) * max_height * stride);
+  UntouchedVector<std::uint8_t> left_census(static_cast<std::size_t>(planes) * max_height * census_stride);
+  UntouchedVector<std::uint8_t> right_census(static_cast<std::size_t>(planes) * max_height * stride);
   advise_huge_pages(rev.data(), rev.size());
-  advise_huge_pages(left_census.data(), left_census.size() * sizeof(std::uint16_t));
-  advise_huge_pages(right_census.data(), right_census.size() * sizeof(std::uint16_t));
+  advise_huge_pages(left_census.data(), left_census.size());
+  advise_huge_pages(right_census.data(), right_census.size());
 
   // Nothing below throws (except bad_alloc above): commit.
   max_width_ = max_width;
@@ -193,9 +193,9 @@ void MatchContext::census_rows(ImageView<const std::uint8_t> img, int y,
     std::fill(dst + w, dst + w + rx, src[w - 1]);
     rows[j] = dst;
   }
-  std::uint16_t* planes[4];
+  std::uint8_t* planes[8];
   const std::size_t plane_len = static_cast<std::size_t>(scratch.max_width_) + kKernelSlack;
-  for (int p = 0; p < 4; ++p) planes[p] = scratch.planes_.data() + static_cast<std::size_t>(p) * plane_len;
+  for (int p = 0; p < 8; ++p) planes[p] = scratch.planes_.data() + static_cast<std::size_t>(p) * plane_len;
   kernels_->census_row_u8(rows, c.census_w, c.census_h, w, planes);
 }
 
@@ -222,15 +222,15 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* cen
   for (int y = y_begin; y < y_end; ++y) {
     census_rows(left_, y, *census);
     for (int p = 0; p < census_planes_; ++p) {
-      const std::uint16_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
+      const std::uint8_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
       std::copy(src, src + w,
                 left_census_.begin() + static_cast<std::ptrdiff_t>(
                                            (static_cast<std::size_t>(p) * max_height_ + y) * census_stride_));
     }
     census_rows(right_, y, *census);
     for (int p = 0; p < census_planes_; ++p) {
-      const std::uint16_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
-      std::uint16_t* dst = right_census_rev_.data() +
+      const std::uint8_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
+      std::uint8_t* dst = right_census_rev_.data() +
                            (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_;
       std::fill(dst, dst + rev_pad_, src[w - 1]);
       for (int i = 0; i < w; ++i) dst[rev_pad_ + i] = src[w - 1 - i];
@@ -249,8 +249,8 @@ void MatchContext::census_pixel_costs(int y, std::uint8_t* out, std::size_t stri
 
 template <class T>
 void MatchContext::census_pixel_costs_into(int y, T* out, std::size_t stride) const {
-  const std::uint16_t* right[4];
-  const std::uint16_t* left[4];
+  const std::uint8_t* right[8];
+  const std::uint8_t* left[8];
   for (int p = 0; p < census_planes_; ++p) {
     // rev_offset(x) = rev_offset(0) - x: the kernel steps back one per pixel.
     right[p] = right_census_rev_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_ +
@@ -267,14 +267,14 @@ void MatchContext::census_pixel_costs_into(int y, T* out, std::size_t stride) co
 void MatchContext::aggregate_census(int x0, int x1, int y0, int y1, std::uint16_t* cost_q4,
                                     CostScratch& scratch) const {
   const int n = params_.num_disp;
-  const std::uint16_t** right = scratch.census_right_.data();
-  std::uint16_t* left = scratch.census_left_.data();
+  const std::uint8_t** right = scratch.census_right_.data();
+  std::uint8_t* left = scratch.census_left_.data();
   int count = 0;
   for (int p = 0; p < census_planes_; ++p)
     for (int py = y0; py <= y1; ++py) {
-      const std::uint16_t* rrow = right_census_rev_.data() +
+      const std::uint8_t* rrow = right_census_rev_.data() +
                                   (static_cast<std::size_t>(p) * max_height_ + py) * rev_stride_;
-      const std::uint16_t* lrow = left_census_.data() +
+      const std::uint8_t* lrow = left_census_.data() +
                                   (static_cast<std::size_t>(p) * max_height_ + py) * census_stride_;
       for (int px = x0; px <= x1; ++px) {
         right[count] = rrow + rev_offset(px);

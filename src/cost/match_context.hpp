@@ -53,8 +53,8 @@ class CostScratch {
 
  private:
   friend class MatchContext;
-  std::vector<const std::uint16_t*> census_right_;  // window pixels x planes
-  std::vector<std::uint16_t> census_left_;
+  std::vector<const std::uint8_t*> census_right_;  // window pixels x planes
+  std::vector<std::uint8_t> census_left_;
   std::vector<std::uint16_t> census_q4_;            // ad_census: the census part
   std::vector<std::uint16_t> sum_u16_;
   std::vector<std::uint32_t> sum_u32_;
@@ -74,7 +74,7 @@ class CensusScratch {
   friend class MatchContext;
   int max_width_ = 0;
   std::vector<std::uint8_t> rows_;     // 9 padded rows
-  std::vector<std::uint16_t> planes_;  // 4 rows of descriptor planes
+  std::vector<std::uint8_t> planes_;  // 8 rows of descriptor byte planes
 };
 
 class MatchContext {
@@ -114,7 +114,7 @@ class MatchContext {
   void census_pixel_costs(int y, std::uint8_t* out, std::size_t stride) const;
   int census_planes() const { return census_planes_; }
   // Census descriptor plane p of left pixel (x, y) of the current frame.
-  std::uint16_t left_census(int p, int x, int y) const {
+  std::uint8_t left_census(int p, int x, int y) const {
     return left_census_[(static_cast<std::size_t>(p) * max_height_ + y) * census_stride_ + x];
   }
 
@@ -163,8 +163,8 @@ class MatchContext {
   // Untouched until a frame's prepare_right_rows writes them, like right_rev_.
   int census_planes_ = 0;
   std::size_t census_stride_ = 0;
-  UntouchedVector<std::uint16_t> left_census_;
-  UntouchedVector<std::uint16_t> right_census_rev_;
+  UntouchedVector<std::uint8_t> left_census_;
+  UntouchedVector<std::uint8_t> right_census_rev_;
   void census_rows(ImageView<const std::uint8_t> img, int y, CensusScratch& scratch) const;
   template <class T>
   void census_pixel_costs_into(int y, T* out, std::size_t stride) const;

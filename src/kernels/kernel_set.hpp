@@ -95,32 +95,32 @@ struct KernelSet {
 
   // Census transform of one row (docs/model.md section 2): bit b of pixel x's
   // descriptor is 1 when the b-th neighbour of its win_w x win_h window (raster
-  // order, centre skipped) is below the centre; bits 16p .. 16p + 15 go to
-  // planes[p][x], p < ceil((win_w win_h - 1) / 16). rows[j], j < win_h, point at
+  // order, centre skipped) is below the centre; bits 8p .. 8p + 7 go to
+  // planes[p][x], p < ceil((win_w win_h - 1) / 8). rows[j], j < win_h, point at
   // x = 0 of the window's rows, readable from -win_w/2 to width - 1 + win_w/2
   // (the caller replicates the border). width >= 1.
   void (*census_row_u8)(const std::uint8_t* const* rows, int win_w, int win_h, int width,
-                        std::uint16_t* const* planes) = nullptr;
+                        std::uint8_t* const* planes) = nullptr;
 
-  // Hamming cost over a support window, one descriptor plane per entry:
+  // Hamming cost over a support window, one descriptor byte plane per entry:
   //   sum[k] = sum_{i < count} popcount(left[i] ^ right_rev[i][k]), k in [0, n).
-  // Bound: count * 16 <= 65535 (31 x 31 window x 4 planes = 3844 entries).
+  // Bound: count * 8 <= 65535 (31 x 31 window x 8 planes = 7688 entries).
   // right_rev[i] may be read up to 64 elements past n (the rows' slack).
-  void (*census_window_u16)(const std::uint16_t* const* right_rev, const std::uint16_t* left,
+  void (*census_window_u16)(const std::uint8_t* const* right_rev, const std::uint8_t* left,
                             int count, int n, std::uint16_t* sum) = nullptr;
 
   // Per-pixel Hamming costs of a whole row (the census cost's first step, one
   // call per row instead of one census_window_u16 per pixel):
   //   out[x * stride + k] = sum_{p < planes} popcount(left[p][x] ^ right_rev[p][k - x])
   // for x in [0, width), k in [0, n): right_rev[p] is pixel 0's reversed run,
-  // pixel x's starts x elements before it. 1 <= planes <= 4, stride >= n; the
+  // pixel x's starts x elements before it. 1 <= planes <= 8, stride >= n; the
   // runs may be read up to 64 elements past n.
-  void (*census_costs_row_u16)(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+  void (*census_costs_row_u16)(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                                int planes, int width, int n, std::size_t stride,
                                std::uint16_t* out) = nullptr;
 
   // census_costs_row_u16 with one byte per cost (at most 64 bits differ).
-  void (*census_costs_row_u8)(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+  void (*census_costs_row_u8)(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                               int planes, int width, int n, std::size_t stride, std::uint8_t* out) = nullptr;
 
   // sum[j] = sum_{i < count} rows[i][j] (mod 2^16), j in [0, n): the census

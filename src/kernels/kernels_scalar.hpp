@@ -33,14 +33,14 @@ void dp_step_u16_scalar(const std::uint16_t* cost_q4, const std::uint16_t* prev,
                         std::uint32_t penalty, int n, std::uint16_t* out);
 int dp_pointer_u16_scalar(const std::uint16_t* prev, std::uint32_t penalty, int n, int k);
 
-int census_popcount_u16(std::uint16_t v);
+int census_popcount_u8(std::uint8_t v);
 void census_row_u8_scalar(const std::uint8_t* const* rows, int win_w, int win_h, int width,
-                           std::uint16_t* const* planes);
-void census_window_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* left,
+                           std::uint8_t* const* planes);
+void census_window_u16_scalar(const std::uint8_t* const* right_rev, const std::uint8_t* left,
                               int count, int n, std::uint16_t* sum);
-void census_costs_row_u16_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+void census_costs_row_u16_scalar(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                                  int planes, int width, int n, std::size_t stride, std::uint16_t* out);
-void census_costs_row_u8_scalar(const std::uint16_t* const* right_rev, const std::uint16_t* const* left,
+void census_costs_row_u8_scalar(const std::uint8_t* const* right_rev, const std::uint8_t* const* left,
                                 int planes, int width, int n, std::size_t stride, std::uint8_t* out);
 void sum_rows_u16_scalar(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
 void sum_rows_u8_scalar(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum);
