@@ -34,7 +34,7 @@ VARIANTS = [
     ("optimizer dp", ["--optimizer", "dp"], "the paper's row DP on the census cost (its left-right check is the "
                                             "mirrored pass: the row DP keeps no summed costs)"),
     ("cost ad_census", ["--cost", "ad_census"], "census plus half the AD cost (--ad-weight 8, Q4), AD-census style"),
-    ("census 7x7", ["--census", "7x7"], "the larger census window (three 16-bit planes instead of two)"),
+    ("census 7x7", ["--census", "7x7"], "the larger census window (six byte planes instead of three)"),
     ("window 1x1", ["--window", "1x1"], "census at the sample only"),
     ("8 paths", ["--paths", "8"], "the diagonals too (twice the path work)"),
     ("P1 160 / P2 640", ["--p1", "160", "--p2", "640"], "the penalties chosen with the 7x7 census"),

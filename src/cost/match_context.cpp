@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <utility>
 
@@ -199,6 +200,23 @@ void MatchContext::census_rows(ImageView<const std::uint8_t> img, int y,
   kernels_->census_row_u8(rows, c.census_w, c.census_h, w, planes);
 }
 
+namespace {
+// dst[i] = src[n - 1 - i], eight bytes at a time: a byte swap of each 64-bit
+// word (one instruction on x86 and ARM, and the same bytes on either
+// endianness). Byte by byte, the right image's row and its three census
+// planes took about 0.7 ms of a one-worker KITTI frame.
+void reverse_bytes(const std::uint8_t* src, int n, std::uint8_t* dst) {
+  int i = 0;
+  for (; i + 8 <= n; i += 8) {
+    std::uint64_t v;
+    std::memcpy(&v, src + n - 8 - i, sizeof v);
+    v = __builtin_bswap64(v);
+    std::memcpy(dst + i, &v, sizeof v);
+  }
+  for (; i < n; ++i) dst[i] = src[n - 1 - i];
+}
+}  // namespace
+
 void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* census) {
   if (width_ == 0) throw Error(ErrorCode::kNotConfigured, "prepare_right_rows before begin_frame()");
   if (y_begin < 0 || y_end > height_ || y_begin > y_end)
@@ -207,14 +225,14 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* cen
   // Reversed row: rev[i] = R(clamp(W - 1 + pad - i, 0, W - 1)), so rev[offset(x) + k]
   // is R(clamp(x - d_min - k)) with offset(x) = pad + W - 1 - x + d_min.
   const int w = width_;
-  const int len = w + 2 * rev_pad_;
-  for (int y = y_begin; y < y_end; ++y) {
-    const std::uint8_t* src = right_.row(y);
-    std::uint8_t* dst = right_rev_.data() + static_cast<std::size_t>(y) * rev_stride_;
-    std::fill(dst, dst + rev_pad_, src[w - 1]);
-    for (int i = 0; i < w; ++i) dst[rev_pad_ + i] = src[w - 1 - i];
-    std::fill(dst + rev_pad_ + w, dst + len, src[0]);
-  }
+  const int pad = rev_pad_;
+  const auto reverse_padded = [w, pad](const std::uint8_t* src, std::uint8_t* dst) {
+    std::fill(dst, dst + pad, src[w - 1]);
+    reverse_bytes(src, w, dst + pad);
+    std::fill(dst + pad + w, dst + w + 2 * pad, src[0]);
+  };
+  for (int y = y_begin; y < y_end; ++y)
+    reverse_padded(right_.row(y), right_rev_.data() + static_cast<std::size_t>(y) * rev_stride_);
   if (census_planes_ == 0) return;
   if (census == nullptr || census->max_width_ < w)
     fail("prepare_right_rows: the census cost needs a CensusScratch sized for the frame width");
@@ -230,11 +248,7 @@ void MatchContext::prepare_right_rows(int y_begin, int y_end, CensusScratch* cen
     census_rows(right_, y, *census);
     for (int p = 0; p < census_planes_; ++p) {
       const std::uint8_t* src = census->planes_.data() + static_cast<std::size_t>(p) * plane_len;
-      std::uint8_t* dst = right_census_rev_.data() +
-                           (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_;
-      std::fill(dst, dst + rev_pad_, src[w - 1]);
-      for (int i = 0; i < w; ++i) dst[rev_pad_ + i] = src[w - 1 - i];
-      std::fill(dst + rev_pad_ + w, dst + len, src[0]);
+      reverse_padded(src, right_census_rev_.data() + (static_cast<std::size_t>(p) * max_height_ + y) * rev_stride_);
     }
   }
 }
