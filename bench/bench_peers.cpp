@@ -4,7 +4,7 @@
 // stored RGB pairs):
 //   frame/<scene>/D<d>/<sparse|dense>/<kernels>/t1   tristereo's whole frame on
 //       one worker (best kernel set), with the per-stage counters tritree_ms,
-//       cost_ms, dp_ms, interp_ms, total_ms (means over the iterations)
+//       cost_ms, dp_ms, prior_ms, interp_ms, total_ms (means over the iterations)
 //   peer/<scene>/D<d>/stereobm       OpenCV StereoBM, block 9, XSOBEL prefilter
 //   peer/<scene>/D<d>/sgbm3way       OpenCV StereoSGBM MODE_SGBM_3WAY, block 5
 // with the parameters of ../shared/data/README.md (uniqueness 10; SGBM P1 600,
@@ -94,7 +94,7 @@ void bench_frame(benchmark::State& state, const Scene* s, bool dense, KernelChoi
   Pipeline pipe;
   pipe.configure(c);
   pipe.process(s->left.view(), s->right.view());  // warm-up: first touch of every buffer
-  double tri = 0, cost = 0, dp = 0, interp = 0, total = 0, right = 0, fill = 0;
+  double tri = 0, cost = 0, dp = 0, prior = 0, interp = 0, total = 0, right = 0, fill = 0;
   for (auto _ : state) {
     pipe.process(s->left.view(), s->right.view());
     const FrameTimings& t = pipe.last_timings();
@@ -103,6 +103,7 @@ void bench_frame(benchmark::State& state, const Scene* s, bool dense, KernelChoi
     tri += static_cast<double>(t.tritree_ns);
     cost += static_cast<double>(t.cost_aggregation_ns);
     dp += static_cast<double>(t.dp_ns);
+    prior += static_cast<double>(t.prior_ns);
     interp += static_cast<double>(t.interpolation_ns);
     total += static_cast<double>(t.total_ns);
   }
@@ -110,6 +111,7 @@ void bench_frame(benchmark::State& state, const Scene* s, bool dense, KernelChoi
   state.counters["tritree_ms"] = tri / n;
   state.counters["cost_ms"] = cost / n;
   state.counters["dp_ms"] = dp / n;
+  state.counters["prior_ms"] = prior / n;
   state.counters["interp_ms"] = interp / n;
   state.counters["right_pass_ms"] = right / n;
   state.counters["fill_ms"] = fill / n;

@@ -137,33 +137,34 @@ def peers_section(a):
     label = dict(PEER_SCENES)
     ms = lambda b: b["real_time"]  # the benchmarks report milliseconds
     lines.append("| scene | D | kernels | StereoBM ms | SGBM 3-way ms | tristereo sparse frame ms | "
-                 "tritree | cost | DP | interpolation | **tritree + interpolation** | sparse frame | "
+                 "tritree | cost | DP | support prior | interpolation | **tritree + interpolation** | sparse frame | "
                  "dense frame | paper mode frame | SGBM 3-way | sparse / dense frame |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for s, d in scenes:
         sp, de, pa = med.get((s, d, "sparse")), med.get((s, d, "dense")), med.get((s, d, "paper"))
         bm, sg = med.get((s, d, "stereobm")), med.get((s, d, "sgbm3way"))
         if not sp:
             continue
         ratio = lambda v: "%.2fx" % (v / ms(bm)) if bm else "-"
-        lines.append("| %s | %d | %s | %s | %s | %.2f | %s | %s | %s | %s | **%s** | %s | %s | %s | %s | %s |" % (
+        lines.append("| %s | %d | %s | %s | %s | %.2f | %s | %s | %s | %s | %s | **%s** | %s | %s | %s | %s | %s |" % (
             label[s], d, kernels[(s, d)], "%.2f" % ms(bm) if bm else "-", "%.2f" % ms(sg) if sg else "-",
             sp["total_ms"], ratio(sp["tritree_ms"]), ratio(sp["cost_ms"]), ratio(sp["dp_ms"]),
-            ratio(sp["interp_ms"]), ratio(sp["tritree_ms"] + sp["interp_ms"]), ratio(sp["total_ms"]),
+            ratio(sp["prior_ms"]) if "prior_ms" in sp else "-", ratio(sp["interp_ms"]), ratio(sp["tritree_ms"] + sp["interp_ms"]), ratio(sp["total_ms"]),
             ratio(de["total_ms"]) if de else "-", ratio(pa["total_ms"]) if pa else "-",
             ratio(ms(sg)) if sg else "-",
             "%.3f" % (sp["total_ms"] / de["total_ms"]) if de else "-"))
     lines.append("\nThe stage columns (tritree .. SGBM 3-way) are multiples of StereoBM's frame time. "
                  "tristereo's stages in ms (same run):\n")
-    lines.append("| scene | D | mode | tritree | cost | DP | fill | interpolation | frame |")
-    lines.append("|---|---|---|---|---|---|---|---|---|")
+    lines.append("| scene | D | mode | tritree | cost | DP | support prior | fill | interpolation | frame |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|")
     for s, d in scenes:
         for mode in ("sparse", "dense", "paper"):
             b = med.get((s, d, mode))
             if b:
-                lines.append("| %s | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |" % (
+                lines.append("| %s | %d | %s | %.2f | %.2f | %.2f | %s | %.2f | %.2f | %.2f |" % (
                     label[s], d, "paper mode (sparse)" if mode == "paper" else mode, b["tritree_ms"],
-                    b["cost_ms"], b["dp_ms"], b.get("fill_ms", 0.0), b["interp_ms"], b["total_ms"]))
+                    b["cost_ms"], b["dp_ms"], "%.2f" % b["prior_ms"] if "prior_ms" in b else "-",
+                    b.get("fill_ms", 0.0), b["interp_ms"], b["total_ms"]))
     lines.append("")
     return lines
 
@@ -190,7 +191,12 @@ def pipeline_section(a):
     med = {}
     pairs = {}  # frame_pair run name -> its repetitions, each with its own median of pairs
     census = {}  # (scene, D) -> ms of the census work at every pixel (census_pixels/<scene>/D<d>/<kernels>)
+    priors = {}  # (scene, D) -> the prior_pair median (frames without and with the support prior)
     for b in data["benchmarks"]:
+        if b["run_name"].startswith("prior_pair/") and b.get("aggregate_name") == "median":
+            _, scene, d = b["run_name"].split("/")[:3]
+            priors[(scene, int(d[1:]))] = b
+            continue
         if b["run_name"].startswith("frame_pair/") and b.get("run_type") == "iteration":
             pairs.setdefault(b["run_name"], []).append(b)
             continue
@@ -206,7 +212,9 @@ def pipeline_section(a):
     ctx = data["context"]
     lines = ["## The pipeline: kernel sets, sparse vs dense, threads\n",
              "From one run of `bench/bench_pipeline` (%s; Google Benchmark, %d repetitions in random interleaving, "
-             "medians; each repetition averages its iterations). %s Times in ms per frame.\n" % (
+             "medians; each repetition averages its iterations). %s Times in ms per frame. The frames of "
+             "this section run without the support prior (the same work for every kernel set, mode and "
+             "thread count); its cost is in the last table of the section and in bench_peers' table above.\n" % (
                  ctx.get("date", "?"), repetitions_of(data), machine_of(ctx)),
              ]
     keys = sorted(med)
@@ -266,7 +274,7 @@ def pipeline_section(a):
             d, mode, t, kern, b["tritree_ms"], b["cost_ms"], b["dp_ms"], b["interp_ms"], b["total_ms"],
             one["total_ms"] / b["total_ms"]))
     if pairs:
-        lines.append("\n### Threads, paired frames (synthetic 640x480, best kernel set)\n")
+        lines.append("\n### Threads, paired frames (best kernel set)\n")
         lines.append("`frame_pair/...`: frames of a 1-thread and an N-thread pipeline in alternation, each pair "
                      "meeting the same moment of the machine. Each run takes the median over its pairs; the "
                      "runs are spread over the whole benchmark run by the random interleaving. Shown: the "
@@ -275,19 +283,30 @@ def pipeline_section(a):
                      "frame's, what the machine gives N cores at that moment without any sharing, and "
                      "*of ceiling* is speed-up / ceiling per pair (1.00: the parallel pipeline loses nothing "
                      "beyond what running N frames side by side costs).\n")
-        lines.append("| D | mode | threads | runs x pairs | 1 thread ms | N threads ms | speed-up | range of runs | "
-                     "ceiling | of ceiling | tritree | matching (cost + DP) | interpolation |")
-        lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-        for name in sorted(pairs):
+        lines.append("| scene | D | mode | threads | runs x pairs | 1 thread ms | N threads ms | speed-up | "
+                     "range of runs | ceiling | of ceiling | tritree | matching (cost + DP) | interpolation |")
+        lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        for name in sorted(pairs, key=lambda n: (not n.split("/")[1].startswith("synthetic"), n.split("/")[1],
+                                                 int(n.split("/")[2][1:]), n)):
             runs = pairs[name]
             _, scene, d, mode, kern, tt = name.split("/")[:6]
             m = lambda key: statistics.median(r[key] for r in runs)
-            lines.append("| %s | %s | %s (%s) | %d x %d | %.2f | %.2f | **%.2fx** | %.2f-%.2fx | %.2fx | %.2f | %.2fx | %.2fx | %s |" % (
-                d[1:], mode, tt.split("_t")[-1], kern, len(runs), runs[0]["pairs"], m("t1_ms"), m("tN_ms"),
+            lines.append("| %s | %s | %s | %s (%s) | %d x %d | %.2f | %.2f | **%.2fx** | %.2f-%.2fx | %.2fx | %.2f | "
+                         "%.2fx | %.2fx | %s |" % (
+                scene, d[1:], mode, tt.split("_t")[-1], kern, len(runs), runs[0]["pairs"], m("t1_ms"), m("tN_ms"),
                 m("speedup"), min(r["speedup"] for r in runs), max(r["speedup"] for r in runs),
                 m("ceiling"), m("of_ceiling"),
                 m("speedup_tritree"), m("speedup_matching"),
                 "%.2fx" % m("speedup_interp") if mode == "sparse" else "-"))
+    if priors:
+        lines.append("\n### The support prior, one worker\n")
+        lines.append("Frames without and with the support prior (docs/model.md section 6b) in alternation "
+                     "(`prior_pair`, best kernel set), medians:\n")
+        lines.append("| scene | D | frame without ms | frame with ms | prior stage ms | with / without |")
+        lines.append("|---|---|---|---|---|---|")
+        for (scene, d), b in sorted(priors.items(), key=lambda kv: (not kv[0][0].startswith("synthetic"), kv[0])):
+            lines.append("| %s | %d | %.2f | %.2f | %.2f | %.2fx |" % (
+                scene, d, b["off_ms"], b["on_ms"], b["prior_ms"], b["ratio"]))
     lines.append("\n### Machine ceiling for 2 threads (bench/bench_machine, before and after the run above)\n")
     lines.append("The same loop on 1 and on 2 pinned threads, each with its own data: items per second "
                  "with 2 threads / with 1. A stage cannot be expected to scale better than the loop it resembles.\n")
