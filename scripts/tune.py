@@ -8,9 +8,11 @@ Each variant changes one choice of the defaults (or names the paper's model) and
 scripts/score_all.py on all 13 scenes: Middlebury v2 (bad 1 px, nonocc and all), Middlebury 2014
 quarter size (bad 2 px), KITTI 2015 (D1) and ETH3D (bad 2 px), every known-GT pixel, invalid
 counted as bad. --cache keeps each variant's score_all JSON (named by its options) and reuses
-it on the next run; delete the folder to measure again.
+it on the next run of the same tristereo binary (a rebuilt one is measured again).
 """
 import argparse
+import functools
+import hashlib
 import json
 import os
 import subprocess
@@ -71,14 +73,23 @@ TWINS = [("motorcycle", "motorcyclee"), ("piano", "pianol")]
 SUBPIXEL_SETS = [("middlebury", "v2"), ("middlebury2014", "2014"), ("kitti2015", "KITTI"), ("eth3d", "ETH3D")]
 
 
+@functools.lru_cache(maxsize=None)
+def binary_digest(path):
+    """SHA-256 of the tristereo binary: a cached score is reused only for the same binary."""
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
 def score(args, label, opts):
     name = "".join(c if c.isalnum() else "_" for c in label) + ".json"
     path = os.path.join(args.cache, name)
+    digest = binary_digest(args.tristereo)
     if os.path.exists(path):
         with open(path) as f:
             cached = json.load(f)
         # A run from before the sub-pixel metrics existed is measured again.
-        if cached.get("match_args") == opts and all("subpixel" in sc for sc in cached["scenes"].values()):
+        if (cached.get("match_args") == opts and cached.get("binary_sha256") == digest and
+                all("subpixel" in sc for sc in cached["scenes"].values())):
             return cached
     cmd = [sys.executable, os.path.join(ROOT, "scripts", "score_all.py"), "--tristereo", args.tristereo,
            "--data", args.data, "--jobs", str(args.jobs), "--json", path, "--"] + opts
@@ -87,7 +98,11 @@ def score(args, label, opts):
     if r.returncode != 0:
         sys.exit("tune: score_all failed for %s:\n%s%s" % (label, r.stdout, r.stderr))
     with open(path) as f:
-        return json.load(f)
+        result = json.load(f)
+    result["binary_sha256"] = digest
+    with open(path, "w") as f:
+        json.dump(result, f)
+    return result
 
 
 def metric(res, sid):
