@@ -8,6 +8,7 @@
 
 #include "platform/clock.hpp"
 #include "platform/cpu_relax.hpp"
+#include "platform/prefetch.hpp"
 #include "src/dp/penalty.hpp"
 #include "src/memory/capacity_bytes.hpp"
 #include "src/tritree/rtin_layout.hpp"
@@ -583,12 +584,8 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
   // the row's part, unless the tiles are whole rows).
   const int ahead = di * kPrefetchSamples;
   const auto prefetch_sample = [&](int a) {
-    const char* c = reinterpret_cast<const char*>(costs_.get() + row(a, cost_stride_));
-    const char* s = reinterpret_cast<const char*>(sum_.get() + row(a, cost_stride_));
-    for (std::size_t b = 0; b < cost_stride_ * sizeof(std::uint16_t); b += 64) {
-      __builtin_prefetch(c + b, 0);
-      __builtin_prefetch(s + b, 1);
-    }
+    prefetch_lines<0>(costs_.get() + row(a, cost_stride_), cost_stride_ * sizeof(std::uint16_t));
+    prefetch_lines<1>(sum_.get() + row(a, cost_stride_), cost_stride_ * sizeof(std::uint16_t));
   };
   // The first samples of row j's part of this tile (a row without samples:
   // none).

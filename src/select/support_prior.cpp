@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "platform/clock.hpp"
+#include "platform/prefetch.hpp"
 #include "platform/thread_pool.hpp"
 #include "src/dp/subpixel.hpp"
 #include "src/kernels/kernel_set.hpp"
@@ -490,8 +491,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     SupportPriorCounts& wc = worker_counts_[static_cast<std::size_t>(w)];
     for (int j = j0; j < j1; ++j) {
       if (j + kAhead < j1) {
-        const char* ahead = reinterpret_cast<const char*>(pm.summed_costs_row(pending[j + kAhead]));
-        for (std::size_t b = 0; b < row_bytes; b += 64) __builtin_prefetch(ahead + b);
+        prefetch_lines<0>(pm.summed_costs_row(pending[j + kAhead]), row_bytes);
       }
       const int i = pending[j];
       ++wc.redecided;
