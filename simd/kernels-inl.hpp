@@ -1064,52 +1064,67 @@ void SumRowsU8<Arch>::call(const std::uint8_t* const* rows, int count, std::size
 }
 
 // ------------------------------------------------------------------ paths
-template <class Arch>
-std::uint16_t PathStepU16<Arch>::call(const std::uint16_t* cost, const std::uint16_t* prev,
-                                      std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
-                                      int n, std::uint16_t* out, std::uint16_t* sum,
-                                      int accumulate) {
+namespace detail {
+// PathStepsU16 for a compile-time count: each block of disparities loads C
+// and S once and keeps the sum of the count outputs in a register. A partial
+// last block is the full block ending at n. Its sums are read before the
+// other blocks store theirs, so that its overlapping lanes add to the same old
+// sums (the same results as the block before; and no load that straddles a
+// store just made). out and the minima see the same values twice (out is
+// neither prev nor cost).
+template <class Arch, int kCount>
+void path_steps_u16(const std::uint16_t* cost, const std::uint16_t* const* prev, const std::uint16_t* prev_min,
+                    const std::uint16_t* p1, const std::uint16_t* p2, int n, std::uint16_t* const* out,
+                    std::uint16_t* sum, int accumulate, std::uint16_t* mins) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
-  const b16 vp1(p1), vmin_prev(prev_min);
-  const b16 jump(static_cast<std::uint16_t>(std::uint32_t{prev_min} + p2));
-  const auto step = [&](int k) {
-    b16 best = escape::min_u16(b16::load_unaligned(prev + k),
-                               xsimd::sadd(b16::load_unaligned(prev + k - 1), vp1));
-    best = escape::min_u16(best, xsimd::sadd(b16::load_unaligned(prev + k + 1), vp1));
-    best = escape::min_u16(best, jump);
-    const b16 v = b16::load_unaligned(cost + k) + best - vmin_prev;
-    v.store_unaligned(out + k);
-    return v;
+  b16 vp1[kCount], vmin_prev[kCount], jump[kCount], low[kCount];
+  for (int r = 0; r < kCount; ++r) {
+    vp1[r] = b16(p1[r]);
+    vmin_prev[r] = b16(prev_min[r]);
+    jump[r] = b16(static_cast<std::uint16_t>(std::uint32_t{prev_min[r]} + p2[r]));
+    low[r] = b16(kU16Max);
+  }
+  const auto block = [&](int k, const b16& old) {
+    const b16 c = b16::load_unaligned(cost + k);
+    b16 s = old;
+    for (int r = 0; r < kCount; ++r) {
+      const std::uint16_t* pr = prev[r];
+      b16 best = escape::min_u16(b16::load_unaligned(pr + k), xsimd::sadd(b16::load_unaligned(pr + k - 1), vp1[r]));
+      best = escape::min_u16(best, xsimd::sadd(b16::load_unaligned(pr + k + 1), vp1[r]));
+      best = escape::min_u16(best, jump[r]);
+      const b16 v = c + best - vmin_prev[r];
+      v.store_unaligned(out[r] + k);
+      low[r] = escape::min_u16(low[r], v);
+      s += v;
+    }
+    s.store_unaligned(sum + k);
   };
-  // A partial last block is the full block ending at n. Its sums are read
-  // before the other blocks store theirs, so that its overlapping lanes add v
-  // to the same old sums (the same results as the block before; and no load
-  // that straddles a store just made). out and the minimum see the same values
-  // twice (out is neither prev nor cost).
-  const bool overlap = n % lanes != 0 && n >= lanes;
+  const bool overlap = n % lanes != 0;
   const int tail = n - lanes;
-  const b16 old_tail = overlap && accumulate ? b16::load_unaligned(sum + tail) : b16(std::uint16_t{0});
-  b16 low(detail::kU16Max);
+  const b16 zero(std::uint16_t{0});
+  const b16 old_tail = overlap && accumulate ? b16::load_unaligned(sum + tail) : zero;
   int k = 0;
-  for (; k + lanes <= n; k += lanes) {
-    const b16 v = step(k);
-    (accumulate ? b16::load_unaligned(sum + k) + v : v).store_unaligned(sum + k);
-    low = escape::min_u16(low, v);
+  for (; k + lanes <= n; k += lanes) block(k, accumulate ? b16::load_unaligned(sum + k) : zero);
+  if (overlap) block(tail, old_tail);
+  for (int r = 0; r < kCount; ++r) mins[r] = escape::hmin_u16(low[r]);
+}
+}  // namespace detail
+
+template <class Arch>
+void PathStepsU16<Arch>::call(const std::uint16_t* cost, const std::uint16_t* const* prev,
+                              const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
+                              int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
+                              std::uint16_t* mins) {
+  constexpr int lanes = static_cast<int>(xsimd::batch<std::uint16_t, Arch>::size);
+  if (n < lanes)
+    return path_steps_u16_scalar(cost, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
+  switch (count) {
+    case 1: return detail::path_steps_u16<Arch, 1>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+    case 2: return detail::path_steps_u16<Arch, 2>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+    case 3: return detail::path_steps_u16<Arch, 3>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+    default: return detail::path_steps_u16<Arch, 4>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
   }
-  if (overlap) {
-    const b16 v = step(tail);
-    (old_tail + v).store_unaligned(sum + tail);
-    low = escape::min_u16(low, v);
-    k = n;
-  }
-  std::uint16_t m = escape::hmin_u16(low);
-  if (k < n) {
-    const std::uint16_t t = path_step_u16_scalar(cost + k, prev + k, prev_min, p1, p2, n - k,
-                                                 out + k, sum + k, accumulate);
-    if (t < m) m = t;
-  }
-  return m;
 }
 
 // ------------------------------------------------------------------ colour

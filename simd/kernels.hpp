@@ -110,10 +110,10 @@ struct NormalizeCostsU8 {
 };
 
 template <class Arch>
-struct PathStepU16 {
-  static std::uint16_t call(const std::uint16_t* cost, const std::uint16_t* prev,
-                            std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2, int n,
-                            std::uint16_t* out, std::uint16_t* sum, int accumulate);
+struct PathStepsU16 {
+  static void call(const std::uint16_t* cost, const std::uint16_t* const* prev, const std::uint16_t* prev_min,
+                   const std::uint16_t* p1, const std::uint16_t* p2, int count, int n, std::uint16_t* const* out,
+                   std::uint16_t* sum, int accumulate, std::uint16_t* mins);
 };
 
 template <class Arch>
@@ -188,7 +188,7 @@ struct MidpointsRowConfQ4 {
   KEYWORD template struct CensusCostsRowU8<ARCH>;             \
   KEYWORD template struct SumRowsU8<ARCH>;                    \
   KEYWORD template struct NormalizeCostsU8<ARCH>;             \
-  KEYWORD template struct PathStepU16<ARCH>;                  \
+  KEYWORD template struct PathStepsU16<ARCH>;                 \
   KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct AddSaturateU16<ARCH>;             \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \

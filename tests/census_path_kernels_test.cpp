@@ -171,36 +171,78 @@ TEST_P(CensusPathKernels, CensusCostsRowEqualsScalarAndWindows) {
   }
 }
 
-TEST_P(CensusPathKernels, PathStepEqualsScalar) {
+// Every count of paths, every n, both accumulate modes; each path's prev row
+// its own buffer, as in the matcher's rings.
+TEST_P(CensusPathKernels, PathStepsEqualScalar) {
   std::mt19937 rng(13);
   for (int n = 1; n <= 256; ++n) {
     for (int c = 0; c < 6; ++c) {
-      const std::uint16_t p1 = static_cast<std::uint16_t>((c * 97) % 600);
-      const std::uint16_t p2 = static_cast<std::uint16_t>(p1 + (c * 331) % 3000);
-      const int cmax = c == 5 ? 4080 : 1024;
-      std::uniform_int_distribution<int> cd(0, cmax), pd(0, cmax + p2);
-      std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack)), prev(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
-      for (int k = 0; k < n; ++k) {
-        cost[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(c == 4 ? cmax : cd(rng));
-        prev[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(c == 3 ? 0 : pd(rng));
-      }
-      const std::uint16_t prev_min = *std::min_element(prev.begin() + 1, prev.begin() + 1 + n);
-      for (int accumulate = 0; accumulate < 2; ++accumulate) {
-        std::vector<std::uint16_t> out_a(static_cast<std::size_t>(n) + 4, 0xBEEF), out_b = out_a;
-        std::vector<std::uint16_t> sum_a(static_cast<std::size_t>(n) + 4), sum_b;
-        for (auto& v : sum_a) v = static_cast<std::uint16_t>(cd(rng));
-        sum_b = sum_a;
-        const std::uint16_t ma = simd().path_step_u16(cost.data(), prev.data() + 1, prev_min, p1, p2, n,
-                                                      out_a.data(), sum_a.data(), accumulate);
-        const std::uint16_t mb = scalar().path_step_u16(cost.data(), prev.data() + 1, prev_min, p1, p2, n,
-                                                        out_b.data(), sum_b.data(), accumulate);
-        ASSERT_EQ(out_a, out_b) << "n=" << n << " case " << c;
-        ASSERT_EQ(sum_a, sum_b) << "n=" << n << " case " << c;
-        ASSERT_EQ(ma, mb) << "n=" << n << " case " << c;
-        ASSERT_EQ(mb, *std::min_element(out_b.begin(), out_b.begin() + n));
+      for (int count = 1; count <= 4; ++count) {
+        const int cmax = c == 5 ? 4080 : 1024;
+        std::uniform_int_distribution<int> cd(0, cmax);
+        std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack));
+        for (int k = 0; k < n; ++k) cost[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(c == 4 ? cmax : cd(rng));
+        std::vector<std::vector<std::uint16_t>> prev_rows;
+        std::uint16_t prev_min[4], p1[4], p2[4];
+        for (int r = 0; r < count; ++r) {
+          p1[r] = static_cast<std::uint16_t>((c * 97 + r * 31) % 600);
+          p2[r] = static_cast<std::uint16_t>(p1[r] + (c * 331 + r * 57) % 3000);
+          std::uniform_int_distribution<int> pd(0, cmax + p2[r]);
+          std::vector<std::uint16_t> prev(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
+          for (int k = 0; k < n; ++k) prev[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(c == 3 ? 0 : pd(rng));
+          prev_min[r] = *std::min_element(prev.begin() + 1, prev.begin() + 1 + n);
+          prev_rows.push_back(std::move(prev));
+        }
+        const std::uint16_t* prev[4] = {};
+        for (int r = 0; r < count; ++r) prev[r] = prev_rows[static_cast<std::size_t>(r)].data() + 1;
+        for (int accumulate = 0; accumulate < 2; ++accumulate) {
+          std::vector<std::vector<std::uint16_t>> out_a(static_cast<std::size_t>(count),
+                                                        std::vector<std::uint16_t>(static_cast<std::size_t>(n) + 4, 0xBEEF));
+          auto out_b = out_a;
+          std::vector<std::uint16_t> sum_a(static_cast<std::size_t>(n) + 4), sum_b;
+          for (auto& v : sum_a) v = static_cast<std::uint16_t>(cd(rng));
+          sum_b = sum_a;
+          std::uint16_t* oa[4] = {};
+          std::uint16_t* ob[4] = {};
+          for (int r = 0; r < count; ++r) {
+            oa[r] = out_a[static_cast<std::size_t>(r)].data();
+            ob[r] = out_b[static_cast<std::size_t>(r)].data();
+          }
+          std::uint16_t ma[4] = {}, mb[4] = {};
+          simd().path_steps_u16(cost.data(), prev, prev_min, p1, p2, count, n, oa, sum_a.data(), accumulate, ma);
+          scalar().path_steps_u16(cost.data(), prev, prev_min, p1, p2, count, n, ob, sum_b.data(), accumulate, mb);
+          const std::string at = "n=" + std::to_string(n) + " case " + std::to_string(c) + " count " +
+                                 std::to_string(count) + " accumulate " + std::to_string(accumulate);
+          ASSERT_EQ(out_a, out_b) << at;
+          ASSERT_EQ(sum_a, sum_b) << at;
+          for (int r = 0; r < count; ++r) {
+            ASSERT_EQ(ma[r], mb[r]) << at << " path " << r;
+            ASSERT_EQ(mb[r], *std::min_element(ob[r], ob[r] + n)) << at << " path " << r;
+          }
+        }
       }
     }
   }
+}
+
+// The scalar twin is one path at a time: the first path's sum with
+// `accumulate`, the others added.
+TEST(PathStepsScalar, EqualsOnePathAtATime) {
+  const std::vector<std::uint16_t> cost = {1, 2, 3};
+  const std::vector<std::uint16_t> prev_a = {0xFFFF, 10, 0, 30, 0xFFFF}, prev_b = {0xFFFF, 4, 9, 1, 0xFFFF};
+  const std::uint16_t* prev[2] = {prev_a.data() + 1, prev_b.data() + 1};
+  const std::uint16_t prev_min[2] = {0, 1}, p1[2] = {5, 2}, p2[2] = {12, 6};
+  std::vector<std::uint16_t> oa(3), ob(3), sum = {100, 100, 100};
+  std::uint16_t* out[2] = {oa.data(), ob.data()};
+  std::uint16_t mins[2] = {};
+  path_steps_u16_scalar(cost.data(), prev, prev_min, p1, p2, 2, 3, out, sum.data(), 0, mins);
+  // Path a as in KnownStep below: 6 2 8. Path b: min(prev[k], prev[k +- 1] + 2,
+  // 1 + 6) - 1 = 3 2 0, plus the costs -> 4 4 3.
+  EXPECT_EQ(oa, (std::vector<std::uint16_t>{6, 2, 8}));
+  EXPECT_EQ(ob, (std::vector<std::uint16_t>{4, 4, 3}));
+  EXPECT_EQ(sum, (std::vector<std::uint16_t>{10, 6, 11}));
+  EXPECT_EQ(mins[0], 2);
+  EXPECT_EQ(mins[1], 3);
 }
 
 TEST(PathStepScalar, KnownStep) {

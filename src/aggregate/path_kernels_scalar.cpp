@@ -28,6 +28,14 @@ std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_
   return m;
 }
 
+void path_steps_u16_scalar(const std::uint16_t* cost, const std::uint16_t* const* prev,
+                           const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
+                           int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
+                           std::uint16_t* mins) {
+  for (int r = 0; r < count; ++r)
+    mins[r] = path_step_u16_scalar(cost, prev[r], prev_min[r], p1[r], p2[r], n, out[r], sum, r == 0 ? accumulate : 1);
+}
+
 void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                        std::uint16_t* best_k) {
   for (int k = 0; k < n; ++k)

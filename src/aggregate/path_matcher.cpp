@@ -59,7 +59,7 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   if (schedule_workers < 0 || schedule_workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: schedule workers = " + std::to_string(schedule_workers));
   validate_params(params);
-  if (!kernels.path_step_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16 || !kernels.sum_rows_u8 ||
+  if (!kernels.path_steps_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16 || !kernels.sum_rows_u8 ||
       !kernels.normalize_costs_u8)
     throw Error(ErrorCode::kInvalidArgument, "kernel set '" + std::string(kernels.name) + "' is incomplete");
   const int d = params.num_disp;
@@ -627,17 +627,17 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
       const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
       std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
       if (i + ahead >= lo && i + ahead < hi) prefetch_sample(i + ahead);
-      std::uint16_t* out = ring[step & 1];
-      const std::uint16_t* prev = zero;
-      std::uint16_t prev_min = 0, p1 = 0, p2 = 0;
+      // Step 0 is the horizontal path, 1 + k the k-th other direction of the
+      // pass: all from their predecessors' L, in one kernel call.
+      const std::uint16_t* prev[4] = {zero, zero, zero, zero};
+      std::uint16_t* outs[4];
+      std::uint16_t prev_min[4] = {}, p1[4] = {}, p2[4] = {}, step_min[4];
+      outs[0] = ring[step & 1] + 1;
       if (hq_x >= 0) {
-        penalties(x, y, ip, hq_x, y, hq_i, &p1, &p2);
-        prev = hprev;
-        prev_min = hmin;
+        penalties(x, y, ip, hq_x, y, hq_i, &p1[0], &p2[0]);
+        prev[0] = hprev;
+        prev_min[0] = hmin;
       }
-      hmin = ks.path_step_u16(cost, prev, prev_min, p1, p2, d, out + 1, sum, add);
-      hprev = out + 1;
-      ++step;
       for (int k = 0; k < others; ++k) {
         const int rd = 2 * (k + 1) + pass;
         std::uint16_t* path = paths[k];
@@ -659,19 +659,22 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
             qy = verts[qr].y;
           }
         }
-        const std::uint16_t* pr = zero;
-        std::uint16_t pm = 0, a1 = 0, a2 = 0;
+        outs[1 + k] = o + 1;
         if (qr >= 0) {
-          penalties(x, y, ip, qx, qy, gray.row(qy)[qx], &a1, &a2);
+          penalties(x, y, ip, qx, qy, gray.row(qy)[qx], &p1[1 + k], &p2[1 + k]);
           // |i - qr| < ring_n (plan_pass: the ring spans the rows predecessors reach).
           int qs = slot + (qr - i);
           if (qs < 0) qs += ring_n;
           else if (qs >= ring_n) qs -= ring_n;
-          pr = path + row(qs, path_stride_) + 1;
-          pm = mins[k][qs];
+          prev[1 + k] = path + row(qs, path_stride_) + 1;
+          prev_min[1 + k] = mins[k][qs];
         }
-        mins[k][slot] = ks.path_step_u16(cost, pr, pm, a1, a2, d, o + 1, sum, 1);
       }
+      ks.path_steps_u16(cost, prev, prev_min, p1, p2, 1 + others, d, outs, sum, add, step_min);
+      hmin = step_min[0];
+      hprev = outs[0];
+      ++step;
+      for (int k = 0; k < others; ++k) mins[k][slot] = step_min[1 + k];
       hq_x = x;
       hq_i = ip;
       if (forward) slot = slot + 1 == ring_n ? 0 : slot + 1;

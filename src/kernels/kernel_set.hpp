@@ -135,17 +135,24 @@ struct KernelSet {
   void (*normalize_costs_u8)(const std::uint8_t* sum, std::uint64_t inv_q32, int n,
                              std::uint16_t* cost_q4) = nullptr;
 
-  // One step of a path (docs/model.md section 3b), for k in [0, n):
-  //   out[k] = cost[k] + min(prev[k], prev[k-1] + p1, prev[k+1] + p1, prev_min + p2) - prev_min
-  // with prev[-1] = prev[n] = 0xFFFF guards read by the kernel (the sums
-  // saturate), sum[k] = out[k] (accumulate == 0) or sum[k] + out[k]; returns
-  // min_k out[k]. Bounds (validate_params): prev[k] <= max cost + p2,
-  // prev_min + p2 <= 65535, sums <= 65535. cost and prev may be read up to 64
-  // elements past n.
-  std::uint16_t (*path_step_u16)(const std::uint16_t* cost, const std::uint16_t* prev,
-                                 std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
-                                 int n, std::uint16_t* out, std::uint16_t* sum,
-                                 int accumulate) = nullptr;
+  // The steps of `count` paths at one sample (docs/model.md section 3b),
+  // 1 <= count <= 4, sharing its cost row and its sum. For each path r < count
+  // and k in [0, n):
+  //   out[r][k] = cost[k] + min(prev[r][k], prev[r][k-1] + p1[r], prev[r][k+1] + p1[r],
+  //                             prev_min[r] + p2[r]) - prev_min[r]
+  // with prev[r][-1] = prev[r][n] = 0xFFFF guards read by the kernel (the
+  // sums saturate), mins[r] = min_k out[r][k], and
+  //   sum[k] = (accumulate ? sum[k] : 0) + sum_r out[r][k]   (mod 2^16),
+  // the same as one path at a time, the first added with `accumulate` and the
+  // others with 1 (path_step_u16_scalar), for one load of C and one
+  // read-modify-write of S per sample instead of one per path. Bounds
+  // (validate_params): prev[r][k] <= max cost + p2[r], prev_min[r] + p2[r] <=
+  // 65535, sums <= 65535. cost and prev[r] may be read up to 64 elements past
+  // n; out[r] is none of the prev rows, cost or sum.
+  void (*path_steps_u16)(const std::uint16_t* cost, const std::uint16_t* const* prev,
+                         const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
+                         int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
+                         std::uint16_t* mins) = nullptr;
 
   // One sample's decision inputs from its summed costs (docs/model.md
   // section 6), for k in [0, n), 1 <= n <= 256: returns the smallest k

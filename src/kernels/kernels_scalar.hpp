@@ -44,10 +44,16 @@ void census_costs_row_u8_scalar(const std::uint8_t* const* right_rev, const std:
                                 int planes, int width, int n, std::size_t stride, std::uint8_t* out);
 void sum_rows_u16_scalar(const std::uint16_t* const* rows, int count, std::size_t n, std::uint16_t* sum);
 void sum_rows_u8_scalar(const std::uint8_t* const* rows, int count, std::size_t n, std::uint8_t* sum);
+// One path of path_steps_u16 (returns its minimum; sum gets out added when
+// accumulate, else out).
 std::uint16_t path_step_u16_scalar(const std::uint16_t* cost, const std::uint16_t* prev,
                                    std::uint16_t prev_min, std::uint16_t p1, std::uint16_t p2,
                                    int n, std::uint16_t* out, std::uint16_t* sum,
                                    int accumulate);
+void path_steps_u16_scalar(const std::uint16_t* cost, const std::uint16_t* const* prev,
+                           const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
+                           int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
+                           std::uint16_t* mins);
 std::uint16_t min_outside_u16_scalar(const std::uint16_t* total, int n, int k);
 void lr_min_u16_scalar(const std::uint16_t* total, int n, std::uint16_t* best_cost,
                        std::uint16_t* best_k);
