@@ -574,9 +574,42 @@ void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v, const xsimd::n
 }
 #endif
 
+// ---- the u16 lanes' count of bytes from p, zero-extended in order (a byte
+// cost row read straight into u16 arithmetic; the loop is the definition).
+template <class A>
+batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p, const xsimd::generic&) {
+  constexpr std::size_t lanes = batch<std::uint16_t, A>::size;
+  alignas(64) std::uint16_t w[lanes];
+  for (std::size_t i = 0; i < lanes; ++i) w[i] = p[i];
+  return batch<std::uint16_t, A>::load_aligned(w);
+}
+#if XSIMD_WITH_SSE2
+template <class A>
+batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p, const xsimd::sse2&) {
+  return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), _mm_setzero_si128());
+}
+#endif
+#if XSIMD_WITH_AVX2
+template <class A>
+batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p, const xsimd::avx2&) {
+  return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+}
+#endif
+#if XSIMD_WITH_NEON
+template <class A>
+batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p, const xsimd::neon&) {
+  return vmovl_u8(vld1_u8(p));
+}
+#endif
+
 }  // namespace detail
 
 // ---------------------------------------------------------------- public escapes
+// Reads batch<std::uint16_t, A>::size bytes.
+template <class A>
+batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p) {
+  return detail::load_widen_u8<A>(p, A{});
+}
 template <class A>
 batch<std::uint8_t, A> min_u8(const batch<std::uint8_t, A>& a, const batch<std::uint8_t, A>& b) {
   return detail::min_u8(a, b, A{});

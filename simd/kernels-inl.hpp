@@ -1072,10 +1072,11 @@ namespace detail {
 // sums (the same results as the block before; and no load that straddles a
 // store just made). out and the minima see the same values twice (out is
 // neither prev nor cost).
-template <class Arch, int kCount>
-void path_steps_u16(const std::uint16_t* cost, const std::uint16_t* const* prev, const std::uint16_t* prev_min,
-                    const std::uint16_t* p1, const std::uint16_t* p2, int n, std::uint16_t* const* out,
-                    std::uint16_t* sum, int accumulate, std::uint16_t* mins) {
+// load_cost(k): the costs of disparities k .. k + lanes - 1 as u16 lanes.
+template <class Arch, int kCount, class LoadCost>
+void path_steps(const LoadCost& load_cost, const std::uint16_t* const* prev, const std::uint16_t* prev_min,
+                const std::uint16_t* p1, const std::uint16_t* p2, int n, std::uint16_t* const* out,
+                std::uint16_t* sum, int accumulate, std::uint16_t* mins) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   constexpr int lanes = static_cast<int>(b16::size);
   b16 vp1[kCount], vmin_prev[kCount], jump[kCount], low[kCount];
@@ -1086,7 +1087,7 @@ void path_steps_u16(const std::uint16_t* cost, const std::uint16_t* const* prev,
     low[r] = b16(kU16Max);
   }
   const auto block = [&](int k, const b16& old) {
-    const b16 c = b16::load_unaligned(cost + k);
+    const b16 c = load_cost(k);
     b16 s = old;
     for (int r = 0; r < kCount; ++r) {
       const std::uint16_t* pr = prev[r];
@@ -1109,6 +1110,19 @@ void path_steps_u16(const std::uint16_t* cost, const std::uint16_t* const* prev,
   if (overlap) block(tail, old_tail);
   for (int r = 0; r < kCount; ++r) mins[r] = escape::hmin_u16(low[r]);
 }
+
+// The compile-time count of paths (1 .. 4).
+template <class Arch, class LoadCost>
+void path_steps_for_count(const LoadCost& load_cost, const std::uint16_t* const* prev, const std::uint16_t* prev_min,
+                          const std::uint16_t* p1, const std::uint16_t* p2, int count, int n,
+                          std::uint16_t* const* out, std::uint16_t* sum, int accumulate, std::uint16_t* mins) {
+  switch (count) {
+    case 1: return path_steps<Arch, 1>(load_cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+    case 2: return path_steps<Arch, 2>(load_cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+    case 3: return path_steps<Arch, 3>(load_cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+    default: return path_steps<Arch, 4>(load_cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
+  }
+}
 }  // namespace detail
 
 template <class Arch>
@@ -1116,15 +1130,31 @@ void PathStepsU16<Arch>::call(const std::uint16_t* cost, const std::uint16_t* co
                               const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
                               int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
                               std::uint16_t* mins) {
-  constexpr int lanes = static_cast<int>(xsimd::batch<std::uint16_t, Arch>::size);
-  if (n < lanes)
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  if (n < static_cast<int>(b16::size))
     return path_steps_u16_scalar(cost, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
-  switch (count) {
-    case 1: return detail::path_steps_u16<Arch, 1>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
-    case 2: return detail::path_steps_u16<Arch, 2>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
-    case 3: return detail::path_steps_u16<Arch, 3>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
-    default: return detail::path_steps_u16<Arch, 4>(cost, prev, prev_min, p1, p2, n, out, sum, accumulate, mins);
-  }
+  detail::path_steps_for_count<Arch>([cost](int k) { return b16::load_unaligned(cost + k); }, prev, prev_min, p1,
+                                     p2, count, n, out, sum, accumulate, mins);
+}
+
+// The byte sums' means in registers: 16 s inv = hi 2^16 + lo, so adding 2^15
+// and dropping 16 bits leaves hi plus the top bit of lo (16 s <= 4080 fits a
+// u16 lane).
+template <class Arch>
+void PathStepsU8<Arch>::call(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+                             const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
+                             int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
+                             std::uint16_t* mins) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  if (n < static_cast<int>(b16::size))
+    return path_steps_u8_scalar(cost_sums, inv_q16, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
+  const b16 inv(inv_q16);
+  detail::path_steps_for_count<Arch>(
+      [cost_sums, &inv](int k) {
+        const b16 s16 = escape::load_widen_u8<Arch>(cost_sums + k) << 4;
+        return escape::mulhi_u16(s16, inv) + (escape::mullo_u16(s16, inv) >> 15);
+      },
+      prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
 }
 
 // ------------------------------------------------------------------ colour

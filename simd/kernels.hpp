@@ -110,6 +110,13 @@ struct NormalizeCostsU8 {
 };
 
 template <class Arch>
+struct PathStepsU8 {
+  static void call(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+                   const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count, int n,
+                   std::uint16_t* const* out, std::uint16_t* sum, int accumulate, std::uint16_t* mins);
+};
+
+template <class Arch>
 struct PathStepsU16 {
   static void call(const std::uint16_t* cost, const std::uint16_t* const* prev, const std::uint16_t* prev_min,
                    const std::uint16_t* p1, const std::uint16_t* p2, int count, int n, std::uint16_t* const* out,
@@ -189,6 +196,7 @@ struct MidpointsRowConfQ4 {
   KEYWORD template struct SumRowsU8<ARCH>;                    \
   KEYWORD template struct NormalizeCostsU8<ARCH>;             \
   KEYWORD template struct PathStepsU16<ARCH>;                 \
+  KEYWORD template struct PathStepsU8<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
   KEYWORD template struct AddSaturateU16<ARCH>;             \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \

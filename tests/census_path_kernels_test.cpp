@@ -225,6 +225,69 @@ TEST_P(CensusPathKernels, PathStepsEqualScalar) {
   }
 }
 
+// The byte-sum variant: every compiled set against the scalar twin, with the
+// default box's reciprocals and others (the kernel is its formula for any M).
+TEST_P(CensusPathKernels, PathStepsU8EqualScalar) {
+  std::mt19937 rng(17);
+  const std::uint16_t invs[] = {7281, 10918, 16363, 21836, 32726, 65472, 1, 65535};
+  for (int n = 1; n <= 256; ++n) {
+    for (int count = 1; count <= 4; ++count) {
+      const std::uint16_t inv = invs[static_cast<std::size_t>(n + count) % 8];
+      std::uniform_int_distribution<int> sd(0, 255);
+      std::vector<std::uint8_t> sums(static_cast<std::size_t>(n + kSlack));
+      for (int k = 0; k < n; ++k) sums[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(n % 7 == 0 ? 255 : sd(rng));
+      std::vector<std::vector<std::uint16_t>> prev_rows;
+      std::uint16_t prev_min[4], p1[4], p2[4];
+      for (int r = 0; r < count; ++r) {
+        p1[r] = static_cast<std::uint16_t>(40 + 30 * r);
+        p2[r] = static_cast<std::uint16_t>(p1[r] + 500);
+        std::uniform_int_distribution<int> pd(0, 4080 + p2[r]);
+        std::vector<std::uint16_t> prev(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
+        for (int k = 0; k < n; ++k) prev[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(pd(rng));
+        prev_min[r] = *std::min_element(prev.begin() + 1, prev.begin() + 1 + n);
+        prev_rows.push_back(std::move(prev));
+      }
+      const std::uint16_t* prev[4] = {};
+      for (int r = 0; r < count; ++r) prev[r] = prev_rows[static_cast<std::size_t>(r)].data() + 1;
+      for (int accumulate = 0; accumulate < 2; ++accumulate) {
+        std::vector<std::vector<std::uint16_t>> out_a(static_cast<std::size_t>(count),
+                                                      std::vector<std::uint16_t>(static_cast<std::size_t>(n) + 4, 0xBEEF));
+        auto out_b = out_a, out_c = out_a;
+        std::vector<std::uint16_t> sum_a(static_cast<std::size_t>(n) + 4);
+        for (auto& v : sum_a) v = static_cast<std::uint16_t>(sd(rng) * 20);
+        auto sum_b = sum_a, sum_c = sum_a;
+        std::uint16_t* oa[4] = {};
+        std::uint16_t* ob[4] = {};
+        std::uint16_t* oc[4] = {};
+        for (int r = 0; r < count; ++r) {
+          oa[r] = out_a[static_cast<std::size_t>(r)].data();
+          ob[r] = out_b[static_cast<std::size_t>(r)].data();
+          oc[r] = out_c[static_cast<std::size_t>(r)].data();
+        }
+        std::uint16_t ma[4] = {}, mb[4] = {}, mc[4] = {};
+        simd().path_steps_u8(sums.data(), inv, prev, prev_min, p1, p2, count, n, oa, sum_a.data(), accumulate, ma);
+        scalar().path_steps_u8(sums.data(), inv, prev, prev_min, p1, p2, count, n, ob, sum_b.data(), accumulate, mb);
+        // The definition: path_steps_u16 on the means (16 s M + 2^15) >> 16.
+        std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack));
+        for (int k = 0; k < n; ++k)
+          cost[static_cast<std::size_t>(k)] =
+              static_cast<std::uint16_t>((std::uint32_t{sums[static_cast<std::size_t>(k)]} * 16u * inv + 0x8000u) >> 16);
+        scalar().path_steps_u16(cost.data(), prev, prev_min, p1, p2, count, n, oc, sum_c.data(), accumulate, mc);
+        const std::string at = "n=" + std::to_string(n) + " count " + std::to_string(count) + " inv " +
+                               std::to_string(inv) + " accumulate " + std::to_string(accumulate);
+        ASSERT_EQ(out_a, out_b) << at;
+        ASSERT_EQ(sum_a, sum_b) << at;
+        ASSERT_EQ(out_b, out_c) << at;
+        ASSERT_EQ(sum_b, sum_c) << at;
+        for (int r = 0; r < count; ++r) {
+          ASSERT_EQ(ma[r], mb[r]) << at << " path " << r;
+          ASSERT_EQ(mb[r], mc[r]) << at << " path " << r;
+        }
+      }
+    }
+  }
+}
+
 // The scalar twin is one path at a time: the first path's sum with
 // `accumulate`, the others added.
 TEST(PathStepsScalar, EqualsOnePathAtATime) {

@@ -92,7 +92,10 @@ void check_against_brute_force(const ImageU8& l, const ImageU8& r, const Mesh* m
   const SampleLayout s{mesh, l.width, l.height};
   PathMatcher pm;
   aggregate_frame(l, r, s, p, 2, pm);
-  auto cost = [&](int i, int k) { return static_cast<int>(pm.cost_row(i)[k]); };
+  const auto nd_z = static_cast<std::size_t>(p.num_disp);
+  std::vector<std::uint16_t> costs(static_cast<std::size_t>(s.count()) * nd_z);
+  for (int i = 0; i < s.count(); ++i) pm.cost_q4(s, i, costs.data() + static_cast<std::size_t>(i) * nd_z);
+  auto cost = [&](int i, int k) { return static_cast<int>(costs[static_cast<std::size_t>(i) * nd_z + static_cast<std::size_t>(k)]); };
   // P2 across an intensity edge (docs/model.md 3b): P1 + (P2 - P1) T / (T + |dI|).
   const int t_edge = p.paths.p2_edge_scale;
   auto p2_of_edge = [&](int q, int i) {

@@ -9,6 +9,7 @@
 #include "platform/clock.hpp"
 #include "platform/cpu_relax.hpp"
 #include "platform/prefetch.hpp"
+#include "src/cost/byte_means.hpp"
 #include "src/dp/penalty.hpp"
 #include "src/memory/capacity_bytes.hpp"
 #include "src/tritree/rtin_layout.hpp"
@@ -59,7 +60,7 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   if (schedule_workers < 0 || schedule_workers > 256)
     throw Error(ErrorCode::kInvalidArgument, "path matcher: schedule workers = " + std::to_string(schedule_workers));
   validate_params(params);
-  if (!kernels.path_steps_u16 || !kernels.winner_u16 || !kernels.sum_rows_u16 || !kernels.sum_rows_u8 ||
+  if (!kernels.path_steps_u16 || !kernels.path_steps_u8 || !kernels.winner_u16 || !kernels.sum_rows_u16 || !kernels.sum_rows_u8 ||
       !kernels.normalize_costs_u8)
     throw Error(ErrorCode::kInvalidArgument, "kernel set '" + std::string(kernels.name) + "' is incomplete");
   const int d = params.num_disp;
@@ -91,7 +92,20 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   ring_len_ = by_rows ? static_cast<std::size_t>(params.cost.window_h) * static_cast<std::size_t>(max_width) * cost_stride_ : 0;
   // Byte rows take half the u16 elements.
   const auto cost_elems = [this](std::size_t n) { return byte_costs_ ? (n + 1) / 2 : n; };
-  costs_len_ = n * cost_stride_;
+  // C in bytes: the census box sums themselves, when every box a sample can
+  // have (clipped at the borders) has a 16-bit reciprocal that gives the
+  // model's means (byte_means.hpp); the path kernels take the means in
+  // registers. Half the bytes of Q4 costs to write, and to read in both passes.
+  const int box_w = params.cost.window_w, box_h = params.cost.window_h;
+  inv_pixels_q16_.assign(byte_costs_ ? static_cast<std::size_t>(box_w * box_h) + 1 : 0, 0);
+  c_sums_u8_ = byte_costs_;
+  for (int a = 1; c_sums_u8_ && a <= box_w; ++a)
+    for (int b = 1; c_sums_u8_ && b <= box_h; ++b) {
+      const std::uint16_t inv = byte_mean_inv_q16(a * b, census_bits * a * b);
+      inv_pixels_q16_[static_cast<std::size_t>(a * b)] = inv;
+      c_sums_u8_ = inv != 0;
+    }
+  costs_len_ = c_sums_u8_ ? (n * cost_stride_ + 1) / 2 : n * cost_stride_;
   preds_len_ = n * static_cast<std::size_t>(directions_ - 2);
   costs_ = untouched<std::uint16_t>(costs_len_);
   preds_ = untouched<std::int32_t>(preds_len_);
@@ -166,13 +180,16 @@ void PathMatcher::release() {
   std::vector<std::uint32_t>().swap(p1_by_gap_);
   std::vector<std::uint32_t>().swap(p2_by_gap_);
   std::vector<std::uint16_t>().swap(zero_path_);
+  std::vector<std::uint16_t>().swap(inv_pixels_q16_);
   std::vector<Worker>().swap(workers_);
   kernels_ = nullptr;
 }
 
 std::size_t PathMatcher::working_memory_bytes() const {
   const std::size_t bands = kernels_ != nullptr ? static_cast<std::size_t>(max_samples_ / max_width_) : 0;
-  std::size_t bytes = 2 * costs_len_ * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
+  const std::size_t sum_len = kernels_ != nullptr ? static_cast<std::size_t>(max_samples_) * cost_stride_ : 0;
+  std::size_t bytes = (costs_len_ + sum_len) * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
+                      capacity_bytes(inv_pixels_q16_) +
                       bands * (2 * 64 + sizeof(std::atomic<int>)) +  // the wavefronts, a cache line per band; band_first_
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
                       capacity_bytes(workers_);
@@ -286,6 +303,7 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
   };
   T* cols = reinterpret_cast<T*>(wk.column_sums.get());
   T* sum = reinterpret_cast<T*>(wk.total.data());
+  std::uint8_t* const c_sums = reinterpret_cast<std::uint8_t*>(costs_.get());
   const T* parts[kMaxWindowSide];
   const T* cells[kMaxDirectCells];
   const auto sum_rows = [this](const T* const* rows, int count, std::size_t n, T* out) {
@@ -311,6 +329,9 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
     for (int i = samples.row_begin(y); i < samples.row_end(y); ++i) {
       const int x = samples.x_of(i);
       const int wx0 = std::max(0, x - rx), wx1 = std::min(w - 1, x + rx);
+      if constexpr (sizeof(T) == 1) {
+        if (c_sums_u8_) sum = c_sums + row(i, cost_stride_);  // C is the sums
+      }
       if (direct) {
         int c = 0;
         for (int r = 0; r < rows; ++r)
@@ -323,10 +344,11 @@ void PathMatcher::census_costs_by_rows(const MatchContext& ctx, const SampleLayo
       }
       const auto pixels = static_cast<std::uint64_t>((wx1 - wx0 + 1) * (wy1 - wy0 + 1));
       std::uint16_t* cost_q4 = costs_.get() + row(i, cost_stride_);
-      if constexpr (sizeof(T) == 1)
-        kernels_->normalize_costs_u8(sum, (std::uint64_t{1} << 32) / pixels, d, cost_q4);
-      else
+      if constexpr (sizeof(T) == 1) {
+        if (!c_sums_u8_) kernels_->normalize_costs_u8(sum, (std::uint64_t{1} << 32) / pixels, d, cost_q4);
+      } else {
         kernels_->normalize_costs_u16(sum, (std::uint64_t{1} << 32) / pixels, d, cost_q4);
+      }
     }
   }
 }
@@ -583,8 +605,10 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
   // when a row's part starts, the later ones kPrefetchSamples ahead (within
   // the row's part, unless the tiles are whole rows).
   const int ahead = di * kPrefetchSamples;
+  const std::size_t cost_bytes = cost_stride_ * (c_sums_u8_ ? 1 : sizeof(std::uint16_t));  // a row of C
+  const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
   const auto prefetch_sample = [&](int a) {
-    prefetch_lines<0>(costs_.get() + row(a, cost_stride_), cost_stride_ * sizeof(std::uint16_t));
+    prefetch_lines<0>(reinterpret_cast<const char*>(costs_.get()) + row(a, cost_bytes), cost_bytes);
     prefetch_lines<1>(sum_.get() + row(a, cost_stride_), cost_stride_ * sizeof(std::uint16_t));
   };
   // The first samples of row j's part of this tile (a row without samples:
@@ -624,7 +648,6 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
       const int x = dense ? i - v0 : verts[i].x;
       if ((forward ? x : w - 1 - x) >= u_end) break;
       const int ip = g[x];
-      const std::uint16_t* cost = costs_.get() + row(i, cost_stride_);
       std::uint16_t* sum = sum_.get() + row(i, cost_stride_);
       if (i + ahead >= lo && i + ahead < hi) prefetch_sample(i + ahead);
       // Step 0 is the horizontal path, 1 + k the k-th other direction of the
@@ -670,7 +693,17 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
           prev_min[1 + k] = mins[k][qs];
         }
       }
-      ks.path_steps_u16(cost, prev, prev_min, p1, p2, 1 + others, d, outs, sum, add, step_min);
+      if (c_sums_u8_) {
+        // The box's pixels inside the image (census_costs_by_rows' clipped window).
+        const int pixels = (std::min(w - 1, x + rx) - std::max(0, x - rx) + 1) *
+                           (std::min(h - 1, y + ry) - std::max(0, y - ry) + 1);
+        ks.path_steps_u8(reinterpret_cast<const std::uint8_t*>(costs_.get()) + row(i, cost_stride_),
+                         inv_pixels_q16_[static_cast<std::size_t>(pixels)], prev, prev_min, p1, p2, 1 + others, d,
+                         outs, sum, add, step_min);
+      } else {
+        ks.path_steps_u16(costs_.get() + row(i, cost_stride_), prev, prev_min, p1, p2, 1 + others, d, outs, sum,
+                          add, step_min);
+      }
       hmin = step_min[0];
       hprev = outs[0];
       ++step;
@@ -771,6 +804,20 @@ PathMatcher::Rejected PathMatcher::aggregate_rows(const SampleLayout& samples,
 PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<const std::uint8_t> left_gray,
                                          ThreadPool& pool, std::int16_t* disp_q4, std::uint8_t* confidence) {
   return aggregate_rows(samples, left_gray, pool, disp_q4, confidence);
+}
+
+void PathMatcher::cost_q4(const SampleLayout& samples, int i, std::uint16_t* out) const {
+  if (!c_sums_u8_) {
+    std::copy_n(costs_.get() + row(i, cost_stride_), num_disp_, out);
+    return;
+  }
+  const int x = samples.x_of(i), y = samples.y_of(i);
+  const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
+  const int pixels = (std::min(samples.width - 1, x + rx) - std::max(0, x - rx) + 1) *
+                     (std::min(samples.height - 1, y + ry) - std::max(0, y - ry) + 1);
+  const std::uint32_t inv = inv_pixels_q16_[static_cast<std::size_t>(pixels)];
+  const std::uint8_t* s = reinterpret_cast<const std::uint8_t*>(costs_.get()) + row(i, cost_stride_);
+  for (int k = 0; k < num_disp_; ++k) out[k] = static_cast<std::uint16_t>((std::uint32_t{s[k]} * 16u * inv + 0x8000u) >> 16);
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {

@@ -96,7 +96,8 @@ class PathMatcher {
   std::size_t working_memory_bytes() const;
 
   // Inspection (tests): C, and the summed path costs of the last select().
-  const std::uint16_t* cost_row(int i) const { return costs_.get() + row(i, cost_stride_); }
+  // C(i, 0 .. D) of the last compute_costs() in Q4, into out.
+  void cost_q4(const SampleLayout& samples, int i, std::uint16_t* out) const;
   // S(i, k) of the last aggregate().
   void summed_costs(int i, std::uint16_t* out) const;
   // S(i, 0 .. D) of the last aggregate(), in place.
@@ -190,6 +191,11 @@ class PathMatcher {
   // The census box sums in bytes: descriptor bits x window pixels <= 255, so
   // no per-pixel cost nor window sum exceeds a byte (census only).
   bool byte_costs_ = false;
+  // C holds those byte sums, not their Q4 means (configure: when every box
+  // size has a 16-bit reciprocal that gives the means, src/cost/byte_means.hpp;
+  // inv_pixels_q16_ by box pixel count); the path kernels take the means.
+  bool c_sums_u8_ = false;
+  std::vector<std::uint16_t> inv_pixels_q16_;
   LargeArray<std::uint16_t> costs_;
   LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards

@@ -154,6 +154,17 @@ struct KernelSet {
                          int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
                          std::uint16_t* mins) = nullptr;
 
+  // path_steps_u16 on census box sums kept as bytes, for k in [0, n):
+  //   cost[k] = (16 cost_sums[k] inv_q16 + 2^15) >> 16,
+  // computed in registers (the Q4 costs are never stored). This equals the
+  // model's mean of a box of p pixels (normalize_costs_u8 with floor(2^32 /
+  // p)) only for an inv_q16 checked against it for every sum the box can hold
+  // (src/cost/byte_means.hpp chooses them). Reads cost_sums[0 .. n); n <= 256.
+  void (*path_steps_u8)(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+                        const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count,
+                        int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
+                        std::uint16_t* mins) = nullptr;
+
   // One sample's decision inputs from its summed costs (docs/model.md
   // section 6), for k in [0, n), 1 <= n <= 256: returns the smallest k
   // minimising total[k]; when rival is given, *rival = the minimum of

@@ -24,6 +24,7 @@ const KernelSet& scalar_kernel_set() {
     s.sum_rows_u8 = sum_rows_u8_scalar;
     s.normalize_costs_u8 = normalize_costs_u8_scalar;
     s.path_steps_u16 = path_steps_u16_scalar;
+    s.path_steps_u8 = path_steps_u8_scalar;
     s.sum_rows_u16 = sum_rows_u16_scalar;
     s.winner_u16 = winner_u16_scalar;
     s.add_saturate_u16 = add_saturate_u16_scalar;
