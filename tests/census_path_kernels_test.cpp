@@ -407,7 +407,7 @@ TEST(WinnerScalar, IsTheThreeKernelsInOne) {
 TEST_P(CensusPathKernels, WinnerEqualsScalar) {
   std::mt19937 rng(18);
   for (int n = 1; n <= 256; ++n)
-    for (int trial = 0; trial < 5; ++trial) {
+    for (int trial = 0; trial < 6; ++trial) {
       // Small values: ties for the winner, the rival and the right view.
       std::uniform_int_distribution<int> v(trial < 2 ? 0 : 2, trial < 2 ? 3 : 65534);
       std::vector<std::uint16_t> total(static_cast<std::size_t>(n) + kSlack);
@@ -423,6 +423,7 @@ TEST_P(CensusPathKernels, WinnerEqualsScalar) {
       }
       if (trial == 3) total[static_cast<std::size_t>(n - 1)] = 0;  // the winner in the last lane
       if (trial == 4) total[static_cast<std::size_t>(n - 1)] = best_a[static_cast<std::size_t>(n - 1)] = 0xFFFF;
+      if (trial == 5) std::fill(total.begin(), total.begin() + n, std::uint16_t{0xFFFF});  // no lane ever lowered
       std::vector<std::uint16_t> best_b = best_a, k_b = k_a, best_c = best_a, k_c = k_a;
       const bool lr = trial != 1;
       std::uint16_t rival_a = 1, rival_b = 2;
@@ -440,6 +441,9 @@ TEST_P(CensusPathKernels, WinnerEqualsScalar) {
         }
       }
       ASSERT_EQ(rival_b, min_outside_u16_scalar(total.data(), n, kb));
+      if (trial == 5) {
+        ASSERT_EQ(kb, 0);
+      }
       if (trial == 2) {
         ASSERT_EQ(kb, dip);
         ASSERT_GT(rival_b, 1) << "n=" << n << " dip=" << dip;  // 0xFFFF when nothing is outside
