@@ -574,6 +574,32 @@ void store_f64_as_s32(std::int32_t* p, const batch<double, A>& v, const xsimd::n
 }
 #endif
 
+// ---- (a b + 2^14) >> 15 for lanes a, b < 2^15: a rounding multiply-high.
+// With P = a b = hi 2^16 + lo, (P + 2^14) >> 15 = 2 hi + ((lo + 2^14) >> 15),
+// and the last term is ((lo >> 14) + 1) >> 1 without leaving 16 bits.
+// AVX2's pmulhrsw and NEON's vqrdmulh are this product on signed lanes, which
+// a, b < 2^15 keep non-negative (no saturation).
+template <class A>
+batch<std::uint16_t, A> mulhrs_u15(const batch<std::uint16_t, A>& a, const batch<std::uint16_t, A>& b,
+                                   const xsimd::generic&) {
+  const batch<std::uint16_t, A> hi = mulhi_u16(a, b, A{}), lo = mullo_u16(a, b, A{});
+  return (hi << 1) + (((lo >> 14) + batch<std::uint16_t, A>(std::uint16_t{1})) >> 1);
+}
+#if XSIMD_WITH_AVX2
+template <class A>
+batch<std::uint16_t, A> mulhrs_u15(const batch<std::uint16_t, A>& a, const batch<std::uint16_t, A>& b,
+                                   const xsimd::avx2&) {
+  return _mm256_mulhrs_epi16(a, b);
+}
+#endif
+#if XSIMD_WITH_NEON
+template <class A>
+batch<std::uint16_t, A> mulhrs_u15(const batch<std::uint16_t, A>& a, const batch<std::uint16_t, A>& b,
+                                   const xsimd::neon&) {
+  return vreinterpretq_u16_s16(vqrdmulhq_s16(vreinterpretq_s16_u16(a), vreinterpretq_s16_u16(b)));
+}
+#endif
+
 // ---- the u16 lanes' count of bytes from p, zero-extended in order (a byte
 // cost row read straight into u16 arithmetic; the loop is the definition).
 template <class A>
@@ -605,6 +631,11 @@ batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p, const xsimd::neon&)
 }  // namespace detail
 
 // ---------------------------------------------------------------- public escapes
+// (a b + 2^14) >> 15 per lane; every lane of a and b below 2^15.
+template <class A>
+batch<std::uint16_t, A> mulhrs_u15(const batch<std::uint16_t, A>& a, const batch<std::uint16_t, A>& b) {
+  return detail::mulhrs_u15(a, b, A{});
+}
 // Reads batch<std::uint16_t, A>::size bytes.
 template <class A>
 batch<std::uint16_t, A> load_widen_u8(const std::uint8_t* p) {

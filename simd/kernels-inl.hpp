@@ -1137,22 +1137,20 @@ void PathStepsU16<Arch>::call(const std::uint16_t* cost, const std::uint16_t* co
                                      p2, count, n, out, sum, accumulate, mins);
 }
 
-// The byte sums' means in registers: 16 s inv = hi 2^16 + lo, so adding 2^15
-// and dropping 16 bits leaves hi plus the top bit of lo (16 s <= 4080 fits a
-// u16 lane).
+// The byte sums' means in registers: a rounding multiply-high of 16 s (<= 4080)
+// by inv_q15 (escape::mulhrs_u15).
 template <class Arch>
-void PathStepsU8<Arch>::call(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+void PathStepsU8<Arch>::call(const std::uint8_t* cost_sums, std::uint16_t inv_q15, const std::uint16_t* const* prev,
                              const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
                              int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
                              std::uint16_t* mins) {
   using b16 = xsimd::batch<std::uint16_t, Arch>;
   if (n < static_cast<int>(b16::size))
-    return path_steps_u8_scalar(cost_sums, inv_q16, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
-  const b16 inv(inv_q16);
+    return path_steps_u8_scalar(cost_sums, inv_q15, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
+  const b16 inv(inv_q15);
   detail::path_steps_for_count<Arch>(
       [cost_sums, &inv](int k) {
-        const b16 s16 = escape::load_widen_u8<Arch>(cost_sums + k) << 4;
-        return escape::mulhi_u16(s16, inv) + (escape::mullo_u16(s16, inv) >> 15);
+        return escape::mulhrs_u15(escape::load_widen_u8<Arch>(cost_sums + k) << 4, inv);
       },
       prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
 }

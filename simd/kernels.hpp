@@ -111,7 +111,7 @@ struct NormalizeCostsU8 {
 
 template <class Arch>
 struct PathStepsU8 {
-  static void call(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+  static void call(const std::uint8_t* cost_sums, std::uint16_t inv_q15, const std::uint16_t* const* prev,
                    const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count, int n,
                    std::uint16_t* const* out, std::uint16_t* sum, int accumulate, std::uint16_t* mins);
 };

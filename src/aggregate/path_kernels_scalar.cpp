@@ -37,12 +37,12 @@ void path_steps_u16_scalar(const std::uint16_t* cost, const std::uint16_t* const
     mins[r] = path_step_u16_scalar(cost, prev[r], prev_min[r], p1[r], p2[r], n, out[r], sum, r == 0 ? accumulate : 1);
 }
 
-void path_steps_u8_scalar(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+void path_steps_u8_scalar(const std::uint8_t* cost_sums, std::uint16_t inv_q15, const std::uint16_t* const* prev,
                           const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count,
                           int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate, std::uint16_t* mins) {
   std::uint16_t cost[kMaxNumDisp];
   for (int k = 0; k < n; ++k)
-    cost[k] = static_cast<std::uint16_t>((std::uint32_t{cost_sums[k]} * 16u * inv_q16 + 0x8000u) >> 16);
+    cost[k] = static_cast<std::uint16_t>((std::uint32_t{cost_sums[k]} * 16u * inv_q15 + 0x4000u) >> 15);
   path_steps_u16_scalar(cost, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
 }
 

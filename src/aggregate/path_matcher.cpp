@@ -93,16 +93,16 @@ void PathMatcher::configure(int max_width, int max_height, const StereoParams& p
   // Byte rows take half the u16 elements.
   const auto cost_elems = [this](std::size_t n) { return byte_costs_ ? (n + 1) / 2 : n; };
   // C in bytes: the census box sums themselves, when every box a sample can
-  // have (clipped at the borders) has a 16-bit reciprocal that gives the
+  // have (clipped at the borders) has a 15-bit reciprocal that gives the
   // model's means (byte_means.hpp); the path kernels take the means in
   // registers. Half the bytes of Q4 costs to write, and to read in both passes.
   const int box_w = params.cost.window_w, box_h = params.cost.window_h;
-  inv_pixels_q16_.assign(byte_costs_ ? static_cast<std::size_t>(box_w * box_h) + 1 : 0, 0);
+  inv_pixels_q15_.assign(byte_costs_ ? static_cast<std::size_t>(box_w * box_h) + 1 : 0, 0);
   c_sums_u8_ = byte_costs_;
   for (int a = 1; c_sums_u8_ && a <= box_w; ++a)
     for (int b = 1; c_sums_u8_ && b <= box_h; ++b) {
-      const std::uint16_t inv = byte_mean_inv_q16(a * b, census_bits * a * b);
-      inv_pixels_q16_[static_cast<std::size_t>(a * b)] = inv;
+      const std::uint16_t inv = byte_mean_inv_q15(a * b, census_bits * a * b);
+      inv_pixels_q15_[static_cast<std::size_t>(a * b)] = inv;
       c_sums_u8_ = inv != 0;
     }
   costs_len_ = c_sums_u8_ ? (n * cost_stride_ + 1) / 2 : n * cost_stride_;
@@ -180,7 +180,7 @@ void PathMatcher::release() {
   std::vector<std::uint32_t>().swap(p1_by_gap_);
   std::vector<std::uint32_t>().swap(p2_by_gap_);
   std::vector<std::uint16_t>().swap(zero_path_);
-  std::vector<std::uint16_t>().swap(inv_pixels_q16_);
+  std::vector<std::uint16_t>().swap(inv_pixels_q15_);
   std::vector<Worker>().swap(workers_);
   kernels_ = nullptr;
 }
@@ -189,7 +189,7 @@ std::size_t PathMatcher::working_memory_bytes() const {
   const std::size_t bands = kernels_ != nullptr ? static_cast<std::size_t>(max_samples_ / max_width_) : 0;
   const std::size_t sum_len = kernels_ != nullptr ? static_cast<std::size_t>(max_samples_) * cost_stride_ : 0;
   std::size_t bytes = (costs_len_ + sum_len) * sizeof(std::uint16_t) + preds_len_ * sizeof(std::int32_t) +
-                      capacity_bytes(inv_pixels_q16_) +
+                      capacity_bytes(inv_pixels_q15_) +
                       bands * (2 * 64 + sizeof(std::atomic<int>)) +  // the wavefronts, a cache line per band; band_first_
                       capacity_bytes(p1_by_gap_) + capacity_bytes(p2_by_gap_) + capacity_bytes(zero_path_) +
                       capacity_bytes(workers_);
@@ -698,7 +698,7 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
         const int pixels = (std::min(w - 1, x + rx) - std::max(0, x - rx) + 1) *
                            (std::min(h - 1, y + ry) - std::max(0, y - ry) + 1);
         ks.path_steps_u8(reinterpret_cast<const std::uint8_t*>(costs_.get()) + row(i, cost_stride_),
-                         inv_pixels_q16_[static_cast<std::size_t>(pixels)], prev, prev_min, p1, p2, 1 + others, d,
+                         inv_pixels_q15_[static_cast<std::size_t>(pixels)], prev, prev_min, p1, p2, 1 + others, d,
                          outs, sum, add, step_min);
       } else {
         ks.path_steps_u16(costs_.get() + row(i, cost_stride_), prev, prev_min, p1, p2, 1 + others, d, outs, sum,
@@ -815,9 +815,9 @@ void PathMatcher::cost_q4(const SampleLayout& samples, int i, std::uint16_t* out
   const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
   const int pixels = (std::min(samples.width - 1, x + rx) - std::max(0, x - rx) + 1) *
                      (std::min(samples.height - 1, y + ry) - std::max(0, y - ry) + 1);
-  const std::uint32_t inv = inv_pixels_q16_[static_cast<std::size_t>(pixels)];
+  const std::uint32_t inv = inv_pixels_q15_[static_cast<std::size_t>(pixels)];
   const std::uint8_t* s = reinterpret_cast<const std::uint8_t*>(costs_.get()) + row(i, cost_stride_);
-  for (int k = 0; k < num_disp_; ++k) out[k] = static_cast<std::uint16_t>((std::uint32_t{s[k]} * 16u * inv + 0x8000u) >> 16);
+  for (int k = 0; k < num_disp_; ++k) out[k] = static_cast<std::uint16_t>((std::uint32_t{s[k]} * 16u * inv + 0x4000u) >> 15);
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {

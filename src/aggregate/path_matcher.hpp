@@ -192,10 +192,10 @@ class PathMatcher {
   // no per-pixel cost nor window sum exceeds a byte (census only).
   bool byte_costs_ = false;
   // C holds those byte sums, not their Q4 means (configure: when every box
-  // size has a 16-bit reciprocal that gives the means, src/cost/byte_means.hpp;
-  // inv_pixels_q16_ by box pixel count); the path kernels take the means.
+  // size has a 15-bit reciprocal that gives the means, src/cost/byte_means.hpp;
+  // inv_pixels_q15_ by box pixel count); the path kernels take the means.
   bool c_sums_u8_ = false;
-  std::vector<std::uint16_t> inv_pixels_q16_;
+  std::vector<std::uint16_t> inv_pixels_q15_;
   LargeArray<std::uint16_t> costs_;
   LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples
   std::vector<std::uint16_t> zero_path_;   // a path start: zeros between 0xFFFF guards

@@ -1,22 +1,23 @@
-// The census cost's box mean from a byte sum by a 16-bit reciprocal.
+// The census cost's box mean from a byte sum by a 15-bit reciprocal.
 //
 // docs/model.md section 2 defines a sample's cost as the Q4 mean of its box
 // sum by the Q32 rule (16 s floor(2^32 / pixels) + 2^31) >> 32. When the
 // census's box sums fit a byte, the matcher keeps them as bytes and the path
-// kernels take the means in registers as (16 s M + 2^15) >> 16 with a 16-bit M
-// (KernelSet::path_steps_u8): two 16-bit products per lane. This file finds
-// an M that gives the Q32 rule's mean for every sum a box of `pixels` pixels
-// can hold, or reports that there is none.
+// kernels take the means in registers as (16 s M + 2^14) >> 15 with M below
+// 2^15 (KernelSet::path_steps_u8): one rounding multiply-high per lane on AVX2
+// (pmulhrsw) and NEON (vqrdmulh). This file finds an M that gives the Q32
+// rule's mean for every sum a box of `pixels` pixels can hold, or reports that
+// there is none.
 #pragma once
 
 #include <cstdint>
 
 namespace tristereo {
 
-// The smallest inv_q16 within 64 of 2^16 / pixels (clamped to 1 .. 65535) for
-// which (16 s inv_q16 + 2^15) >> 16 == (16 s floor(2^32 / pixels) + 2^31) >> 32
+// The smallest inv_q15 within 32 of 2^15 / pixels (clamped to 1 .. 32767) for
+// which (16 s inv_q15 + 2^14) >> 15 == (16 s floor(2^32 / pixels) + 2^31) >> 32
 // for every s in [0, max_sum]; 0 when there is none, or for pixels < 1 or
 // max_sum outside 0 .. 255.
-std::uint16_t byte_mean_inv_q16(int pixels, int max_sum);
+std::uint16_t byte_mean_inv_q15(int pixels, int max_sum);
 
 }  // namespace tristereo

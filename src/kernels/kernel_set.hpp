@@ -155,12 +155,12 @@ struct KernelSet {
                          std::uint16_t* mins) = nullptr;
 
   // path_steps_u16 on census box sums kept as bytes, for k in [0, n):
-  //   cost[k] = (16 cost_sums[k] inv_q16 + 2^15) >> 16,
+  //   cost[k] = (16 cost_sums[k] inv_q15 + 2^14) >> 15,  inv_q15 <= 32767,
   // computed in registers (the Q4 costs are never stored). This equals the
   // model's mean of a box of p pixels (normalize_costs_u8 with floor(2^32 /
-  // p)) only for an inv_q16 checked against it for every sum the box can hold
+  // p)) only for an inv_q15 checked against it for every sum the box can hold
   // (src/cost/byte_means.hpp chooses them). Reads cost_sums[0 .. n); n <= 256.
-  void (*path_steps_u8)(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+  void (*path_steps_u8)(const std::uint8_t* cost_sums, std::uint16_t inv_q15, const std::uint16_t* const* prev,
                         const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count,
                         int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
                         std::uint16_t* mins) = nullptr;

@@ -54,7 +54,7 @@ void path_steps_u16_scalar(const std::uint16_t* cost, const std::uint16_t* const
                            const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2,
                            int count, int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate,
                            std::uint16_t* mins);
-void path_steps_u8_scalar(const std::uint8_t* cost_sums, std::uint16_t inv_q16, const std::uint16_t* const* prev,
+void path_steps_u8_scalar(const std::uint8_t* cost_sums, std::uint16_t inv_q15, const std::uint16_t* const* prev,
                           const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count,
                           int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate, std::uint16_t* mins);
 std::uint16_t min_outside_u16_scalar(const std::uint16_t* total, int n, int k);
