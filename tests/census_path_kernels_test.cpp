@@ -171,8 +171,41 @@ TEST_P(CensusPathKernels, CensusCostsRowEqualsScalarAndWindows) {
   }
 }
 
-// Every count of paths, every n, both accumulate modes; each path's prev row
-// its own buffer, as in the matcher's rings.
+// The previous path costs of `count` paths at one sample, each row its own
+// buffer (as in the matcher's rings): n values in [0, bound + p2[r]] (all 0
+// when zeros) between 0xFFFF guards, and their minima.
+struct PrevRows {
+  std::vector<std::vector<std::uint16_t>> rows;
+  const std::uint16_t* prev[4] = {};
+  std::uint16_t prev_min[4] = {};
+  PrevRows(int count, int n, int bound, const std::uint16_t* p2, bool zeros, std::mt19937& rng) {
+    for (int r = 0; r < count; ++r) {
+      std::uniform_int_distribution<int> pd(0, bound + p2[r]);
+      std::vector<std::uint16_t> row(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
+      for (int k = 0; k < n; ++k) row[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(zeros ? 0 : pd(rng));
+      prev_min[r] = *std::min_element(row.begin() + 1, row.begin() + 1 + n);
+      rows.push_back(std::move(row));
+    }
+    for (int r = 0; r < count; ++r) prev[r] = rows[static_cast<std::size_t>(r)].data() + 1;
+  }
+};
+
+// The outputs of `count` paths (n values and canaries each), their sum and minima.
+struct PathOutputs {
+  std::vector<std::vector<std::uint16_t>> rows;
+  std::vector<std::uint16_t> sum;
+  std::uint16_t* out[4] = {};
+  std::uint16_t mins[4] = {};
+  PathOutputs(int count, int n, const std::vector<std::uint16_t>& sum_before)
+      : rows(static_cast<std::size_t>(count), std::vector<std::uint16_t>(static_cast<std::size_t>(n) + 4, 0xBEEF)),
+        sum(sum_before) {
+    for (int r = 0; r < count; ++r) out[r] = rows[static_cast<std::size_t>(r)].data();
+  }
+  PathOutputs(const PathOutputs&) = delete;
+  PathOutputs& operator=(const PathOutputs&) = delete;
+};
+
+// Every count of paths, every n, both accumulate modes.
 TEST_P(CensusPathKernels, PathStepsEqualScalar) {
   std::mt19937 rng(13);
   for (int n = 1; n <= 256; ++n) {
@@ -182,42 +215,25 @@ TEST_P(CensusPathKernels, PathStepsEqualScalar) {
         std::uniform_int_distribution<int> cd(0, cmax);
         std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack));
         for (int k = 0; k < n; ++k) cost[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(c == 4 ? cmax : cd(rng));
-        std::vector<std::vector<std::uint16_t>> prev_rows;
-        std::uint16_t prev_min[4], p1[4], p2[4];
+        std::uint16_t p1[4], p2[4];
         for (int r = 0; r < count; ++r) {
           p1[r] = static_cast<std::uint16_t>((c * 97 + r * 31) % 600);
           p2[r] = static_cast<std::uint16_t>(p1[r] + (c * 331 + r * 57) % 3000);
-          std::uniform_int_distribution<int> pd(0, cmax + p2[r]);
-          std::vector<std::uint16_t> prev(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
-          for (int k = 0; k < n; ++k) prev[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(c == 3 ? 0 : pd(rng));
-          prev_min[r] = *std::min_element(prev.begin() + 1, prev.begin() + 1 + n);
-          prev_rows.push_back(std::move(prev));
         }
-        const std::uint16_t* prev[4] = {};
-        for (int r = 0; r < count; ++r) prev[r] = prev_rows[static_cast<std::size_t>(r)].data() + 1;
+        const PrevRows in(count, n, cmax, p2, c == 3, rng);
         for (int accumulate = 0; accumulate < 2; ++accumulate) {
-          std::vector<std::vector<std::uint16_t>> out_a(static_cast<std::size_t>(count),
-                                                        std::vector<std::uint16_t>(static_cast<std::size_t>(n) + 4, 0xBEEF));
-          auto out_b = out_a;
-          std::vector<std::uint16_t> sum_a(static_cast<std::size_t>(n) + 4), sum_b;
-          for (auto& v : sum_a) v = static_cast<std::uint16_t>(cd(rng));
-          sum_b = sum_a;
-          std::uint16_t* oa[4] = {};
-          std::uint16_t* ob[4] = {};
-          for (int r = 0; r < count; ++r) {
-            oa[r] = out_a[static_cast<std::size_t>(r)].data();
-            ob[r] = out_b[static_cast<std::size_t>(r)].data();
-          }
-          std::uint16_t ma[4] = {}, mb[4] = {};
-          simd().path_steps_u16(cost.data(), prev, prev_min, p1, p2, count, n, oa, sum_a.data(), accumulate, ma);
-          scalar().path_steps_u16(cost.data(), prev, prev_min, p1, p2, count, n, ob, sum_b.data(), accumulate, mb);
+          std::vector<std::uint16_t> sum(static_cast<std::size_t>(n) + 4);
+          for (auto& v : sum) v = static_cast<std::uint16_t>(cd(rng));
+          PathOutputs a(count, n, sum), b(count, n, sum);
+          simd().path_steps_u16(cost.data(), in.prev, in.prev_min, p1, p2, count, n, a.out, a.sum.data(), accumulate, a.mins);
+          scalar().path_steps_u16(cost.data(), in.prev, in.prev_min, p1, p2, count, n, b.out, b.sum.data(), accumulate, b.mins);
           const std::string at = "n=" + std::to_string(n) + " case " + std::to_string(c) + " count " +
                                  std::to_string(count) + " accumulate " + std::to_string(accumulate);
-          ASSERT_EQ(out_a, out_b) << at;
-          ASSERT_EQ(sum_a, sum_b) << at;
+          ASSERT_EQ(a.rows, b.rows) << at;
+          ASSERT_EQ(a.sum, b.sum) << at;
           for (int r = 0; r < count; ++r) {
-            ASSERT_EQ(ma[r], mb[r]) << at << " path " << r;
-            ASSERT_EQ(mb[r], *std::min_element(ob[r], ob[r] + n)) << at << " path " << r;
+            ASSERT_EQ(a.mins[r], b.mins[r]) << at << " path " << r;
+            ASSERT_EQ(b.mins[r], *std::min_element(b.out[r], b.out[r] + n)) << at << " path " << r;
           }
         }
       }
@@ -236,52 +252,33 @@ TEST_P(CensusPathKernels, PathStepsU8EqualScalar) {
       std::uniform_int_distribution<int> sd(0, 255);
       std::vector<std::uint8_t> sums(static_cast<std::size_t>(n + kSlack));
       for (int k = 0; k < n; ++k) sums[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(n % 7 == 0 ? 255 : sd(rng));
-      std::vector<std::vector<std::uint16_t>> prev_rows;
-      std::uint16_t prev_min[4], p1[4], p2[4];
+      std::uint16_t p1[4], p2[4];
       for (int r = 0; r < count; ++r) {
         p1[r] = static_cast<std::uint16_t>(40 + 30 * r);
         p2[r] = static_cast<std::uint16_t>(p1[r] + 500);
-        std::uniform_int_distribution<int> pd(0, 4080 + p2[r]);
-        std::vector<std::uint16_t> prev(static_cast<std::size_t>(n + 2 + kSlack), 0xFFFF);
-        for (int k = 0; k < n; ++k) prev[static_cast<std::size_t>(k + 1)] = static_cast<std::uint16_t>(pd(rng));
-        prev_min[r] = *std::min_element(prev.begin() + 1, prev.begin() + 1 + n);
-        prev_rows.push_back(std::move(prev));
       }
-      const std::uint16_t* prev[4] = {};
-      for (int r = 0; r < count; ++r) prev[r] = prev_rows[static_cast<std::size_t>(r)].data() + 1;
+      const PrevRows in(count, n, 4080, p2, false, rng);
+      // The definition: path_steps_u16 on the means (16 s M + 2^14) >> 15.
+      std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack));
+      for (int k = 0; k < n; ++k)
+        cost[static_cast<std::size_t>(k)] =
+            static_cast<std::uint16_t>((std::uint32_t{sums[static_cast<std::size_t>(k)]} * 16u * inv + 0x4000u) >> 15);
       for (int accumulate = 0; accumulate < 2; ++accumulate) {
-        std::vector<std::vector<std::uint16_t>> out_a(static_cast<std::size_t>(count),
-                                                      std::vector<std::uint16_t>(static_cast<std::size_t>(n) + 4, 0xBEEF));
-        auto out_b = out_a, out_c = out_a;
-        std::vector<std::uint16_t> sum_a(static_cast<std::size_t>(n) + 4);
-        for (auto& v : sum_a) v = static_cast<std::uint16_t>(sd(rng) * 20);
-        auto sum_b = sum_a, sum_c = sum_a;
-        std::uint16_t* oa[4] = {};
-        std::uint16_t* ob[4] = {};
-        std::uint16_t* oc[4] = {};
-        for (int r = 0; r < count; ++r) {
-          oa[r] = out_a[static_cast<std::size_t>(r)].data();
-          ob[r] = out_b[static_cast<std::size_t>(r)].data();
-          oc[r] = out_c[static_cast<std::size_t>(r)].data();
-        }
-        std::uint16_t ma[4] = {}, mb[4] = {}, mc[4] = {};
-        simd().path_steps_u8(sums.data(), inv, prev, prev_min, p1, p2, count, n, oa, sum_a.data(), accumulate, ma);
-        scalar().path_steps_u8(sums.data(), inv, prev, prev_min, p1, p2, count, n, ob, sum_b.data(), accumulate, mb);
-        // The definition: path_steps_u16 on the means (16 s M + 2^14) >> 15.
-        std::vector<std::uint16_t> cost(static_cast<std::size_t>(n + kSlack));
-        for (int k = 0; k < n; ++k)
-          cost[static_cast<std::size_t>(k)] =
-              static_cast<std::uint16_t>((std::uint32_t{sums[static_cast<std::size_t>(k)]} * 16u * inv + 0x4000u) >> 15);
-        scalar().path_steps_u16(cost.data(), prev, prev_min, p1, p2, count, n, oc, sum_c.data(), accumulate, mc);
+        std::vector<std::uint16_t> sum(static_cast<std::size_t>(n) + 4);
+        for (auto& v : sum) v = static_cast<std::uint16_t>(sd(rng) * 20);
+        PathOutputs a(count, n, sum), b(count, n, sum), c(count, n, sum);
+        simd().path_steps_u8(sums.data(), inv, in.prev, in.prev_min, p1, p2, count, n, a.out, a.sum.data(), accumulate, a.mins);
+        scalar().path_steps_u8(sums.data(), inv, in.prev, in.prev_min, p1, p2, count, n, b.out, b.sum.data(), accumulate, b.mins);
+        scalar().path_steps_u16(cost.data(), in.prev, in.prev_min, p1, p2, count, n, c.out, c.sum.data(), accumulate, c.mins);
         const std::string at = "n=" + std::to_string(n) + " count " + std::to_string(count) + " inv " +
                                std::to_string(inv) + " accumulate " + std::to_string(accumulate);
-        ASSERT_EQ(out_a, out_b) << at;
-        ASSERT_EQ(sum_a, sum_b) << at;
-        ASSERT_EQ(out_b, out_c) << at;
-        ASSERT_EQ(sum_b, sum_c) << at;
+        ASSERT_EQ(a.rows, b.rows) << at;
+        ASSERT_EQ(a.sum, b.sum) << at;
+        ASSERT_EQ(b.rows, c.rows) << at;
+        ASSERT_EQ(b.sum, c.sum) << at;
         for (int r = 0; r < count; ++r) {
-          ASSERT_EQ(ma[r], mb[r]) << at << " path " << r;
-          ASSERT_EQ(mb[r], mc[r]) << at << " path " << r;
+          ASSERT_EQ(a.mins[r], b.mins[r]) << at << " path " << r;
+          ASSERT_EQ(b.mins[r], c.mins[r]) << at << " path " << r;
         }
       }
     }
