@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 
+#include "src/cost/byte_means.hpp"
 #include "support/scenes.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/reference.hpp"
@@ -95,6 +96,43 @@ TEST(SyntheticBitExact, DefaultSceneSparseAndDense) {
     p.num_disp = 32;
     p.dense = dense;
     expect_bit_exact(s.left, s.right, p, dense ? "synthetic dense" : "synthetic sparse");
+  }
+}
+
+// The census cost's three storage forms of C (src/aggregate/path_matcher.cpp):
+// byte sums whose means the path kernels take (the default 5x5 census in a
+// 3x3 box), byte sums with a box size that has no 15-bit reciprocal (a 3x3
+// census in a 5x5 or 3x7 box: 25 and 21 pixels, src/cost/byte_means.hpp), so
+// Q4 means, and u16 sums (a 5x5 census in a 5x5 box). The random cases below
+// rarely draw the second; here each, sparse and dense, on 1 to 3 workers.
+TEST(SyntheticBitExact, EveryFormOfTheCensusCostTable) {
+  SynthParams sp;
+  sp.width = 160;
+  sp.height = 120;
+  sp.num_disp = 24;
+  const SyntheticScene s = make_synthetic_scene(sp);
+  struct Form {
+    int census, box_w, box_h;
+  };
+  for (const Form f : {Form{5, 3, 3}, Form{3, 5, 5}, Form{3, 3, 7}, Form{5, 5, 5}}) {
+    const int bits = f.census * f.census - 1;
+    if (f.census == 3) {  // the case under test: bytes, and some clipped box without a reciprocal
+      ASSERT_LE(bits * f.box_w * f.box_h, 255);
+      ASSERT_EQ(byte_mean_inv_q15(f.box_w * f.box_h, bits * f.box_w * f.box_h), 0);
+    }
+    for (bool dense : {false, true}) {
+      StereoParams p;
+      p.num_disp = 24;
+      p.dense = dense;
+      p.cost.census_w = p.cost.census_h = f.census;
+      p.cost.window_w = f.box_w;
+      p.cost.window_h = f.box_h;
+      const StereoOutput ref = run_reference(s.left, s.right, p);
+      for (int workers = 1; workers <= 3; ++workers)
+        EXPECT_EQ(first_difference(ref, run_integer(s.left, s.right, p, workers)), "")
+            << "census " << f.census << " box " << f.box_w << "x" << f.box_h << (dense ? " dense" : " sparse")
+            << ", " << workers << " workers";
+    }
   }
 }
 

@@ -1,6 +1,7 @@
 // Scalar path-aggregation and winner kernels (docs/model.md sections 3b, 6).
 #include <cstdint>
 
+#include "src/cost/byte_means.hpp"
 #include "src/kernels/kernels_scalar.hpp"
 #include "tristereo/params.hpp"
 
@@ -41,8 +42,7 @@ void path_steps_u8_scalar(const std::uint8_t* cost_sums, std::uint16_t inv_q15, 
                           const std::uint16_t* prev_min, const std::uint16_t* p1, const std::uint16_t* p2, int count,
                           int n, std::uint16_t* const* out, std::uint16_t* sum, int accumulate, std::uint16_t* mins) {
   std::uint16_t cost[kMaxNumDisp];
-  for (int k = 0; k < n; ++k)
-    cost[k] = static_cast<std::uint16_t>((std::uint32_t{cost_sums[k]} * 16u * inv_q15 + 0x4000u) >> 15);
+  for (int k = 0; k < n; ++k) cost[k] = byte_mean_q4(cost_sums[k], inv_q15);
   path_steps_u16_scalar(cost, prev, prev_min, p1, p2, count, n, out, sum, accumulate, mins);
 }
 

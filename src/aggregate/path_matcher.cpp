@@ -606,7 +606,6 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
   // the row's part, unless the tiles are whole rows).
   const int ahead = di * kPrefetchSamples;
   const std::size_t cost_bytes = cost_stride_ * (c_sums_u8_ ? 1 : sizeof(std::uint16_t));  // a row of C
-  const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
   const auto prefetch_sample = [&](int a) {
     prefetch_lines<0>(reinterpret_cast<const char*>(costs_.get()) + row(a, cost_bytes), cost_bytes);
     prefetch_lines<1>(sum_.get() + row(a, cost_stride_), cost_stride_ * sizeof(std::uint16_t));
@@ -694,11 +693,8 @@ void PathMatcher::run_tile(const SampleLayout& samples, ImageView<const std::uin
         }
       }
       if (c_sums_u8_) {
-        // The box's pixels inside the image (census_costs_by_rows' clipped window).
-        const int pixels = (std::min(w - 1, x + rx) - std::max(0, x - rx) + 1) *
-                           (std::min(h - 1, y + ry) - std::max(0, y - ry) + 1);
         ks.path_steps_u8(reinterpret_cast<const std::uint8_t*>(costs_.get()) + row(i, cost_stride_),
-                         inv_pixels_q15_[static_cast<std::size_t>(pixels)], prev, prev_min, p1, p2, 1 + others, d,
+                         inv_pixels_q15_[box_pixels(samples, x, y)], prev, prev_min, p1, p2, 1 + others, d,
                          outs, sum, add, step_min);
       } else {
         ks.path_steps_u16(costs_.get() + row(i, cost_stride_), prev, prev_min, p1, p2, 1 + others, d, outs, sum,
@@ -806,18 +802,21 @@ PathMatcher::Rejected PathMatcher::match(const SampleLayout& samples, ImageView<
   return aggregate_rows(samples, left_gray, pool, disp_q4, confidence);
 }
 
+// The pixels of the support box at (x, y) inside the image (census_costs_by_rows' clipped window).
+std::size_t PathMatcher::box_pixels(const SampleLayout& samples, int x, int y) const {
+  const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
+  return static_cast<std::size_t>((std::min(samples.width - 1, x + rx) - std::max(0, x - rx) + 1) *
+                                  (std::min(samples.height - 1, y + ry) - std::max(0, y - ry) + 1));
+}
+
 void PathMatcher::cost_q4(const SampleLayout& samples, int i, std::uint16_t* out) const {
   if (!c_sums_u8_) {
     std::copy_n(costs_.get() + row(i, cost_stride_), num_disp_, out);
     return;
   }
-  const int x = samples.x_of(i), y = samples.y_of(i);
-  const int rx = params_.cost.window_w / 2, ry = params_.cost.window_h / 2;
-  const int pixels = (std::min(samples.width - 1, x + rx) - std::max(0, x - rx) + 1) *
-                     (std::min(samples.height - 1, y + ry) - std::max(0, y - ry) + 1);
-  const std::uint32_t inv = inv_pixels_q15_[static_cast<std::size_t>(pixels)];
+  const std::uint16_t inv = inv_pixels_q15_[box_pixels(samples, samples.x_of(i), samples.y_of(i))];
   const std::uint8_t* s = reinterpret_cast<const std::uint8_t*>(costs_.get()) + row(i, cost_stride_);
-  for (int k = 0; k < num_disp_; ++k) out[k] = static_cast<std::uint16_t>((std::uint32_t{s[k]} * 16u * inv + 0x4000u) >> 15);
+  for (int k = 0; k < num_disp_; ++k) out[k] = byte_mean_q4(s[k], inv);
 }
 
 void PathMatcher::summed_costs(int i, std::uint16_t* out) const {

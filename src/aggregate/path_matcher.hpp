@@ -195,6 +195,7 @@ class PathMatcher {
   // size has a 15-bit reciprocal that gives the means, src/cost/byte_means.hpp;
   // inv_pixels_q15_ by box pixel count); the path kernels take the means.
   bool c_sums_u8_ = false;
+  std::size_t box_pixels(const SampleLayout& samples, int x, int y) const;
   std::vector<std::uint16_t> inv_pixels_q15_;
   LargeArray<std::uint16_t> costs_;
   LargeArray<std::int32_t> preds_;  // 6 diagonal/vertical directions x samples

@@ -8,7 +8,7 @@ namespace {
 
 bool matches_q32(std::uint32_t inv_q15, std::uint64_t inv_q32, int max_sum) {
   for (std::uint32_t s = 0; s <= static_cast<std::uint32_t>(max_sum); ++s)
-    if (((16u * s * inv_q15 + 0x4000u) >> 15) != ((16u * s * inv_q32 + (std::uint64_t{1} << 31)) >> 32))
+    if (byte_mean_q4(s, inv_q15) != ((16u * s * inv_q32 + (std::uint64_t{1} << 31)) >> 32))
       return false;
   return true;
 }

@@ -14,6 +14,11 @@
 
 namespace tristereo {
 
+// The Q4 mean of byte sum s by inv_q15 (KernelSet::path_steps_u8's rule).
+inline std::uint16_t byte_mean_q4(std::uint32_t s, std::uint32_t inv_q15) {
+  return static_cast<std::uint16_t>((16u * s * inv_q15 + 0x4000u) >> 15);
+}
+
 // The smallest inv_q15 within 32 of 2^15 / pixels (clamped to 1 .. 32767) for
 // which (16 s inv_q15 + 2^14) >> 15 == (16 s floor(2^32 / pixels) + 2^31) >> 32
 // for every s in [0, max_sum]; 0 when there is none, or for pixels < 1 or
