@@ -31,6 +31,10 @@ struct PlaneSums {
     sxd += x * d;
     syd += y * d;
   }
+  bool operator==(const PlaneSums& o) const {
+    return n == o.n && sx == o.sx && sy == o.sy && sd == o.sd && sxx == o.sxx && sxy == o.sxy && syy == o.syy &&
+           sxd == o.sxd && syd == o.syd;
+  }
   void merge(const PlaneSums& o) {
     n += o.n;
     sx += o.sx;

@@ -196,41 +196,52 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
         }
         continue;
       }
-      const int t0 = c * kTrianglesPerChunk, t1 = std::min(n_tri, t0 + kTrianglesPerChunk);
-      if (joined >= 0) {  // the previous level marked this level's edges
-        for (int ti = t0; ti < t1; ++ti) {
-          const unsigned bits = edge_bits[ti];
-          if (bits == 0) continue;
-          const Triangle& t = tris[ti];
-          if (bits & 1u) unite(t[0], t[1], shared);
-          if (bits & 2u) unite(t[1], t[2], shared);
-          if (bits & 4u) unite(t[2], t[0], shared);
-        }
-        continue;
-      }
-      // The edges' tests without a branch each (an edge is taken or not
-      // about at random: with a branch per edge this loop took a quarter
-      // more of the stage on KITTI). With a next level, its edges
-      // (tau < |dI| <= next) are marked for it on the way.
+      // A block of triangles at a time: the bits of the edges this level
+      // joins (from the previous level, or tested here, marking the next
+      // level's on the way), then the list of those edges, each appended
+      // whether taken or not and kept by the count (an edge is taken or not
+      // about at random: a branch per edge mispredicts often), then the
+      // joins in one loop.
+      constexpr int kBlock = 256;
+      std::uint8_t bits[kBlock];
+      std::int32_t from[3 * kBlock], to[3 * kBlock];
+      const Triangle* tris_c = tris;
+      const std::uint8_t* in = inten;
+      std::uint8_t* marks = edge_bits;
+      const bool first_level = joined < 0, mark_next = next >= 0;
       const auto within = [](int a, int b, int ia, int ib, unsigned lo, unsigned span) {
-        return (a < b) & (static_cast<unsigned>(std::abs(ia - ib)) - lo < span);
+        return static_cast<unsigned>((a < b) & (static_cast<unsigned>(std::abs(ia - ib)) - lo < span));
       };
       const unsigned span = static_cast<unsigned>(tau + 1);
       const unsigned next_lo = static_cast<unsigned>(tau + 1), next_span = static_cast<unsigned>(next - tau);
-      for (int ti = t0; ti < t1; ++ti) {
-        const Triangle& t = tris[ti];
-        const int a = t[0], b = t[1], cc = t[2];
-        const int ia = inten[a], ib = inten[b], ic = inten[cc];
-        if (next >= 0)
-          edge_bits[ti] = static_cast<std::uint8_t>(within(a, b, ia, ib, next_lo, next_span) |
-                                                    within(b, cc, ib, ic, next_lo, next_span) << 1 |
-                                                    within(cc, a, ic, ia, next_lo, next_span) << 2);
-        const bool ab = within(a, b, ia, ib, 0, span), bc = within(b, cc, ib, ic, 0, span),
-                   ca = within(cc, a, ic, ia, 0, span);
-        if (!(ab | bc | ca)) continue;
-        if (ab) unite(a, b, shared);
-        if (bc) unite(b, cc, shared);
-        if (ca) unite(cc, a, shared);
+      const int t0 = c * kTrianglesPerChunk, t1 = std::min(n_tri, t0 + kTrianglesPerChunk);
+      for (int b0 = t0; b0 < t1; b0 += kBlock) {
+        const int nb = std::min(t1 - b0, kBlock);
+        if (!first_level) {
+          std::copy_n(marks + b0, nb, bits);
+        } else {
+          for (int j = 0; j < nb; ++j) {
+            const Triangle& t = tris_c[b0 + j];
+            const int a = t[0], b = t[1], cc = t[2];
+            const int ia = in[a], ib = in[b], ic = in[cc];
+            if (mark_next)
+              marks[b0 + j] = static_cast<std::uint8_t>(within(a, b, ia, ib, next_lo, next_span) |
+                                                        within(b, cc, ib, ic, next_lo, next_span) << 1 |
+                                                        within(cc, a, ic, ia, next_lo, next_span) << 2);
+            bits[j] = static_cast<std::uint8_t>(within(a, b, ia, ib, 0, span) | within(b, cc, ib, ic, 0, span) << 1 |
+                                                within(cc, a, ic, ia, 0, span) << 2);
+          }
+        }
+        int m = 0;
+        for (int j = 0; j < nb; ++j) {
+          const unsigned e = bits[j];
+          const Triangle& t = tris_c[b0 + j];
+          const int a = t[0], b = t[1], cc = t[2];
+          from[m] = a, to[m] = b, m += static_cast<int>(e & 1u);
+          from[m] = b, to[m] = cc, m += static_cast<int>(e >> 1 & 1u);
+          from[m] = cc, to[m] = a, m += static_cast<int>(e >> 2);
+        }
+        for (int e = 0; e < m; ++e) unite(from[e], to[e], shared);
       }
     }
   });
@@ -332,10 +343,15 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     const int np = gather(g0, g1, &other);
     if (!other || np < pp.plane_min) return false;
     IntPlane plane;
+    PlaneSums last;
     for (int fit = 0; fit < 4; ++fit) {
       PlaneSums sums;
       add_points(pts, np, fit, plane, &sums);
+      // The plane is a function of the sums: the same sums as the fit
+      // before give its plane again, and so every later fit.
+      if (fit > 0 && sums == last) break;
       if (!next_plane(sums, &plane)) return false;
+      last = sums;
     }
     Residuals res;
     residuals(pts, np, plane, &res);
@@ -372,6 +388,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     }
     if (!all.other || all.support < pp.plane_min) continue;
     IntPlane plane;
+    PlaneSums last;
     bool ok = true;
     for (int fit = 0; fit < 4 && ok; ++fit) {
       for (PlaneSums& s : big_sums_) s = PlaneSums{};
@@ -382,7 +399,9 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       });
       PlaneSums sums;
       for (const PlaneSums& s : big_sums_) sums.merge(s);
+      if (fit > 0 && sums == last) break;  // converged (as in fit_segment)
       ok = next_plane(sums, &plane);
+      last = sums;
     }
     if (!ok) continue;
     for (Residuals& res : big_residuals_) res = Residuals{};
