@@ -241,7 +241,29 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
           from[m] = b, to[m] = cc, m += static_cast<int>(e >> 1 & 1u);
           from[m] = cc, to[m] = a, m += static_cast<int>(e >> 2);
         }
-        for (int e = 0; e < m; ++e) unite(from[e], to[e], shared);
+        if (shared) {
+          for (int e = 0; e < m; ++e) unite(from[e], to[e], true);
+          continue;
+        }
+        // Alone: the unions a step of Rem's splicing at a time, each step
+        // of every union without a branch (when both parents are equal it
+        // stores the parent the sample has), the unions that go on listed
+        // in place for the next round. Unions commute, so the partition and
+        // the roots are the same.
+        std::int32_t* par = parent;
+        while (m > 0) {
+          int rest = 0;
+          for (int e = 0; e < m; ++e) {
+            const std::int32_t a = from[e], b = to[e];
+            const std::int32_t pa = par[a], pb = par[b];
+            const bool b_higher = pa < pb;
+            const std::int32_t x = b_higher ? b : a, px = b_higher ? pb : pa;
+            const std::int32_t y = b_higher ? a : b, py = b_higher ? pa : pb;
+            par[x] = py;
+            from[rest] = px, to[rest] = y, rest += static_cast<int>((pa != pb) & (x != px));
+          }
+          m = rest;
+        }
       }
     }
   });
