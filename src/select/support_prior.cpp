@@ -267,8 +267,14 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       }
     }
   });
+  // Every sample pointed at its root. A parent is at most its sample, so
+  // in ascending order a parent inside the chunk already points at its root;
+  // one before the chunk may be another worker's, and is followed.
   for_chunks(pool, trace, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
-    for (int i = i0; i < i1; ++i) store(parent + i, find(i));
+    for (int i = i0; i < i1; ++i) {
+      const std::int32_t p = load(parent + i);
+      store(parent + i, p >= i0 ? load(parent + p) : find(p));
+    }
   });
   // Members grouped by segment (counting sort by root, ascending ids). The
   // segments of at least kBigSegment samples are listed apart: one of them
