@@ -31,6 +31,7 @@ void fill_kernel_set_avx2(KernelSet& set) {
   set.path_steps_u16 = &PathStepsU16<xsimd::avx2>::call;
   set.path_steps_u8 = &PathStepsU8<xsimd::avx2>::call;
   set.winner_u16 = &WinnerU16<xsimd::avx2>::call;
+  set.min_outside_u16 = &MinOutsideU16<xsimd::avx2>::call;
   set.add_saturate_u16 = &AddSaturateU16<xsimd::avx2>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::avx2>::call;
   set.bgr_to_gray_row_u8 = &BgrToGrayRowU8<xsimd::avx2>::call;

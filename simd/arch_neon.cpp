@@ -31,6 +31,7 @@ void fill_kernel_set_neon(KernelSet& set) {
   set.path_steps_u16 = &PathStepsU16<xsimd::neon>::call;
   set.path_steps_u8 = &PathStepsU8<xsimd::neon>::call;
   set.winner_u16 = &WinnerU16<xsimd::neon>::call;
+  set.min_outside_u16 = &MinOutsideU16<xsimd::neon>::call;
   set.add_saturate_u16 = &AddSaturateU16<xsimd::neon>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::neon>::call;
   set.bgr_to_gray_row_u8 = &BgrToGrayRowU8<xsimd::neon>::call;

@@ -31,6 +31,7 @@ void fill_kernel_set_neon64(KernelSet& set) {
   set.path_steps_u16 = &PathStepsU16<xsimd::neon64>::call;
   set.path_steps_u8 = &PathStepsU8<xsimd::neon64>::call;
   set.winner_u16 = &WinnerU16<xsimd::neon64>::call;
+  set.min_outside_u16 = &MinOutsideU16<xsimd::neon64>::call;
   set.add_saturate_u16 = &AddSaturateU16<xsimd::neon64>::call;
   set.rgb_to_gray_row_u8 = &RgbToGrayRowU8<xsimd::neon64>::call;
   set.bgr_to_gray_row_u8 = &BgrToGrayRowU8<xsimd::neon64>::call;

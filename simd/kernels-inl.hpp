@@ -1228,15 +1228,23 @@ int WinnerU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* riva
   for (int j = 0; j + lanes <= n; j += lanes) first_in(j);
   if (overlap) first_in(tail);
   const int k = escape::hmin_u16(first);
-  if (rival != nullptr) {
-    const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
-    b16 r(detail::kU16Max);
-    for (int j = 0; j + lanes <= n; j += lanes)
-      r = escape::min_u16(r, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
-    if (overlap) r = escape::min_u16(r, b16::load_unaligned(total + tail) | b16::load_unaligned(around + tail));
-    *rival = escape::hmin_u16(r);
-  }
+  if (rival != nullptr) *rival = MinOutsideU16<Arch>::call(total, n, k);
   return k;
+}
+
+// Lanes j with |j - k| <= 1 ORed to 0xFFFF by kAround (never below any
+// other lane); a partial last block is the full block ending at n.
+template <class Arch>
+std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  if (n < lanes) return min_outside_u16_scalar(total, n, k);
+  const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
+  b16 r(detail::kU16Max);
+  int j = 0;
+  for (; j + lanes <= n; j += lanes) r = escape::min_u16(r, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
+  if (j < n) r = escape::min_u16(r, b16::load_unaligned(total + n - lanes) | b16::load_unaligned(around + n - lanes));
+  return escape::hmin_u16(r);
 }
 
 // A saturating add per lane; the last partial block is the full block

@@ -130,6 +130,11 @@ struct WinnerU16 {
 };
 
 template <class Arch>
+struct MinOutsideU16 {
+  static std::uint16_t call(const std::uint16_t* total, int n, int k);
+};
+
+template <class Arch>
 struct AddSaturateU16 {
   static void call(const std::uint16_t* total, const std::uint16_t* penalty, int n, std::uint16_t* out);
 };
@@ -198,6 +203,7 @@ struct MidpointsRowConfQ4 {
   KEYWORD template struct PathStepsU16<ARCH>;                 \
   KEYWORD template struct PathStepsU8<ARCH>;                  \
   KEYWORD template struct WinnerU16<ARCH>;                  \
+  KEYWORD template struct MinOutsideU16<ARCH>;              \
   KEYWORD template struct AddSaturateU16<ARCH>;             \
   KEYWORD template struct RgbToGrayRowU8<ARCH>;                \
   KEYWORD template struct BgrToGrayRowU8<ARCH>;                \

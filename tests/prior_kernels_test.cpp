@@ -1,8 +1,8 @@
-// The support prior's kernel (docs/model.md section 6b): every compiled SIMD
-// set against the scalar twin on random and saturating inputs for every D
-// from 1 to 256, and the property the prior relies on: winner_u16 on the
-// saturated sums finds the exact winner of the unsaturated ones, and their
-// rival whenever it is below 65535.
+// The support prior's kernels (docs/model.md section 6b): every compiled SIMD
+// set against the scalar twins on random and saturating inputs for every D
+// from 1 to 256 (and every k of the data rival), and the property the prior
+// relies on: winner_u16 on the saturated sums finds the exact winner of the
+// unsaturated ones, and their rival whenever it is below 65535.
 #include <algorithm>
 #include <cstdint>
 #include <random>
@@ -48,6 +48,32 @@ TEST_P(PriorKernels, AddSaturateEqualsScalar) {
       simd().add_saturate_u16(total.data(), penalty.data(), n, a.data());
       add_saturate_u16_scalar(total.data(), penalty.data(), n, b.data());
       ASSERT_EQ(a, b) << "n=" << n << " trial=" << trial;  // the guard past n untouched too
+    }
+}
+
+// The data rival at the prior's winner: every k of every D, ties and the
+// blocks' partial tail included.
+TEST_P(PriorKernels, MinOutsideEqualsScalar) {
+  std::mt19937 rng(42);
+  for (int n = 1; n <= 256; ++n)
+    for (int trial = 0; trial < 3; ++trial) {
+      std::uniform_int_distribution<int> v(0, trial == 0 ? 3 : 65535);
+      std::vector<std::uint16_t> total(static_cast<std::size_t>(n));
+      for (auto& x : total) x = static_cast<std::uint16_t>(v(rng));
+      for (int k = 0; k < n; ++k) {
+        std::vector<std::uint16_t> t = total;
+        if (trial == 2) {  // the lowest values at k and beside it: they must be skipped
+          t[static_cast<std::size_t>(k)] = 0;
+          if (k > 0) t[static_cast<std::size_t>(k - 1)] = 0;
+          if (k + 1 < n) t[static_cast<std::size_t>(k + 1)] = 0;
+        }
+        const std::uint16_t want = min_outside_u16_scalar(t.data(), n, k);
+        ASSERT_EQ(simd().min_outside_u16(t.data(), n, k), want) << "n=" << n << " k=" << k << " trial=" << trial;
+        std::uint16_t brute = 0xFFFF;
+        for (int j = 0; j < n; ++j)
+          if (std::abs(j - k) > 1) brute = std::min(brute, t[static_cast<std::size_t>(j)]);
+        ASSERT_EQ(want, brute);
+      }
     }
 }
 

@@ -178,6 +178,11 @@ struct KernelSet {
   int (*winner_u16)(const std::uint16_t* total, int n, std::uint16_t* rival, std::uint16_t* best_cost,
                     std::uint16_t* best_k) = nullptr;
 
+  // The minimum of total[j] over |j - k| > 1, 0 <= k < n, or 0xFFFF when
+  // there is none (winner_u16's rival, for a k found otherwise: the support
+  // prior's data rival at its new winner).
+  std::uint16_t (*min_outside_u16)(const std::uint16_t* total, int n, int k) = nullptr;
+
   // The support prior's costs (docs/model.md section 6b), n >= 1:
   //   out[k] = min(total[k] + penalty[k], 65535).
   // penalty is the prior's table shifted to the sample's k_prior; a sum that

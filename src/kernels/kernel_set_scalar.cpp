@@ -27,6 +27,7 @@ const KernelSet& scalar_kernel_set() {
     s.path_steps_u8 = path_steps_u8_scalar;
     s.sum_rows_u16 = sum_rows_u16_scalar;
     s.winner_u16 = winner_u16_scalar;
+    s.min_outside_u16 = min_outside_u16_scalar;
     s.add_saturate_u16 = add_saturate_u16_scalar;
     s.rgb_to_gray_row_u8 = rgb_to_gray_row_scalar;
     s.bgr_to_gray_row_u8 = bgr_to_gray_row_scalar;

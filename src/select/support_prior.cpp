@@ -582,12 +582,9 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
       // S at the new winner, against S's smallest value two or more steps away
       // (the lowest measured one when that is not above S(k')); below the
       // support. (From S' the prior's penalty would widen every margin, and
-      // --min-confidence would keep samples the data do not single out.) S's
-      // own winner k0 gives it: k0 = k' has it as its rival, |k0 - k'| > 1 is
-      // below S(k'); only a neighbouring k0 needs the scan.
-      std::uint16_t data_rival = 0xFFFF;
-      const int k0 = ks.winner_u16(s, d, &data_rival, nullptr, nullptr);
-      if (k0 != k) data_rival = std::abs(k0 - k) > 1 ? s[k0] : min_outside_u16_scalar(s, d, k);
+      // --min-confidence would keep samples the data do not single out.)
+      // Whatever S's own winner, that value is S's minimum over |k - k'| > 1.
+      const std::uint16_t data_rival = ks.min_outside_u16(s, d, k);
       const int data_conf = data_rival > s[k] ? measured_confidence(s[k], data_rival) : kMinMeasuredConfidence;
       conf[i] = static_cast<std::uint8_t>(std::min(conf_cap, data_conf));
     }
