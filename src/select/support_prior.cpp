@@ -46,7 +46,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   count_ = large_array<std::int32_t>(n + 1);
   order_ = large_array<std::int32_t>(n);
   inten_ = large_array<std::uint8_t>(n);
-  flags_ = large_array<std::uint8_t>(n);
+  members_ = large_array<Member>(n);
   next_ = large_array<std::uint8_t>(static_cast<std::size_t>(max_triangles));
   max_disp_ = max_disp;
   workers = std::max(1, workers);
@@ -58,7 +58,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   big_census_.assign(static_cast<std::size_t>(workers), Census{});
   big_sums_.assign(static_cast<std::size_t>(workers), PlaneSums{});
   big_residuals_.assign(static_cast<std::size_t>(workers), Residuals{});
-  bytes_ = (4 * n + 1) * sizeof(std::int32_t) + n * (sizeof(FitPoint) + sizeof(std::int16_t)) + 2 * n +
+  bytes_ = (4 * n + 1) * sizeof(std::int32_t) + n * (sizeof(FitPoint) + sizeof(Member) + sizeof(std::int16_t)) + n +
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
            static_cast<std::size_t>(workers) * (sizeof(SupportPriorCounts) + sizeof(Census) + sizeof(PlaneSums) +
                                                 sizeof(Residuals)) +
@@ -70,7 +70,7 @@ void SupportPrior::release() {
   for (LargeArray<std::int32_t>* a : {&cand_, &parent_, &count_, &order_})
     *a = LargeArray<std::int32_t>{};
   inten_ = LargeArray<std::uint8_t>{};
-  flags_ = LargeArray<std::uint8_t>{};
+  members_ = LargeArray<Member>{};
   next_ = LargeArray<std::uint8_t>{};
   fit_ = LargeArray<FitPoint>{};
   s2_ = std::vector<std::uint16_t>{};
@@ -147,7 +147,7 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   const int n = n_;
   const SupportPriorParams& pp = params.prior;
   std::int32_t* parent = parent_.get();
-  std::uint8_t* flags = flags_.get();
+  Member* members = members_.get();
   // Segments: the components of the mesh edges with |dI| <= tau; each one's
   // root is its smallest sample. joined >= 0: parent holds the segments of
   // that smaller threshold (a finer partition), so only the edges with
@@ -306,13 +306,11 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
     int np = 0;
     bool any_other = false;
     for (int j = g0; j < g1; ++j) {
-      const int i = order[j];
-      const std::uint8_t f = flags[i];
-      if (f & kSupport)
-        pts[np++] = FitPoint{static_cast<std::int16_t>(samples.x_of(i)), static_cast<std::int16_t>(samples.y_of(i)),
-                             disp[i]};
+      const Member m = members[order[j]];
+      if (m.flags & kSupport)
+        pts[np++] = FitPoint{m.x, m.y, m.d};
       else
-        any_other = any_other || !(f & kCovered);
+        any_other = any_other || !(m.flags & kCovered);
     }
     *other = *other || any_other;
     return np;
@@ -356,9 +354,10 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   const auto cover = [&](int g0, int g1, const IntPlane& plane) {
     for (int j = g0; j < g1; ++j) {
       const int i = order[j];
-      if (flags[i] & (kSupport | kCovered)) continue;
-      flags[i] |= kCovered;
-      prior[i] = static_cast<std::int16_t>(std::clamp(plane.at(samples.x_of(i), samples.y_of(i)), lo, hi));
+      Member& m = members[i];
+      if (m.flags & (kSupport | kCovered)) continue;
+      m.flags |= kCovered;
+      prior[i] = static_cast<std::int16_t>(std::clamp(plane.at(m.x, m.y), lo, hi));
     }
   };
   // Segment r on one worker: true when it gets a plane.
@@ -484,7 +483,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   const int n = samples.count();
   n_ = n;
   std::uint8_t* inten = inten_.get();
-  std::uint8_t* flags = flags_.get();
+  Member* members = members_.get();
   const std::int16_t* prior = prior_.get();
   std::int32_t* pending = cand_.get();  // the list of samples decided again (the segments are done)
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
@@ -496,14 +495,15 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
     const std::ptrdiff_t stride = left.stride_bytes;  // u8 pixels: bytes
     const int min_conf = pp.support_conf;
     std::uint8_t* in = inten;
-    std::uint8_t* fl = flags;
+    Member* mem = members;
     const std::int16_t* dq = disp;
     const std::uint8_t* cf = conf;
     int support = 0;
     for (int i = i0; i < i1; ++i) {
       in[i] = image[v[i].y * stride + v[i].x];
       const bool s = dq[i] != kInvalidDispQ4 && cf[i] >= min_conf;
-      fl[i] = s ? kSupport : 0;
+      mem[i] = Member{static_cast<std::int16_t>(v[i].x), static_cast<std::int16_t>(v[i].y), dq[i],
+                      static_cast<std::uint8_t>(s ? kSupport : 0)};
       support += s ? 1 : 0;
     }
     worker_counts_[static_cast<std::size_t>(w)].support += support;
@@ -530,7 +530,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   // sample writes only its own outputs, so the list may be shared.
   int n_redo = 0;
   for (int i = 0; i < n; ++i)
-    if (flags[i] & kCovered) pending[n_redo++] = i;
+    if (members[i].flags & kCovered) pending[n_redo++] = i;
   constexpr int kAhead = 8;
   const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
   for_chunks(pool, trace, TraceKind::kPriorSamples, 0, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {

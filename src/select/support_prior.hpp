@@ -72,6 +72,12 @@ class SupportPrior {
   template <class Body>
   void for_chunks(ThreadPool* pool, FrameTrace* trace, TraceKind kind, int tag, int n, int chunk, Body body);
 
+  // A sample's pixel (< 4096), disparity (Q4) and flags (1 support, 2
+  // covered by a plane), together: a segment's members are far apart.
+  struct Member {
+    std::int16_t x, y, d;
+    std::uint8_t flags;
+  };
   struct FitPoint {
     std::int16_t x, y, d;  // a support sample's pixel (< 4096) and disparity (Q4)
   };
@@ -87,7 +93,8 @@ class SupportPrior {
   int n_ = 0;
   LargeArray<std::int16_t> prior_;  // Q4, within the disparity range
   LargeArray<std::int32_t> cand_, parent_, count_, order_;
-  LargeArray<std::uint8_t> inten_, flags_;  // flags: 1 support, 2 covered by a plane
+  LargeArray<std::uint8_t> inten_;
+  LargeArray<Member> members_;
   LargeArray<std::uint8_t> next_;           // per triangle: bit e, its edge e joins at the next level
   LargeArray<FitPoint> fit_;                // a segment's support points
   std::vector<std::uint16_t> s2_;                    // S' of one sample (saturated), per worker
