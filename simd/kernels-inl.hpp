@@ -1182,6 +1182,23 @@ void BgrToGrayRowU8<Arch>::call(const std::uint8_t* bgr, int n, std::uint8_t* gr
   triplets_to_gray_row<Arch, 2, 0>(bgr, n, gray);
 }
 
+namespace detail {
+// min_outside_u16 for n >= lanes: lanes j with |j - k| <= 1 ORed to 0xFFFF
+// by kAround (never below any other lane); a partial last block is the full
+// block ending at n.
+template <class Arch>
+inline std::uint16_t min_outside(const std::uint16_t* total, int n, int k) {
+  using b16 = xsimd::batch<std::uint16_t, Arch>;
+  constexpr int lanes = static_cast<int>(b16::size);
+  const std::uint16_t* around = kAround.v + kAroundCentre - k;
+  b16 r(kU16Max);
+  int j = 0;
+  for (; j + lanes <= n; j += lanes) r = escape::min_u16(r, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
+  if (j < n) r = escape::min_u16(r, b16::load_unaligned(total + n - lanes) | b16::load_unaligned(around + n - lanes));
+  return escape::hmin_u16(r);
+}
+}  // namespace detail
+
 // One pass over the sums for their minimum and the right view's winners
 // (total < best is min(total, best) == total and total != best: equality
 // compares, which every target has for u16 lanes, SSE2 has no unsigned u16
@@ -1228,23 +1245,14 @@ int WinnerU16<Arch>::call(const std::uint16_t* total, int n, std::uint16_t* riva
   for (int j = 0; j + lanes <= n; j += lanes) first_in(j);
   if (overlap) first_in(tail);
   const int k = escape::hmin_u16(first);
-  if (rival != nullptr) *rival = MinOutsideU16<Arch>::call(total, n, k);
+  if (rival != nullptr) *rival = detail::min_outside<Arch>(total, n, k);
   return k;
 }
 
-// Lanes j with |j - k| <= 1 ORed to 0xFFFF by kAround (never below any
-// other lane); a partial last block is the full block ending at n.
 template <class Arch>
 std::uint16_t MinOutsideU16<Arch>::call(const std::uint16_t* total, int n, int k) {
-  using b16 = xsimd::batch<std::uint16_t, Arch>;
-  constexpr int lanes = static_cast<int>(b16::size);
-  if (n < lanes) return min_outside_u16_scalar(total, n, k);
-  const std::uint16_t* around = detail::kAround.v + detail::kAroundCentre - k;
-  b16 r(detail::kU16Max);
-  int j = 0;
-  for (; j + lanes <= n; j += lanes) r = escape::min_u16(r, b16::load_unaligned(total + j) | b16::load_unaligned(around + j));
-  if (j < n) r = escape::min_u16(r, b16::load_unaligned(total + n - lanes) | b16::load_unaligned(around + n - lanes));
-  return escape::hmin_u16(r);
+  if (n < static_cast<int>(xsimd::batch<std::uint16_t, Arch>::size)) return min_outside_u16_scalar(total, n, k);
+  return detail::min_outside<Arch>(total, n, k);
 }
 
 // A saturating add per lane; the last partial block is the full block
