@@ -41,9 +41,8 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   const auto n = static_cast<std::size_t>(max_samples);
   fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int16_t>(n);
-  cand_ = large_array<std::int32_t>(n);
   parent_ = large_array<std::int32_t>(n);
-  count_ = large_array<std::int32_t>(n + 1);
+  count_ = large_array<std::int32_t>(n + 2);
   order_ = large_array<std::int32_t>(n);
   inten_ = large_array<std::uint8_t>(n);
   members_ = large_array<Member>(n);
@@ -58,7 +57,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   big_census_.assign(static_cast<std::size_t>(workers), Census{});
   big_sums_.assign(static_cast<std::size_t>(workers), PlaneSums{});
   big_residuals_.assign(static_cast<std::size_t>(workers), Residuals{});
-  bytes_ = (4 * n + 1) * sizeof(std::int32_t) + n * (sizeof(FitPoint) + sizeof(Member) + sizeof(std::int16_t)) + n +
+  bytes_ = (3 * n + 2) * sizeof(std::int32_t) + n * (sizeof(FitPoint) + sizeof(Member) + sizeof(std::int16_t)) + n +
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
            static_cast<std::size_t>(workers) * (sizeof(SupportPriorCounts) + sizeof(Census) + sizeof(PlaneSums) +
                                                 sizeof(Residuals)) +
@@ -67,7 +66,7 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
 
 void SupportPrior::release() {
   prior_ = LargeArray<std::int16_t>{};
-  for (LargeArray<std::int32_t>* a : {&cand_, &parent_, &count_, &order_})
+  for (LargeArray<std::int32_t>* a : {&parent_, &count_, &order_})
     *a = LargeArray<std::int32_t>{};
   inten_ = LargeArray<std::uint8_t>{};
   members_ = LargeArray<Member>{};
@@ -280,19 +279,19 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
   // segments of at least kBigSegment samples are listed apart: one of them
   // (a road, a wall) can take more than all the others of its level
   // together, so its own passes are shared by the workers.
+  // The sizes go to count[r + 2], their running sum makes count[r + 1] the
+  // segment's first slot, and placing the members moves it past the last:
+  // then count[r] is the segment's first slot and count[r + 1] its end.
   std::int32_t* count = count_.get();
   std::int32_t* order = order_.get();
-  std::fill_n(count, n + 1, 0);
-  for (int i = 0; i < n; ++i) ++count[parent[i] + 1];
+  std::fill_n(count, n + 2, 0);
+  for (int i = 0; i < n; ++i) ++count[parent[i] + 2];
   n_big_ = 0;
   for (int r = 0; r < n; ++r) {
-    if (count[r + 1] >= kBigSegment) big_[static_cast<std::size_t>(n_big_++)] = r;
-    count[r + 1] += count[r];
+    if (count[r + 2] >= kBigSegment) big_[static_cast<std::size_t>(n_big_++)] = r;
+    count[r + 2] += count[r + 1];
   }
-  // count[r] = the segment's first slot; cand_ holds the running slot.
-  std::int32_t* slot = cand_.get();
-  std::copy_n(count, n, slot);
-  for (int i = 0; i < n; ++i) order[slot[parent[i]]++] = i;
+  for (int i = 0; i < n; ++i) order[count[parent[i] + 1]++] = i;
   const std::int64_t tol = pp.plane_tol_q4;
   const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
   FitPoint* fit_points = fit_.get();
@@ -485,7 +484,7 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   std::uint8_t* inten = inten_.get();
   Member* members = members_.get();
   const std::int16_t* prior = prior_.get();
-  std::int32_t* pending = cand_.get();  // the list of samples decided again (the segments are done)
+  std::int32_t* pending = order_.get();  // the list of samples decided again (the segments are done with order_)
   for (SupportPriorCounts& c : worker_counts_) c = SupportPriorCounts{};
   // (Locals in the loops: their byte stores may alias anything the lambda
   // captured, which it would load again for every sample.)

@@ -92,7 +92,7 @@ class SupportPrior {
   std::size_t bytes_ = 0;
   int n_ = 0;
   LargeArray<std::int16_t> prior_;  // Q4, within the disparity range
-  LargeArray<std::int32_t> cand_, parent_, count_, order_;
+  LargeArray<std::int32_t> parent_, count_, order_;
   LargeArray<std::uint8_t> inten_;
   LargeArray<Member> members_;
   LargeArray<std::uint8_t> next_;           // per triangle: bit e, its edge e joins at the next level
