@@ -12,6 +12,7 @@
 #include "tristereo/pipeline.hpp"
 #include "tristereo/status.hpp"
 #include "tristereo/synth.hpp"
+#include "tristereo/trace.hpp"
 #include "tristereo/verify.hpp"
 
 namespace tristereo {
@@ -173,6 +174,55 @@ TEST(SupportPrior, IdenticalForAnyWorkerCount) {
     EXPECT_EQ(o.vertex_disp_q4, one.vertex_disp_q4) << "threads=" << threads;
     EXPECT_EQ(o.vertex_confidence, one.vertex_confidence) << "threads=" << threads;
     EXPECT_EQ(o.validity, one.validity) << "threads=" << threads;
+  }
+}
+
+// From 4 (scheduled) workers the counting sort and the list of samples
+// decided again are shared: a second kind of roots item per level, listing
+// items (set-up, c = 1), and the same outputs. One worker cut for 8 runs
+// those items one after another (what the scaling model replays).
+TEST(SupportPrior, SortSharedFromFourWorkersWithTheSameOutputs) {
+  const WeakPlane s = weak_plane(640, 480);
+  StereoParams p = params(300);
+  p.num_disp = 64;  // d reaches 46 on the right
+  struct Items {
+    int roots = 0, listing = 0;
+  };
+  const auto run_traced = [&](int threads, int schedule, Items* items) {
+    PipelineConfig c = test::unpinned_config(s.left.width, s.left.height, p, threads);
+    c.schedule_workers = schedule;
+    Pipeline pipe;
+    pipe.configure(c);
+    FrameTrace trace;
+    trace.reserve(threads, 1 << 16);
+    pipe.set_trace(&trace);
+    StereoOutput o = pipe.process(s.left.view(), s.right.view());
+    EXPECT_EQ(trace.dropped(), 0u);
+    for (int w = 0; w < threads; ++w)
+      for (const TraceSpan& t : trace.track(w)) {
+        items->roots += t.kind == TraceKind::kPriorRoots ? 1 : 0;
+        items->listing += t.kind == TraceKind::kPriorSetup && t.c == 1 ? 1 : 0;
+      }
+    return o;
+  };
+  Items alone, cut, shared;
+  const StereoOutput a = run_traced(1, 0, &alone);
+  const StereoOutput b = run_traced(1, 8, &cut);
+  const StereoOutput c = run_traced(5, 0, &shared);
+  EXPECT_GT(a.validity.prior_redecided, 0);
+  const int chunks = (static_cast<int>(a.vertex_disp_q4.size()) + 8191) / 8192;  // of samples
+  ASSERT_GE(chunks, 2);
+  EXPECT_EQ(alone.roots, 2 * chunks);  // two segment levels
+  EXPECT_EQ(alone.listing, 0);
+  EXPECT_EQ(cut.roots, 4 * chunks);  // counted, then placed
+  EXPECT_EQ(cut.listing, 2 * chunks);
+  EXPECT_EQ(shared.roots, cut.roots);
+  EXPECT_EQ(shared.listing, cut.listing);
+  for (const StereoOutput* o : {&b, &c}) {
+    EXPECT_EQ(o->disp_q4.pixels, a.disp_q4.pixels);
+    EXPECT_EQ(o->vertex_disp_q4, a.vertex_disp_q4);
+    EXPECT_EQ(o->vertex_confidence, a.vertex_confidence);
+    EXPECT_EQ(o->validity, a.validity);
   }
 }
 

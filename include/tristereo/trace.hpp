@@ -55,10 +55,13 @@ enum class TraceKind : std::uint8_t {
   kPrior,            // pipeline track: the support prior (docs/model.md section 6b)
   kPriorSegments,    // the prior's segments a .. b - 1 (roots) fitted; c = the level's threshold
   kPriorSamples,     // the prior's covered samples a .. b - 1 (in list order) decided again
-  kPriorSetup,       // the prior's samples a .. b - 1: intensity and support
+  kPriorSetup,       // the prior's samples a .. b - 1: c = 0 intensity and support; c = 1 (from
+                     // 4 workers) those to decide again counted, then listed
   kPriorJoins,       // the prior's chunks a .. b - 1 of triangles (the last: the frame's border)
                      // whose mesh edges were joined; c = the level's threshold
-  kPriorRoots,       // the prior's samples a .. b - 1 pointed at their segment's root; c = threshold
+  kPriorRoots,       // the prior's samples a .. b - 1 pointed at their segment's root (from 4
+                     // workers: counted per segment, then a second item placed by segment);
+                     // c = threshold
   kCount
 };
 

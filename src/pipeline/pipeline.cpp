@@ -203,7 +203,7 @@ void Pipeline::configure(const PipelineConfig& config) {
   else m.paths.release();  // a reconfiguration to the row DP gives the path buffers back
   // A conforming triangulation of n points has fewer than 2n triangles.
   m.fill.configure(max_px, 2 * max_px, threads);
-  if (support_prior_applies(sp)) m.prior.configure(max_px, 2 * max_px, sp.num_disp, threads);
+  if (support_prior_applies(sp)) m.prior.configure(max_px, 2 * max_px, sp.num_disp, threads, config.schedule_workers);
   else m.prior.release();
   const bool lr = sp.validity.lr_max_diff_q4 >= 0 && sp.validity.lr_source == LrSource::kMirroredPass;
   const std::size_t lr_px = lr ? static_cast<std::size_t>(max_px) : 0;

@@ -29,6 +29,9 @@ constexpr int kRootsPerChunk = 2048;
 constexpr int kBigSegment = 2048;
 constexpr int kBigChunk = 1024;
 constexpr int kRedoPerChunk = 256;
+// Below this many workers one thread sorts faster than several with atomic
+// counts (a few per cent of the stage on two).
+constexpr int kSharedSortWorkers = 4;
 
 // parent[] is shared by the workers while they join segments: every access
 // is atomic (relaxed: each link and each shortcut only ever points a sample
@@ -37,7 +40,7 @@ std::int32_t load(const std::int32_t* p) { return __atomic_load_n(p, __ATOMIC_RE
 void store(std::int32_t* p, std::int32_t v) { __atomic_store_n(p, v, __ATOMIC_RELAXED); }
 }  // namespace
 
-void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers) {
+void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers, int schedule_workers) {
   const auto n = static_cast<std::size_t>(max_samples);
   fit_ = large_array<FitPoint>(n);
   prior_ = large_array<std::int16_t>(n);
@@ -57,11 +60,13 @@ void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, i
   big_census_.assign(static_cast<std::size_t>(workers), Census{});
   big_sums_.assign(static_cast<std::size_t>(workers), PlaneSums{});
   big_residuals_.assign(static_cast<std::size_t>(workers), Residuals{});
+  shared_sort_ = (schedule_workers > 0 ? schedule_workers : workers) >= kSharedSortWorkers;
+  redo_at_.assign(n / kSamplesPerChunk + 2, 0);
   bytes_ = (3 * n + 2) * sizeof(std::int32_t) + n * (sizeof(FitPoint) + sizeof(Member) + sizeof(std::int16_t)) + n +
            2 * static_cast<std::size_t>(max_disp) * static_cast<std::size_t>(workers + 2) +
            static_cast<std::size_t>(workers) * (sizeof(SupportPriorCounts) + sizeof(Census) + sizeof(PlaneSums) +
                                                 sizeof(Residuals)) +
-           static_cast<std::size_t>(max_triangles) + (big_.size() + big_points_.size()) * sizeof(int);
+           static_cast<std::size_t>(max_triangles) + (big_.size() + big_points_.size() + redo_at_.size()) * sizeof(int);
 }
 
 void SupportPrior::release() {
@@ -80,6 +85,7 @@ void SupportPrior::release() {
   big_census_ = std::vector<Census>{};
   big_sums_ = std::vector<PlaneSums>{};
   big_residuals_ = std::vector<Residuals>{};
+  redo_at_ = std::vector<std::int32_t>{};
   n_big_ = 0;
   bytes_ = 0;
   max_disp_ = 0;
@@ -266,32 +272,72 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
       }
     }
   });
+  // Members grouped by segment (a counting sort by root). The sizes go to
+  // count[r + 2], their running sum makes count[r + 1] the segment's first
+  // slot, and placing the members moves it past the last: then count[r] is
+  // the segment's first slot and count[r + 1] its end. The segments of at
+  // least kBigSegment samples are listed apart: one of them (a road, a
+  // wall) can take more than all the others of its level together, so its
+  // own passes are shared by the workers. Shared, the sizes are counted and
+  // the slots taken by atomic adds, one per run of consecutive samples of a
+  // segment: a segment's members then come in any order, and every step
+  // after is a sum, an OR or a write per member, the same in any order.
+  std::int32_t* count = count_.get();
+  std::int32_t* order = order_.get();
+  const bool shared_sort = shared_sort_;
+  std::fill_n(count, n + 2, 0);
   // Every sample pointed at its root. A parent is at most its sample, so
   // in ascending order a parent inside the chunk already points at its root;
   // one before the chunk may be another worker's, and is followed.
   for_chunks(pool, trace, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
+    if (!shared_sort) {
+      for (int i = i0; i < i1; ++i) {
+        const std::int32_t p = load(parent + i);
+        store(parent + i, p >= i0 ? load(parent + p) : find(p));
+      }
+      return;
+    }
+    std::int32_t run_root = -1, run = 0;
     for (int i = i0; i < i1; ++i) {
       const std::int32_t p = load(parent + i);
-      store(parent + i, p >= i0 ? load(parent + p) : find(p));
+      const std::int32_t r = p >= i0 ? load(parent + p) : find(p);
+      store(parent + i, r);
+      if (r != run_root) {
+        if (run > 0) __atomic_fetch_add(count + run_root + 2, run, __ATOMIC_RELAXED);
+        run_root = r;
+        run = 0;
+      }
+      ++run;
     }
+    if (run > 0) __atomic_fetch_add(count + run_root + 2, run, __ATOMIC_RELAXED);
   });
-  // Members grouped by segment (counting sort by root, ascending ids). The
-  // segments of at least kBigSegment samples are listed apart: one of them
-  // (a road, a wall) can take more than all the others of its level
-  // together, so its own passes are shared by the workers.
-  // The sizes go to count[r + 2], their running sum makes count[r + 1] the
-  // segment's first slot, and placing the members moves it past the last:
-  // then count[r] is the segment's first slot and count[r + 1] its end.
-  std::int32_t* count = count_.get();
-  std::int32_t* order = order_.get();
-  std::fill_n(count, n + 2, 0);
-  for (int i = 0; i < n; ++i) ++count[parent[i] + 2];
+  if (!shared_sort)
+    for (int i = 0; i < n; ++i) ++count[parent[i] + 2];
   n_big_ = 0;
   for (int r = 0; r < n; ++r) {
     if (count[r + 2] >= kBigSegment) big_[static_cast<std::size_t>(n_big_++)] = r;
     count[r + 2] += count[r + 1];
   }
-  for (int i = 0; i < n; ++i) order[count[parent[i] + 1]++] = i;
+  if (!shared_sort) {
+    for (int i = 0; i < n; ++i) order[count[parent[i] + 1]++] = i;
+  } else {
+    for_chunks(pool, trace, TraceKind::kPriorRoots, tau, n, kSamplesPerChunk, [&](int, int i0, int i1) {
+      const auto place = [&](std::int32_t r, int first, int end) {
+        const std::int32_t at = __atomic_fetch_add(count + r + 1, end - first, __ATOMIC_RELAXED);
+        for (int k = first; k < end; ++k) order[at + (k - first)] = k;
+      };
+      std::int32_t run_root = parent[i0];
+      int run_first = i0;
+      for (int i = i0; i < i1; ++i) {
+        const std::int32_t r = parent[i];
+        if (r == run_root) continue;
+        place(run_root, run_first, i);
+        run_root = r;
+        run_first = i;
+      }
+      place(run_root, run_first, i1);
+    });
+  }
   const std::int64_t tol = pp.plane_tol_q4;
   const int lo = kDispOne * params.d_min, hi = kDispOne * (params.d_min + params.num_disp - 1);
   FitPoint* fit_points = fit_.get();
@@ -527,9 +573,31 @@ SupportPriorCounts SupportPrior::apply(const StereoParams& params, const SampleL
   // The samples to decide again, listed first: their rows of S are far
   // apart in memory, and each is prefetched a few samples ahead. Each
   // sample writes only its own outputs, so the list may be shared.
+  // (Shared: each chunk of samples counts its own, then lists them at its
+  // place, in the same order.)
   int n_redo = 0;
-  for (int i = 0; i < n; ++i)
-    if (members[i].flags & kCovered) pending[n_redo++] = i;
+  if (!shared_sort_) {
+    for (int i = 0; i < n; ++i)
+      if (members[i].flags & kCovered) pending[n_redo++] = i;
+  } else {
+    std::int32_t* at = redo_at_.data();
+    for_chunks(pool, trace, TraceKind::kPriorSetup, 1, n, kSamplesPerChunk, [&](int, int i0, int i1) {
+      std::int32_t k = 0;
+      for (int i = i0; i < i1; ++i) k += (members[i].flags & kCovered) ? 1 : 0;
+      at[i0 / kSamplesPerChunk] = k;
+    });
+    const int chunks = (n + kSamplesPerChunk - 1) / kSamplesPerChunk;
+    for (int c = 0; c < chunks; ++c) {
+      const std::int32_t k = at[c];
+      at[c] = n_redo;
+      n_redo += k;
+    }
+    for_chunks(pool, trace, TraceKind::kPriorSetup, 1, n, kSamplesPerChunk, [&](int, int i0, int i1) {
+      std::int32_t j = at[i0 / kSamplesPerChunk];
+      for (int i = i0; i < i1; ++i)
+        if (members[i].flags & kCovered) pending[j++] = i;
+    });
+  }
   constexpr int kAhead = 8;
   const std::size_t row_bytes = static_cast<std::size_t>(d) * sizeof(std::uint16_t);
   for_chunks(pool, trace, TraceKind::kPriorSamples, 0, n_redo, kRedoPerChunk, [&](int w, int j0, int j1) {

@@ -45,8 +45,9 @@ struct SupportPriorCounts {
 
 class SupportPrior {
  public:
-  // For up to `workers` workers of a pool.
-  void configure(int max_samples, int max_triangles, int max_disp, int workers = 1);
+  // For up to `workers` workers of a pool; schedule_workers (0: workers)
+  // is the count the work is cut for (a one-worker trace cut for N).
+  void configure(int max_samples, int max_triangles, int max_disp, int workers = 1, int schedule_workers = 0);
   // Gives every buffer back (a pipeline reconfigured without the prior).
   void release();
   // disp_q4 / confidence: the matcher's outputs, changed in place.
@@ -109,6 +110,10 @@ class SupportPrior {
   std::vector<PlaneSums> big_sums_;        // per worker
   std::vector<Residuals> big_residuals_;   // per worker
   int max_disp_ = 0;
+  // From kSharedSortWorkers (scheduled) workers on, the members' counting
+  // sort and the list of samples decided again are shared too.
+  bool shared_sort_ = false;
+  std::vector<std::int32_t> redo_at_;  // per chunk of samples: its first slot in the list
 };
 
 }  // namespace tristereo
