@@ -38,6 +38,22 @@ constexpr int kSharedSortWorkers = 4;
 // at one of its ancestors, a smaller sample, whatever the others do).
 std::int32_t load(const std::int32_t* p) { return __atomic_load_n(p, __ATOMIC_RELAXED); }
 void store(std::int32_t* p, std::int32_t v) { __atomic_store_n(p, v, __ATOMIC_RELAXED); }
+
+// One step of Rem's union with splicing, for one thread alone: of a and b,
+// the sample with the larger parent is hung under the other's parent, and
+// the union goes on (true) from its old parent and the other sample, left
+// in *a and *b. Without a branch: when both parents are equal the store
+// writes the parent the sample has. Every parent stays at most its sample.
+inline bool rem_step(std::int32_t* parent, std::int32_t* a, std::int32_t* b) {
+  const std::int32_t pa = parent[*a], pb = parent[*b];
+  const bool b_higher = pa < pb;
+  const std::int32_t x = b_higher ? *b : *a, px = b_higher ? pb : pa;
+  const std::int32_t y = b_higher ? *a : *b, py = b_higher ? pa : pb;
+  parent[x] = py;
+  *a = px;
+  *b = y;
+  return (pa != pb) & (x != px);
+}
 }  // namespace
 
 void SupportPrior::configure(int max_samples, int max_triangles, int max_disp, int workers, int schedule_workers) {
@@ -112,30 +128,13 @@ int SupportPrior::find(int a) {
 void SupportPrior::unite(int a, int b, bool shared) {
   std::int32_t* parent = parent_.get();
   if (!shared) {
-    // Alone: Rem's union with splicing, which walks both paths at once and
-    // hangs the one with the larger parent under the other's parent on the
-    // way (every parent stays at most its sample, so the partition and the
-    // roots are those of two finds and a link, a little faster).
-    for (;;) {
-      const std::int32_t pa = parent[a], pb = parent[b];
-      if (pa == pb) return;
-      if (pa < pb) {
-        std::swap(a, b);
-        if (a == pb) {
-          parent[a] = pa;
-          return;
-        }
-        parent[a] = pa;
-        a = pb;
-      } else {
-        if (a == pa) {
-          parent[a] = pb;
-          return;
-        }
-        parent[a] = pb;
-        a = pa;
-      }
+    // Alone: Rem's union with splicing, which walks both paths at once
+    // (the partition and the roots are those of two finds and a link, a
+    // little faster).
+    std::int32_t x = a, y = b;
+    while (rem_step(parent, &x, &y)) {
     }
+    return;
   }
   for (;;) {
     a = find(a);
@@ -250,22 +249,16 @@ void SupportPrior::planes(const StereoParams& params, const SampleLayout& sample
           for (int e = 0; e < m; ++e) unite(from[e], to[e], true);
           continue;
         }
-        // Alone: the unions a step of Rem's splicing at a time, each step
-        // of every union without a branch (when both parents are equal it
-        // stores the parent the sample has), the unions that go on listed
-        // in place for the next round. Unions commute, so the partition and
-        // the roots are the same.
+        // Alone: the unions a step of Rem's splicing at a time, the unions
+        // that go on listed in place for the next round (no branch per
+        // step). Unions commute, so the partition and the roots are the same.
         std::int32_t* par = parent;
         while (m > 0) {
           int rest = 0;
           for (int e = 0; e < m; ++e) {
-            const std::int32_t a = from[e], b = to[e];
-            const std::int32_t pa = par[a], pb = par[b];
-            const bool b_higher = pa < pb;
-            const std::int32_t x = b_higher ? b : a, px = b_higher ? pb : pa;
-            const std::int32_t y = b_higher ? a : b, py = b_higher ? pa : pb;
-            par[x] = py;
-            from[rest] = px, to[rest] = y, rest += static_cast<int>((pa != pb) & (x != px));
+            std::int32_t a = from[e], b = to[e];
+            const bool more = rem_step(par, &a, &b);
+            from[rest] = a, to[rest] = b, rest += static_cast<int>(more);
           }
           m = rest;
         }
