@@ -24,7 +24,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VARIANTS = [
     ("defaults", [], "tritree at 44 dB with a minimum area of 2 px^2, census 5x5, 3x3 box, 4 paths, P1 120 / P2 800, P2 edge 30, uniqueness 20 %, "
                      "left-right check from the summed costs, support prior 300 (planes of two segment levels, 2 and 8 grey "
-                     "levels), background fill"),
+                     "levels), background fill, depth edges above 3 px"),
     ("PSNR 40 dB", ["--psnr", "40"], "the paper's threshold, with the default minimum area"),
     ("PSNR 48 dB", ["--psnr", "48"], "a stricter threshold: more of the mesh at its finest level"),
     ("minimum area 1 px^2", ["--min-area", "1"], "leaves down to 1 px^2 (the paper's hierarchy), at 44 dB"),
@@ -60,6 +60,12 @@ VARIANTS = [
     ("planes from 6 support samples", ["--plane-min", "6"], "smaller segments get planes"),
     ("no support prior, uniqueness 10", ["--support-prior", "0", "--uniqueness", "10"],
      "the defaults until 2026-12-06"),
+    ("no depth edges", ["--edge-spread", "0"],
+     "every triangle interpolated by its plane, also where its vertices lie on two surfaces (the defaults until "
+     "2026-12-07; docs/model.md section 4)"),
+    ("depth edges above 2 px", ["--edge-spread", "32"], "more triangles taken as straddling a depth edge"),
+    ("depth edges above 4 px", ["--edge-spread", "64"], "fewer triangles taken as straddling a depth edge"),
+    ("depth edges above 1 px", ["--edge-spread", "16"], "most triangles on a slanted surface's steep parts too"),
 ]
 
 COLUMNS = [  # (set, metric, header)
@@ -150,7 +156,12 @@ def main():
            "end-point errors by less than a point and 0.01 px either way (second table): most errors "
            "above 0.5 px are whole-pixel errors of the winners, which no fit through three costs corrects. "
            "Whole disparities (`--no-subpixel`) lose on every set but Middlebury v2's bad 1 px, most of "
-           "it on Tsukuba, whose ground truth is whole pixels.", ""]
+           "it on Tsukuba, whose ground truth is whole pixels. Depth edges (docs/model.md section 4, on "
+           "since 2026-12-07): a triangle whose vertices lie on two surfaces gives its pixels the disparity "
+           "of the vertex nearest in intensity instead of its plane; against planes everywhere (the row "
+           "\"no depth edges\") that is better on every set, most on Middlebury v2 and 2014. The spread above "
+           "which a triangle counts as straddling an edge is 3 px: 2 px is a little better on Middlebury v2 "
+           "and worse on 2014 and KITTI, 4 px the other way round, each by less than a tenth of a point.", ""]
     hdr = ["variant"] + [c[2] for c in COLUMNS] + ["scenes worse than SGBM", "E / L gap (motorcycle, piano)",
                                                     "samples (mean fraction)", "ms per frame (mean)"]
     out.append("| " + " | ".join(hdr) + " |")

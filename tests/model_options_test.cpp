@@ -91,7 +91,7 @@ TEST(ModelOptions, RangesAreExactlyWhatIsAccepted) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 4 * 25);  // every integer and size option
+  EXPECT_EQ(checked, 4 * 26);  // every integer and size option
   // The decimal one: psnr.
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"psnr", "10"}}), "");
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"psnr", "70"}}), "");

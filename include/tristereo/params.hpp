@@ -138,6 +138,14 @@ struct SupportPriorParams {
   int plane_tol_q4 = 16;   // 1..1024: inlier distance (2x for the refits), Q4
 };
 
+// Interpolation of the dense map from the samples (docs/model.md section 4).
+// A triangle whose vertex disparities spread over more than edge_spread_q4
+// straddles a depth edge: its pixels take the disparity of the vertex nearest
+// to them in intensity instead of the plane through the three (sparse mode).
+struct InterpParams {
+  int edge_spread_q4 = 48;  // 0..4096 Q4; 0 = planes everywhere (the paper's model)
+};
+
 struct StereoParams {
   int d_min = 0;                    // smallest disparity searched
   int num_disp = 64;                // D: disparities d_min .. d_min + D - 1
@@ -149,6 +157,7 @@ struct StereoParams {
   PathParams paths;                 // optimizer = kPaths
   ValidityParams validity;
   SupportPriorParams prior;         // applies with optimizer = kPaths, sparse
+  InterpParams interp;              // sparse mode
 };
 
 // The paper's model (Sarkis & Diepold 2008): AD cost, one DP per row, no

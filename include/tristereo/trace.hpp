@@ -62,6 +62,8 @@ enum class TraceKind : std::uint8_t {
   kPriorRoots,       // the prior's samples a .. b - 1 pointed at their segment's root (from 4
                      // workers: counted per segment, then a second item placed by segment);
                      // c = threshold
+  kEdgeTriangles,    // interpolation: triangles a .. b - 1 checked for an invalid vertex and
+                     // for a depth edge (docs/model.md section 4), those written again
   kCount
 };
 

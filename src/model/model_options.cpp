@@ -232,6 +232,12 @@ const std::vector<ModelOption> kOptions = {
      "support prior: a plane's inlier distance in 1/16 px", "support-prior", "!0", "prior.plane_tol_q4",
      [](const P& p) { return std::to_string(p.prior.plane_tol_q4); },
      [](P& p, S t, S shown) { p.prior.plane_tol_q4 = parse_int_text(shown, t); }},
+    {"edge-spread", "edge_spread", K::kInt, "Q4", 0, 16 * kMaxNumDisp, false, nullptr,
+     "interpolation: a triangle whose vertex disparities spread over more than this (1/16 px) straddles a "
+     "depth edge, and its pixels take the disparity of the vertex nearest in intensity; 0 = the plane "
+     "through the three everywhere (docs/model.md section 4)",
+     "dense", "0", "interp.edge_spread_q4", [](const P& p) { return std::to_string(p.interp.edge_spread_q4); },
+     [](P& p, S t, S shown) { p.interp.edge_spread_q4 = parse_int_text(shown, t); }},
     {"no-subpixel", "subpixel", K::kFlag, "", 0, 1, false, nullptr,
      "integer disparities only (Python: subpixel=False)", nullptr, nullptr, nullptr,
      [](const P& p) { return std::string(p.dp.subpixel ? "0" : "1"); },

@@ -96,6 +96,7 @@ void validate_params(const StereoParams& p) {
   check_range("prior.seg_coarse", p.prior.seg_coarse, 0, 255);
   check_range("prior.plane_min", p.prior.plane_min, 3, 65535);
   check_range("prior.plane_tol_q4", p.prior.plane_tol_q4, 1, 1024);
+  check_range("interp.edge_spread_q4", p.interp.edge_spread_q4, 0, 16 * kMaxNumDisp);
 }
 
 bool support_prior_applies(const StereoParams& p) {
@@ -128,6 +129,7 @@ StereoParams paper_params() {
   p.validity.uniqueness_pct = 0;
   p.validity.fill = FillMode::kBackground;
   p.prior.lambda_q4 = 0;
+  p.interp.edge_spread_q4 = 0;
   return p;
 }
 

@@ -23,6 +23,7 @@
 #include "src/select/lr_check.hpp"
 #include "src/select/support_prior.hpp"
 #include "src/dp/row_matcher.hpp"
+#include "src/interp/interpolate_edges.hpp"
 #include "src/interp/interpolate_midpoints.hpp"
 #include "src/interp/interpolate_planes.hpp"
 #include "src/interp/interpolate_state.hpp"
@@ -93,7 +94,8 @@ struct Pipeline::Impl {
                                    SideWork* right_rows = nullptr);
   int settle_states(int n, std::int16_t* disp, std::uint8_t* conf, std::uint8_t* state);
   void interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
-                       ImageView<std::int16_t> out, const ConfidenceMaps* conf = nullptr);
+                       ImageView<const std::uint8_t> gray, ImageView<std::int16_t> out,
+                       const ConfidenceMaps* conf = nullptr);
   // The tritree, and for the path optimizer's sparse frames the mesh's
   // predecessors, offered as the leaves are emitted (no scan of the mesh).
   void build_mesh(Tritree& tree, ImageView<const std::uint8_t> gray, Mesh& mesh, SideWork* side = nullptr) {
@@ -426,20 +428,24 @@ int Pipeline::Impl::settle_states(int n, std::int16_t* disp, std::uint8_t* conf,
 // invalid, the triangles that reach one (src/interp/interpolate_midpoints.hpp);
 // with `conf`, the pixel confidence and state in the same passes.
 void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, const std::int16_t* vertex_disp,
-                                     ImageView<std::int16_t> out, const ConfidenceMaps* conf) {
+                                     ImageView<const std::uint8_t> gray, ImageView<std::int16_t> out,
+                                     const ConfidenceMaps* conf) {
   const TritreeGrid grid = tree.grid();
   const int n_tri = static_cast<int>(mesh.triangles.size());
+  const int edge_spread = config.params.interp.edge_spread_q4;
   if (grid.need == nullptr) {  // a 2-pixel strip: its two triangles
     interpolate_triangles(mesh, vertex_disp, 0, n_tri, out);
-    if (conf == nullptr) return;
-    for (const Triangle& t : mesh.triangles) {
-      const auto vertex = [&](int k) { return mesh.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])]; };
-      confidence_triangle(vertex(0), vertex(1), vertex(2), conf->vertex_confidence[t[0]],
-                          conf->vertex_confidence[t[1]], conf->vertex_confidence[t[2]],
-                          vertex_disp[t[0]] == kInvalidDispQ4 || vertex_disp[t[1]] == kInvalidDispQ4 ||
-                              vertex_disp[t[2]] == kInvalidDispQ4,
-                          *conf);
+    if (conf != nullptr) {
+      for (const Triangle& t : mesh.triangles) {
+        const auto vertex = [&](int k) { return mesh.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])]; };
+        confidence_triangle(vertex(0), vertex(1), vertex(2), conf->vertex_confidence[t[0]],
+                            conf->vertex_confidence[t[1]], conf->vertex_confidence[t[2]],
+                            vertex_disp[t[0]] == kInvalidDispQ4 || vertex_disp[t[1]] == kInvalidDispQ4 ||
+                                vertex_disp[t[2]] == kInvalidDispQ4,
+                            *conf);
+      }
     }
+    interpolate_edge_triangles(mesh, vertex_disp, gray, edge_spread, 0, n_tri, out, conf);
     return;
   }
   triangles.reset(0, grid.layout.tiles_y, 1);
@@ -475,11 +481,20 @@ void Pipeline::Impl::interpolate_all(const Tritree& tree, const Mesh& mesh, cons
       });
     });
   }
-  if (!any_invalid.load(std::memory_order_relaxed)) return;
+  // Then the triangles that replace their planes: those with an invalid
+  // vertex, and those that straddle a depth edge. Each writes only the
+  // pixels it owns.
+  const bool invalid = any_invalid.load(std::memory_order_relaxed);
+  if (!invalid && edge_spread == 0) return;
   triangles.reset(0, n_tri, kTrianglesPerChunk);
-  pool.run([&](int) {
+  pool.run([&](int w) {
     int t0 = 0, t1 = 0;
-    while (triangles.next(&t0, &t1)) invalidate_triangles(mesh, vertex_disp, t0, t1, out, conf);
+    while (triangles.next(&t0, &t1)) {
+      const std::int64_t start = trace != nullptr ? monotonic_ns() : 0;
+      if (invalid) invalidate_triangles(mesh, vertex_disp, t0, t1, out, conf);
+      interpolate_edge_triangles(mesh, vertex_disp, gray, edge_spread, t0, t1, out, conf);
+      if (trace != nullptr) trace->record(w, TraceKind::kEdgeTriangles, start, monotonic_ns(), t0, t1);
+    }
   });
 }
 
@@ -612,7 +627,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
     std::int64_t unused_cost = 0, unused_dp = 0;
     m.match_view(ml, mr, rs, right_samples, nullptr, &unused_cost, &unused_dp);
     if (params.validity.fill != FillMode::kNone) m.fill.fill(rs, right_samples, &m.pool);
-    if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, rd.view());
+    if (!params.dense) m.interpolate_all(m.right_tritree, m.right_mesh, right_samples, ml, rd.view());
     // Each sample reads the right map and writes only itself: rows on demand.
     std::atomic<int> lr_rejected{0};
     m.rows.reset(0, height, kLeftRightRowsPerChunk);
@@ -655,7 +670,7 @@ const StereoOutput& Pipeline::process(ImageView<const std::uint8_t> left,
   } else {
     const ConfidenceMaps conf{m.out.vertex_confidence.data(), m.out.pixel_confidence.view(),
                               m.out.pixel_state.view()};
-    m.interpolate_all(m.tritree, mesh, vdisp.data(), dense.view(), &conf);
+    m.interpolate_all(m.tritree, mesh, vdisp.data(), lg, dense.view(), &conf);
   }
   const std::int64_t t_end = monotonic_ns();
   m.mark(PipelineStage::kInterpolation, false);

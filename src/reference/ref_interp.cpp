@@ -3,7 +3,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "src/reference/ref_match.hpp"
@@ -135,6 +137,51 @@ void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& verte
         }
         state.at(x, y) = st;
         confidence.at(x, y) = cf;
+      }
+  }
+}
+
+void interpolate_depth_edges(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4,
+                             const ImageU8& gray, int spread_q4, ImageS16& disp_q4,
+                             const std::vector<std::uint8_t>* vertex_state,
+                             const std::vector<std::uint8_t>* vertex_confidence, ImageU8* state,
+                             ImageU8* confidence) {
+  if (spread_q4 <= 0) return;
+  const int w = mesh.width, h = mesh.height;
+  for (const Triangle& t : mesh.triangles) {
+    int lo = INT_MAX, hi = INT_MIN;
+    bool valid = true;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int d = vertex_disp_q4.at(static_cast<std::size_t>(t[k]));
+      valid = valid && d != kInvalidDispQ4;
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    if (!valid || hi - lo <= spread_q4) continue;
+    const Vertex& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    const Vertex& b = mesh.vertices[static_cast<std::size_t>(t[1])];
+    const Vertex& c = mesh.vertices[static_cast<std::size_t>(t[2])];
+    for (int y = std::max(0, std::min({a.y, b.y, c.y})); y <= std::min(h - 1, std::max({a.y, b.y, c.y})); ++y)
+      for (int x = std::max(0, std::min({a.x, b.x, c.x})); x <= std::min(w - 1, std::max({a.x, b.x, c.x})); ++x) {
+        if (!(edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) && edge_keeps(c, a, x, y, w, h)))
+          continue;
+        // The chosen vertex: the smallest (intensity distance, disparity,
+        // confidence), or the pixel's own vertex.
+        std::size_t id = 0;
+        long long best_key = LLONG_MAX;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t v = static_cast<std::size_t>(t[k]);
+          const Vertex& q = mesh.vertices[v];
+          const long long dist = q.x == x && q.y == y ? -1 : std::abs(int{gray.at(x, y)} - int{gray.at(q.x, q.y)});
+          const long long conf = state != nullptr ? vertex_confidence->at(v) : 0;
+          const long long key = ((dist + 1) << 40) + ((vertex_disp_q4[v] + 65536LL) << 8) + conf;
+          if (key < best_key) best_key = key, id = v;
+        }
+        disp_q4.at(x, y) = vertex_disp_q4[id];
+        if (state != nullptr) {
+          state->at(x, y) = vertex_state->at(id);
+          confidence->at(x, y) = vertex_confidence->at(id);
+        }
       }
   }
 }

@@ -103,5 +103,18 @@ void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& verte
                         const std::vector<std::uint8_t>& vertex_confidence, ImageU8& state,
                         ImageU8& confidence);
 
+// Section 4's depth edges, after the two above: every triangle with three
+// valid vertices whose disparities spread over more than spread_q4 (> 0)
+// writes each pixel it owns again, a vertex's own pixel from that vertex and
+// any other from the vertex nearest in `gray`, ties to the smaller disparity,
+// then the smaller confidence: its disparity, and when `state` is not null
+// its state and confidence too (vertex_state and vertex_confidence are read
+// only then).
+void interpolate_depth_edges(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4,
+                             const ImageU8& gray, int spread_q4, ImageS16& disp_q4,
+                             const std::vector<std::uint8_t>* vertex_state = nullptr,
+                             const std::vector<std::uint8_t>* vertex_confidence = nullptr,
+                             ImageU8* state = nullptr, ImageU8* confidence = nullptr);
+
 }  // namespace reference
 }  // namespace tristereo

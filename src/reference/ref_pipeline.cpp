@@ -96,6 +96,7 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
         for (int x = 0; x < w; ++x) right_map.at(x, y) = rdisp[static_cast<std::size_t>(y * w + x)];
     } else {
       right_map = reference::interpolate(right_mesh, rdisp);
+      reference::interpolate_depth_edges(right_mesh, rdisp, ml, params.interp.edge_spread_q4, right_map);
     }
     for (std::size_t i = 0; i < disp.size(); ++i) {
       if (disp[i] == kInvalidDispQ4) continue;
@@ -157,6 +158,9 @@ StereoOutput run_reference(const ImageU8& left, const ImageU8& right, const Ster
     out.disp_q4 = reference::interpolate(mesh, out.vertex_disp_q4);
     reference::interpolate_states(mesh, out.vertex_state, out.vertex_confidence, out.pixel_state,
                                   out.pixel_confidence);
+    reference::interpolate_depth_edges(mesh, out.vertex_disp_q4, lg, params.interp.edge_spread_q4, out.disp_q4,
+                                       &out.vertex_state, &out.vertex_confidence, &out.pixel_state,
+                                       &out.pixel_confidence);
   }
   return out;
 }

@@ -30,6 +30,7 @@ const char* to_string(TraceKind kind) {
     case TraceKind::kTritreeRows: return "tritree rows";
     case TraceKind::kFillChunk: return "fill items";
     case TraceKind::kStretchedLeaves: return "stretched leaves";
+    case TraceKind::kEdgeTriangles: return "edge triangles";
     case TraceKind::kVertexSamples: return "vertex samples";
     case TraceKind::kLeftRightRows: return "left-right rows";
     case TraceKind::kSampleStates: return "sample states";

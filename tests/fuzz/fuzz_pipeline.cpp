@@ -93,8 +93,11 @@ StereoParams draw_params(FuzzInput& in) {
   p.prior.seg_coarse = p.prior.seg_fine + (g / 5) % 9;
   p.prior.plane_min = 3 + (g / 7) % 30;
   p.prior.plane_tol_q4 = 1 + (g / 3) % 64;
+  // Depth edges (section 4): off in a fifth of the inputs, else any spread
+  // from a single step to the whole range.
+  p.interp.edge_spread_q4 = c % 5 == 0 ? 0 : 1 + (c * 13 + g) % (16 * kMaxNumDisp);
   const bool above = in.flag();
-  switch (in.int_in(0, 53)) {  // 24 of 54: not quite one input in two
+  switch (in.int_in(0, 53)) {  // 25 of 54: not quite one input in two
     case 1: p.num_disp = above ? kMaxNumDisp + 1 : 0; break;
     case 2: p.d_min = above ? kMaxDispSpan - p.num_disp + 1 : -(kMaxDispSpan - p.num_disp) - 1; break;
     case 3: p.tritree.psnr_deci_db = above ? kMaxPsnrDeciDb + 1 : kMinPsnrDeciDb - 1; break;
@@ -128,6 +131,7 @@ StereoParams draw_params(FuzzInput& in) {
     case 22: p.prior.support_conf = above ? 256 : 127; break;
     case 23: p.prior.plane_min = above ? 65536 : 2; break;
     case 24: p.prior.plane_tol_q4 = above ? 1025 : 0; break;
+    case 25: p.interp.edge_spread_q4 = above ? 16 * kMaxNumDisp + 1 : -1; break;
     default: break;  // valid
   }
   return p;

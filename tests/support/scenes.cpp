@@ -137,6 +137,9 @@ StereoParams random_params(Rng& rng, int max_ndisp) {
   p.prior.seg_coarse = (g / 5) % 12;
   p.prior.plane_min = 3 + (g / 7) % 20;
   p.prior.plane_tol_q4 = 1 + (g / 3) % 48;
+  // Depth edges (section 4): off in a fifth of the cases, else spreads from
+  // a fraction of a pixel to several pixels.
+  p.interp.edge_spread_q4 = c % 5 == 0 ? 0 : 1 + (c * 13 + g) % 160;
   return p;
 }
 
