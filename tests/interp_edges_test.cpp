@@ -90,6 +90,52 @@ TEST(DepthEdges, TiesGoToTheSmallerDisparityThenTheSmallerConfidence) {
     }
 }
 
+// The same on triangles small enough for the owned-pixel table (corners
+// within 2 pixels, away from the last row and column): a corner's own pixel
+// keeps its value even where another corner ties with it and is nearer.
+TEST(DepthEdges, SmallTrianglesKeepTheirCornersOwnPixels) {
+  Mesh m;
+  m.width = 7;
+  m.height = 7;
+  m.vertices = {{2, 2}, {4, 2}, {2, 4}, {4, 4}};
+  m.triangles = {{0, 1, 2}, {1, 3, 2}};
+  ImageU8 gray(7, 7, 1, 50);
+  const std::vector<std::int16_t> vd = {16 * 12, 16 * 3, 16 * 8, 16 * 3};
+  const std::vector<std::uint8_t> vc = {250, 129, 140, 128};
+  ImageS16 disp(7, 7, 1, kUnset);
+  ImageU8 conf(7, 7, 1, 0), state(7, 7, 1, 0);
+  const ConfidenceMaps maps{vc.data(), conf.view(), state.view()};
+  interpolate_edge_triangles(m, vd.data(), gray.view(), 16, 0, 2, disp.view(), &maps);
+  int corners = 0;
+  for (int y = 0; y < 7; ++y)
+    for (int x = 0; x < 7; ++x) {
+      int tri = -1;
+      for (int t = 0; t < 2; ++t) {
+        const Triangle& tr = m.triangles[static_cast<std::size_t>(t)];
+        if (owns_pixel(m.vertices[static_cast<std::size_t>(tr[0])], m.vertices[static_cast<std::size_t>(tr[1])],
+                       m.vertices[static_cast<std::size_t>(tr[2])], x, y, 7, 7))
+          tri = t;
+      }
+      if (tri < 0) {
+        EXPECT_EQ(disp.at(x, y), kUnset) << x << "," << y;
+        continue;
+      }
+      int id = tri == 0 ? 1 : 3;  // ties: the smaller disparity, then the less confident
+      for (int v = 0; v < 4; ++v)
+        if (m.vertices[static_cast<std::size_t>(v)].x == x && m.vertices[static_cast<std::size_t>(v)].y == y) {
+          id = v;
+          ++corners;
+        }
+      EXPECT_EQ(disp.at(x, y), vd[static_cast<std::size_t>(id)]) << x << "," << y;
+      EXPECT_EQ(conf.at(x, y), vc[static_cast<std::size_t>(id)]) << x << "," << y;
+    }
+  // Of the four corners these two triangles own (2, 2) alone (the rest belong
+  // to triangles a whole mesh would have around them); it has the largest
+  // disparity, so the tie would take it elsewhere.
+  EXPECT_EQ(corners, 1);
+  EXPECT_EQ(disp.at(2, 2), 16 * 12);
+}
+
 StereoOutput run(const SyntheticScene& s, const StereoParams& p, int threads) {
   Pipeline pipe;
   pipe.configure(test::unpinned_config(s.left.width, s.left.height, p, threads));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "src/interp/small_triangles.hpp"
 #include "src/tritree/fill_rule.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/status.hpp"
@@ -49,40 +50,6 @@ void fill_span_shift(std::int16_t* out, int x_begin, int x_end, std::int32_t num
     out[x] = static_cast<std::int16_t>(num >> shift);
     num += step;
   }
-}
-
-// Pixels owned by a small triangle, for triangles whose corners B and C lie
-// within 2 pixels of A and that do not reach the image's last row or column
-// (where the fill rule's tie breaks the other way): most of a fine mesh. Bit
-// (dy + 2) * 5 + (dx + 2) is pixel A + (dx, dy); indexed by small_key().
-struct SmallTriangleMasks {
-  std::uint32_t mask[625];
-};
-
-int small_key(int ux, int uy, int vx, int vy) {
-  return (((ux + 2) * 5 + (uy + 2)) * 5 + (vx + 2)) * 5 + (vy + 2);
-}
-
-// Built once from the fill rule itself (owns_pixel, far from any border).
-const SmallTriangleMasks& small_triangle_masks() {
-  static const SmallTriangleMasks table = [] {
-    SmallTriangleMasks t{};
-    const int kFar = 64, kSize = 128;
-    for (int ux = -2; ux <= 2; ++ux)
-      for (int uy = -2; uy <= 2; ++uy)
-        for (int vx = -2; vx <= 2; ++vx)
-          for (int vy = -2; vy <= 2; ++vy) {
-            if (ux * vy - uy * vx <= 0) continue;
-            const Vertex a{kFar, kFar}, b{kFar + ux, kFar + uy}, c{kFar + vx, kFar + vy};
-            std::uint32_t m = 0;
-            for (int dy = -2; dy <= 2; ++dy)
-              for (int dx = -2; dx <= 2; ++dx)
-                if (owns_pixel(a, b, c, kFar + dx, kFar + dy, kSize, kSize)) m |= 1u << ((dy + 2) * 5 + dx + 2);
-            t.mask[small_key(ux, uy, vx, vy)] = m;
-          }
-    return t;
-  }();
-  return table;
 }
 
 }  // namespace
