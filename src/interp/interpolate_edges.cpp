@@ -95,13 +95,16 @@ void interpolate_edge_triangles(const Mesh& mesh, const std::int16_t* vertex_dis
       const unsigned edge = static_cast<unsigned>(static_cast<unsigned>(da - db + spread_q4) > two_spread) |
                             static_cast<unsigned>(static_cast<unsigned>(db - dc + spread_q4) > two_spread) |
                             static_cast<unsigned>(static_cast<unsigned>(da - dc + spread_q4) > two_spread);
-      const unsigned valid = static_cast<unsigned>(da != kInvalidDispQ4) & static_cast<unsigned>(db != kInvalidDispQ4) &
-                             static_cast<unsigned>(dc != kInvalidDispQ4);
       listed[n] = t;
-      n += static_cast<int>(edge & valid);
+      n += static_cast<int>(edge);
     }
+    // Invalid corners are rare after the fill: tested only here (three
+    // invalid ones spread over nothing and are not listed).
     for (int j = 0; j < n; ++j) {
       const Triangle& tri = tris[listed[j]];
+      if (vertex_disp_q4[tri[0]] == kInvalidDispQ4 || vertex_disp_q4[tri[1]] == kInvalidDispQ4 ||
+          vertex_disp_q4[tri[2]] == kInvalidDispQ4)
+        continue;
       const auto key = [&](std::int32_t v) {
         return vertex_key(vertex_disp_q4[v], conf != nullptr ? conf->vertex_confidence[v] : std::uint8_t{0});
       };
