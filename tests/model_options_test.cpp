@@ -142,6 +142,13 @@ TEST(ModelOptions, OptionsOfAnotherModelAreRefusedOnlyWhenAsked) {
             "--support-conf has no effect with --support-prior 0 (from --mode paper): it is used only with "
             "--support-prior other than 0");
   EXPECT_EQ(error_of({{"ndisp", "16"}, {"mode", "paper"}, {"lambda", "50"}, {"gap", "inv"}}, true), "");
+  // Depth edges interpolate a mesh: a dense frame has none; the paper's model
+  // starts without them and may take them.
+  EXPECT_EQ(error_of({{"ndisp", "16"}, {"dense", "1"}, {"edge-spread", "16"}}, true),
+            "--edge-spread has no effect with --dense: it is used only with no --dense");
+  EXPECT_EQ(error_of({{"ndisp", "16"}, {"mode", "paper"}, {"edge-spread", "16"}}, true), "");
+  EXPECT_EQ(build({{"ndisp", "16"}, {"mode", "paper"}}).interp.edge_spread_q4, 0);
+  EXPECT_EQ(build({{"ndisp", "16"}}).interp.edge_spread_q4, 48);
   // The row DP's left-right check defaults to the mirrored pass.
   EXPECT_EQ(build({{"ndisp", "16"}, {"optimizer", "dp"}}).validity.lr_source, LrSource::kMirroredPass);
   EXPECT_EQ(build({{"ndisp", "16"}}).validity.lr_source, LrSource::kSummedCosts);
