@@ -14,6 +14,7 @@
 #include "src/interp/interpolate_edges.hpp"
 #include "src/reference/ref_match.hpp"
 #include "src/tritree/fill_rule.hpp"
+#include "src/tritree/tritree.hpp"
 #include "support/scenes.hpp"
 #include "tristereo/fixed_point.hpp"
 #include "tristereo/gray.hpp"
@@ -134,6 +135,53 @@ TEST(DepthEdges, SmallTrianglesKeepTheirCornersOwnPixels) {
   // disparity, so the tie would take it elsewhere.
   EXPECT_EQ(corners, 1);
   EXPECT_EQ(disp.at(2, 2), 16 * 12);
+}
+
+// The pipeline writes a row of tiles' depth edges right after its tiles,
+// which write the pixels of its own rows (half-open, the last row of tiles
+// through the image's last row): so its triangles must own no pixel of
+// another row of tiles. The fill rule gives the line between two rows of
+// tiles to the triangles below it. Random images, sizes (stretched sides,
+// partial tiles) and tritree parameters.
+TEST(DepthEdges, ARowOfTilesTrianglesOwnOnlyItsRows) {
+  test::Rng rng(4040);
+  int checked = 0;
+  for (int round = 0; round < 60; ++round) {
+    const int w = rng.uniform(3, 140), h = rng.uniform(3, 140);
+    const ImageU8 img = test::random_image(rng, w, h);
+    TritreeParams tp;
+    const int areas[] = {1, 2, 7, 16, 100, 300, 1024};
+    tp.max_area_px2 = areas[rng.uniform(0, 6)];
+    tp.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
+    tp.min_area_px2 = rng.uniform(1, largest_min_area_px2(tp.max_area_px2));
+    Tritree tree;
+    tree.configure(w, h, tp);
+    Mesh m;
+    tree.build(img.view(), m);
+    const TritreeGrid g = tree.grid();
+    if (g.need == nullptr) continue;  // a 2-pixel strip: one pass over its two triangles
+    const RtinLayout& L = g.layout;
+    for (int ty = 0; ty < L.tiles_y; ++ty) {
+      const std::size_t t0 = g.band_start[ty];
+      const std::size_t t1 = ty + 1 < L.tiles_y ? g.band_start[ty + 1] : m.triangles.size();
+      const int y_lo = L.real_y(ty * L.tile);
+      const int y_end = ty + 1 < L.tiles_y ? L.real_y((ty + 1) * L.tile) : h;
+      for (std::size_t t = t0; t < t1; ++t) {
+        const Triangle& tr = m.triangles[t];
+        const Vertex& a = m.vertices[static_cast<std::size_t>(tr[0])];
+        const Vertex& b = m.vertices[static_cast<std::size_t>(tr[1])];
+        const Vertex& c = m.vertices[static_cast<std::size_t>(tr[2])];
+        for (int y = std::min({a.y, b.y, c.y}); y <= std::max({a.y, b.y, c.y}); ++y)
+          for (int x = std::min({a.x, b.x, c.x}); x <= std::max({a.x, b.x, c.x}); ++x)
+            if (owns_pixel(a, b, c, x, y, w, h)) {
+              ASSERT_GE(y, y_lo) << w << "x" << h << " row of tiles " << ty << " triangle " << t;
+              ASSERT_LT(y, y_end) << w << "x" << h << " row of tiles " << ty << " triangle " << t;
+              ++checked;
+            }
+      }
+    }
+  }
+  EXPECT_GT(checked, 100000);
 }
 
 StereoOutput run(const SyntheticScene& s, const StereoParams& p, int threads) {

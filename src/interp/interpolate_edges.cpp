@@ -74,20 +74,23 @@ void write_triangle(const SmallTriangleMasks& masks, const Vertex& a, const Vert
 
 }  // namespace
 
-void interpolate_edge_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
-                                ImageView<const std::uint8_t> gray, int spread_q4, int tri_begin, int tri_end,
-                                ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf) {
+namespace {
+
+// The rule on tris[0, count) (vertex ids into mesh.vertices).
+void edge_triangles(const Triangle* tris, std::size_t count, const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+                    ImageView<const std::uint8_t> gray, int spread_q4, ImageView<std::int16_t> disp_q4,
+                    const ConfidenceMaps* conf) {
   if (spread_q4 <= 0) return;
-  const Triangle* tris = mesh.triangles.data();
   const Vertex* vertices = mesh.vertices.data();
   const SmallTriangleMasks& masks = small_triangle_masks();
-  std::int32_t listed[kBlock];
   const unsigned two_spread = 2u * static_cast<unsigned>(spread_q4);
-  for (int t0 = tri_begin; t0 < tri_end; t0 += kBlock) {
-    const int t1 = std::min(tri_end, t0 + kBlock);
+  std::int32_t listed[kBlock];
+  for (std::size_t t0 = 0; t0 < count; t0 += kBlock) {
+    const auto t1 = static_cast<int>(std::min<std::size_t>(count - t0, kBlock));
+    const Triangle* block = tris + t0;
     int n = 0;
-    for (int t = t0; t < t1; ++t) {
-      const Triangle& tri = tris[t];
+    for (int t = 0; t < t1; ++t) {
+      const Triangle& tri = block[t];
       const int da = vertex_disp_q4[tri[0]], db = vertex_disp_q4[tri[1]], dc = vertex_disp_q4[tri[2]];
       // A spread over T is some pair over T apart: |u - v| > T exactly when
       // u - v + T, as unsigned, exceeds 2T. No minimum and maximum: the
@@ -101,17 +104,33 @@ void interpolate_edge_triangles(const Mesh& mesh, const std::int16_t* vertex_dis
     // Invalid corners are rare after the fill: tested only here (three
     // invalid ones spread over nothing and are not listed).
     for (int j = 0; j < n; ++j) {
-      const Triangle& tri = tris[listed[j]];
+      const Triangle& tri = block[listed[j]];
       if (vertex_disp_q4[tri[0]] == kInvalidDispQ4 || vertex_disp_q4[tri[1]] == kInvalidDispQ4 ||
           vertex_disp_q4[tri[2]] == kInvalidDispQ4)
         continue;
       const auto key = [&](std::int32_t v) {
         return vertex_key(vertex_disp_q4[v], conf != nullptr ? conf->vertex_confidence[v] : std::uint8_t{0});
       };
-      write_triangle(masks, vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], key(tri[0]), key(tri[1]), key(tri[2]),
-                     gray, disp_q4, conf);
+      write_triangle(masks, vertices[tri[0]], vertices[tri[1]], vertices[tri[2]], key(tri[0]), key(tri[1]),
+                     key(tri[2]), gray, disp_q4, conf);
     }
   }
+}
+
+}  // namespace
+
+void interpolate_edge_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
+                                ImageView<const std::uint8_t> gray, int spread_q4, int tri_begin, int tri_end,
+                                ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf) {
+  if (tri_end <= tri_begin) return;
+  edge_triangles(mesh.triangles.data() + tri_begin, static_cast<std::size_t>(tri_end - tri_begin), mesh,
+                 vertex_disp_q4, gray, spread_q4, disp_q4, conf);
+}
+
+void interpolate_edge_leaves(const Triangle* leaves, std::size_t count, const Mesh& mesh,
+                             const std::int16_t* vertex_disp_q4, ImageView<const std::uint8_t> gray, int spread_q4,
+                             ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf) {
+  edge_triangles(leaves, count, mesh, vertex_disp_q4, gray, spread_q4, disp_q4, conf);
 }
 
 }  // namespace tristereo

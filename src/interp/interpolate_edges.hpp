@@ -35,4 +35,10 @@ void interpolate_edge_triangles(const Mesh& mesh, const std::int16_t* vertex_dis
                                 ImageView<const std::uint8_t> gray, int spread_q4, int tri_begin, int tri_end,
                                 ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf = nullptr);
 
+// The same on leaves[0, count) (vertex ids into mesh.vertices): the
+// stretched leaves, after their planes (TritreeGrid::stretched).
+void interpolate_edge_leaves(const Triangle* leaves, std::size_t count, const Mesh& mesh,
+                             const std::int16_t* vertex_disp_q4, ImageView<const std::uint8_t> gray, int spread_q4,
+                             ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf = nullptr);
+
 }  // namespace tristereo

@@ -52,6 +52,9 @@ struct TritreeGrid {
   // triangles of their virtual corners), as vertex ids.
   const Triangle* stretched = nullptr;
   std::size_t stretched_count = 0;
+  // Where each row of tiles' leaves begin in Mesh::triangles (layout.tiles_y
+  // entries; row ty's run to row ty + 1's start, the last row's to the end).
+  const std::size_t* band_start = nullptr;
 
   // A grid point (virtual coordinates) is a vertex: a tile corner or need(m).
   bool is_vertex(int x, int y) const {

@@ -865,6 +865,7 @@ TritreeGrid Tritree::grid() const {
   g.need = layout_.strip() ? nullptr : need_;
   g.stretched = stretched_;
   g.stretched_count = stretched_count_;
+  g.band_start = band_start_;
   return g;
 }
 
