@@ -149,11 +149,7 @@ TEST(DepthEdges, ARowOfTilesTrianglesOwnOnlyItsRows) {
   for (int round = 0; round < 60; ++round) {
     const int w = rng.uniform(3, 140), h = rng.uniform(3, 140);
     const ImageU8 img = test::random_image(rng, w, h);
-    TritreeParams tp;
-    const int areas[] = {1, 2, 7, 16, 100, 300, 1024};
-    tp.max_area_px2 = areas[rng.uniform(0, 6)];
-    tp.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
-    tp.min_area_px2 = rng.uniform(1, largest_min_area_px2(tp.max_area_px2));
+    const TritreeParams tp = test::random_tritree_params(rng);
     Tritree tree;
     tree.configure(w, h, tp);
     Mesh m;

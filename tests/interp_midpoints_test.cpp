@@ -117,11 +117,7 @@ TEST_P(InterpolateMidpoints, RandomImagesSizesAndParameters) {
       const int w = round < 20 ? wh[0] : rng.uniform(3, 150), h = round < 20 ? wh[1] : rng.uniform(3, 150);
       if (round >= 20 && (wh[0] == 4096 || wh[1] == 4096)) continue;
       const ImageU8 img = test::random_image(rng, w, h);
-      TritreeParams tp;
-      const int areas[] = {1, 2, 7, 16, 100, 300, 1024};
-      tp.max_area_px2 = areas[rng.uniform(0, 6)];
-      tp.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
-      tp.min_area_px2 = rng.uniform(1, largest_min_area_px2(tp.max_area_px2));
+      const TritreeParams tp = test::random_tritree_params(rng);
       Tritree tree;
       tree.configure(w, h, tp);
       Mesh m;

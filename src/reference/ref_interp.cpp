@@ -31,6 +31,17 @@ bool edge_keeps(const Vertex& u, const Vertex& v, int px, int py, int width, int
   return static_cast<long long>(sy) * (v.x - u.x) > 0;                       // coefficient of e^2
 }
 
+// Calls fn(x, y) for every pixel the triangle (a, b, c) owns: the pixels of
+// its bounding box (clipped to the image) that all three edges keep.
+template <class Fn>
+void for_each_owned_pixel(const Vertex& a, const Vertex& b, const Vertex& c, int width, int height, Fn fn) {
+  for (int y = std::max(0, std::min({a.y, b.y, c.y})); y <= std::min(height - 1, std::max({a.y, b.y, c.y})); ++y)
+    for (int x = std::max(0, std::min({a.x, b.x, c.x})); x <= std::min(width - 1, std::max({a.x, b.x, c.x})); ++x)
+      if (edge_keeps(a, b, x, y, width, height) && edge_keeps(b, c, x, y, width, height) &&
+          edge_keeps(c, a, x, y, width, height))
+        fn(x, y);
+}
+
 }  // namespace
 
 ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_disp_q4) {
@@ -59,29 +70,20 @@ ImageS16 interpolate(const Mesh& mesh, const std::vector<std::int16_t>& vertex_d
     if (area2 <= 0)
       throw Error(ErrorCode::kInvalidArgument, "triangle with non-positive orientation");
 
-    const int x_lo = std::max(0, std::min({a.x, b.x, c.x}));
-    const int x_hi = std::min(w - 1, std::max({a.x, b.x, c.x}));
-    const int y_lo = std::max(0, std::min({a.y, b.y, c.y}));
-    const int y_hi = std::min(h - 1, std::max({a.y, b.y, c.y}));
-    for (int y = y_lo; y <= y_hi; ++y) {
-      for (int x = x_lo; x <= x_hi; ++x) {
-        if (!(edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) &&
-              edge_keeps(c, a, x, y, w, h)))
-          continue;
-        ++owners.at(x, y);
-        if (invalid) {
-          out.at(x, y) = kInvalidDispQ4;
-          continue;
-        }
-        // N = area2 dA - n_x (x - Ax) - n_y (y - Ay): exact, |N| < 2^43.
-        const double num = area2 * da - n.x() * (x - a.x) - n.y() * (y - a.y);
-        // floor((2N + area2) / (2 area2)): the numerator is exact; if the true
-        // quotient is not an integer it is at least 1/(2 area2) > 2^-27 from
-        // one, while the division's rounding error is below 2^-37 (|q| < 2^16),
-        // so the floor of the double quotient is the exact one.
-        out.at(x, y) = static_cast<std::int16_t>(std::floor((2 * num + area2) / (2 * area2)));
+    for_each_owned_pixel(a, b, c, w, h, [&](int x, int y) {
+      ++owners.at(x, y);
+      if (invalid) {
+        out.at(x, y) = kInvalidDispQ4;
+        return;
       }
-    }
+      // N = area2 dA - n_x (x - Ax) - n_y (y - Ay): exact, |N| < 2^43.
+      const double num = area2 * da - n.x() * (x - a.x) - n.y() * (y - a.y);
+      // floor((2N + area2) / (2 area2)): the numerator is exact; if the true
+      // quotient is not an integer it is at least 1/(2 area2) > 2^-27 from
+      // one, while the division's rounding error is below 2^-37 (|q| < 2^16),
+      // so the floor of the double quotient is the exact one.
+      out.at(x, y) = static_cast<std::int16_t>(std::floor((2 * num + area2) / (2 * area2)));
+    });
   }
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
@@ -113,31 +115,28 @@ void interpolate_states(const Mesh& mesh, const std::vector<std::uint8_t>& verte
     const Vertex& a = mesh.vertices[static_cast<std::size_t>(t[0])];
     const Vertex& b = mesh.vertices[static_cast<std::size_t>(t[1])];
     const Vertex& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-    for (int y = std::max(0, std::min({a.y, b.y, c.y})); y <= std::min(h - 1, std::max({a.y, b.y, c.y})); ++y)
-      for (int x = std::max(0, std::min({a.x, b.x, c.x})); x <= std::min(w - 1, std::max({a.x, b.x, c.x})); ++x) {
-        if (!(edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) && edge_keeps(c, a, x, y, w, h)))
-          continue;
-        if (invalid) {  // the pixel's disparity is invalid (section 4)
-          state.at(x, y) = 0;
-          confidence.at(x, y) = 0;
-          continue;
-        }
-        // Vertex k's barycentric weight at P is the signed area of P and the
-        // opposite edge over the triangle's (integers below 2^26: exact).
-        const Eigen::Vector2d p(x, y);
-        std::uint8_t st = 255, cf = 255;
-        for (int k = 0; k < 3; ++k) {
-          const Eigen::Vector2d& u = corner[(k + 1) % 3];
-          const Eigen::Vector2d& v = corner[(k + 2) % 3];
-          const Eigen::Vector2d e = v - u, q = p - u;
-          const double weight_area2 = e.x() * q.y() - e.y() * q.x();
-          if (weight_area2 == 0.0) continue;  // P on the edge opposite vertex k: no weight
-          st = std::min(st, s[k]);
-          cf = std::min(cf, conf[k]);
-        }
-        state.at(x, y) = st;
-        confidence.at(x, y) = cf;
+    for_each_owned_pixel(a, b, c, w, h, [&](int x, int y) {
+      if (invalid) {  // the pixel's disparity is invalid (section 4)
+        state.at(x, y) = 0;
+        confidence.at(x, y) = 0;
+        return;
       }
+      // Vertex k's barycentric weight at P is the signed area of P and the
+      // opposite edge over the triangle's (integers below 2^26: exact).
+      const Eigen::Vector2d p(x, y);
+      std::uint8_t st = 255, cf = 255;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector2d& u = corner[(k + 1) % 3];
+        const Eigen::Vector2d& v = corner[(k + 2) % 3];
+        const Eigen::Vector2d e = v - u, q = p - u;
+        const double weight_area2 = e.x() * q.y() - e.y() * q.x();
+        if (weight_area2 == 0.0) continue;  // P on the edge opposite vertex k: no weight
+        st = std::min(st, s[k]);
+        cf = std::min(cf, conf[k]);
+      }
+      state.at(x, y) = st;
+      confidence.at(x, y) = cf;
+    });
   }
 }
 
@@ -161,28 +160,25 @@ void interpolate_depth_edges(const Mesh& mesh, const std::vector<std::int16_t>& 
     const Vertex& a = mesh.vertices[static_cast<std::size_t>(t[0])];
     const Vertex& b = mesh.vertices[static_cast<std::size_t>(t[1])];
     const Vertex& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-    for (int y = std::max(0, std::min({a.y, b.y, c.y})); y <= std::min(h - 1, std::max({a.y, b.y, c.y})); ++y)
-      for (int x = std::max(0, std::min({a.x, b.x, c.x})); x <= std::min(w - 1, std::max({a.x, b.x, c.x})); ++x) {
-        if (!(edge_keeps(a, b, x, y, w, h) && edge_keeps(b, c, x, y, w, h) && edge_keeps(c, a, x, y, w, h)))
-          continue;
-        // The chosen vertex: the smallest (intensity distance, disparity,
-        // confidence), or the pixel's own vertex.
-        std::size_t id = 0;
-        long long best_key = LLONG_MAX;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t v = static_cast<std::size_t>(t[k]);
-          const Vertex& q = mesh.vertices[v];
-          const long long dist = q.x == x && q.y == y ? -1 : std::abs(int{gray.at(x, y)} - int{gray.at(q.x, q.y)});
-          const long long conf = state != nullptr ? vertex_confidence->at(v) : 0;
-          const long long key = ((dist + 1) << 40) + ((vertex_disp_q4[v] + 65536LL) << 8) + conf;
-          if (key < best_key) best_key = key, id = v;
-        }
-        disp_q4.at(x, y) = vertex_disp_q4[id];
-        if (state != nullptr) {
-          state->at(x, y) = vertex_state->at(id);
-          confidence->at(x, y) = vertex_confidence->at(id);
-        }
+    for_each_owned_pixel(a, b, c, w, h, [&](int x, int y) {
+      // The chosen vertex: the smallest (intensity distance, disparity,
+      // confidence), or the pixel's own vertex.
+      std::size_t id = 0;
+      long long best_key = LLONG_MAX;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t v = static_cast<std::size_t>(t[k]);
+        const Vertex& q = mesh.vertices[v];
+        const long long dist = q.x == x && q.y == y ? -1 : std::abs(int{gray.at(x, y)} - int{gray.at(q.x, q.y)});
+        const long long conf = state != nullptr ? vertex_confidence->at(v) : 0;
+        const long long key = ((dist + 1) << 40) + ((vertex_disp_q4[v] + 65536LL) << 8) + conf;
+        if (key < best_key) best_key = key, id = v;
       }
+      disp_q4.at(x, y) = vertex_disp_q4[id];
+      if (state != nullptr) {
+        state->at(x, y) = vertex_state->at(id);
+        confidence->at(x, y) = vertex_confidence->at(id);
+      }
+    });
   }
 }
 

@@ -31,6 +31,15 @@ MiddleburyPair load_middlebury(const std::string& name) {
   return p;
 }
 
+TritreeParams random_tritree_params(Rng& rng) {
+  TritreeParams tp;
+  const int areas[] = {1, 2, 7, 16, 100, 300, 1024};
+  tp.max_area_px2 = areas[rng.uniform(0, 6)];
+  tp.psnr_deci_db = rng.uniform(kMinPsnrDeciDb, kMaxPsnrDeciDb);
+  tp.min_area_px2 = rng.uniform(1, largest_min_area_px2(tp.max_area_px2));
+  return tp;
+}
+
 ImageU8 random_image(Rng& rng, int w, int h) {
   ImageU8 img(w, h, 1);
   const int gx = rng.uniform(-8, 8), gy = rng.uniform(-8, 8), base = rng.uniform(0, 255);

@@ -52,6 +52,9 @@ class Rng {
 // both splits and stops), and its right view shifted by `shift` with noise.
 ImageU8 random_image(Rng& rng, int w, int h);
 ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise);
+// Any valid tritree parameters: A_max from 1 to 1024 px^2 (a few typical
+// values), any threshold and any minimum area A_max allows.
+TritreeParams random_tritree_params(Rng& rng);
 // The mesh of `gray` with A_max = max_area_px2 (default threshold), from
 // `tree`, which is configured for the image and keeps the build's grid.
 Mesh tritree_mesh(Tritree& tree, const ImageU8& gray, int max_area_px2);
