@@ -27,10 +27,11 @@ inline bool straddles_depth_edge(int da, int db, int dc, int spread_q4) {
 // disparity of the vertex V minimising |gray(P) - gray(V)|, ties to the
 // smaller disparity and then the smaller confidence; with `conf`, P's
 // confidence is V's and its state follows. A vertex's own pixel keeps its
-// disparity. Runs after the planes (interpolate_midpoint_tiles and the
-// stretched leaves) and overwrites only pixels these triangles own, so
-// disjoint ranges may run on different workers. `gray` is the image the mesh
-// was built on (mesh.width x mesh.height). No argument checks.
+// disparity. Runs after the planes of the pixels these triangles own (the
+// pipeline: a row of tiles' triangles after that row's midpoints, the
+// stretched leaves after their own planes) and overwrites only those pixels,
+// so disjoint ranges may run on different workers. `gray` is the image the
+// mesh was built on (mesh.width x mesh.height). No argument checks.
 void interpolate_edge_triangles(const Mesh& mesh, const std::int16_t* vertex_disp_q4,
                                 ImageView<const std::uint8_t> gray, int spread_q4, int tri_begin, int tri_end,
                                 ImageView<std::int16_t> disp_q4, const ConfidenceMaps* conf = nullptr);
