@@ -30,13 +30,7 @@ StereoOutput run(const ImageU8& l, const ImageU8& r, const StereoParams& p, int 
   return pipe.process(l.view(), r.view());
 }
 
-SyntheticScene scene() {
-  SynthParams sp;
-  sp.width = 320;
-  sp.height = 240;
-  sp.num_disp = 48;
-  return make_synthetic_scene(sp);
-}
+SyntheticScene scene() { return test::synthetic_scene(320, 240, 48); }
 
 std::uint8_t expected_state(std::uint8_t confidence) {
   return confidence == 0 ? kInvalid : confidence < kMinMeasuredConfidence ? kFilled : kMeasured;
@@ -141,11 +135,7 @@ ImageU8 brute_force_confidence(const StereoOutput& o) {
 TEST(Confidence, PixelTakesTheSmallestOfTheVerticesItIsInterpolatedFrom) {
   int on_edges_above_triangle = 0;
   for (const auto& wh : {std::pair<int, int>{320, 240}, {161, 97}}) {
-    SynthParams sp;
-    sp.width = wh.first;
-    sp.height = wh.second;
-    sp.num_disp = 48;
-    const SyntheticScene s = make_synthetic_scene(sp);
+    const SyntheticScene s = test::synthetic_scene(wh.first, wh.second, 48);
     for (int variant = 0; variant < 3; ++variant) {
       StereoParams p;
       p.num_disp = 48;

@@ -148,12 +148,8 @@ TEST(DepthEdges, ARowOfTilesTrianglesOwnOnlyItsRows) {
   int checked = 0;
   for (int round = 0; round < 60; ++round) {
     const int w = rng.uniform(3, 140), h = rng.uniform(3, 140);
-    const ImageU8 img = test::random_image(rng, w, h);
-    const TritreeParams tp = test::random_tritree_params(rng);
     Tritree tree;
-    tree.configure(w, h, tp);
-    Mesh m;
-    tree.build(img.view(), m);
+    const Mesh m = test::random_mesh(rng, w, h, tree);
     const TritreeGrid g = tree.grid();
     if (g.need == nullptr) continue;  // a 2-pixel strip: one pass over its two triangles
     const RtinLayout& L = g.layout;
@@ -191,11 +187,7 @@ StereoOutput run(const SyntheticScene& s, const StereoParams& p, int threads) {
 // with stretched sides) and 1 and 3 workers.
 TEST(DepthEdges, WholeFramesFollowTheRulePixelByPixel) {
   for (const auto& wh : {std::pair<int, int>{320, 240}, {161, 97}}) {
-    SynthParams sp;
-    sp.width = wh.first;
-    sp.height = wh.second;
-    sp.num_disp = 48;
-    const SyntheticScene s = make_synthetic_scene(sp);
+    const SyntheticScene s = test::synthetic_scene(wh.first, wh.second, 48);
     const ImageU8 gray = to_gray(s.left);
     for (int threads : {1, 3}) {
       StereoParams p;
@@ -267,11 +259,7 @@ TEST(DepthEdges, WholeFramesFollowTheRulePixelByPixel) {
 // the rule, and with the mirrored left-right check (whose right view is
 // interpolated by the rule too).
 TEST(DepthEdges, SameAsTheFloatReference) {
-  SynthParams sp;
-  sp.width = 200;
-  sp.height = 150;
-  sp.num_disp = 32;
-  const SyntheticScene s = make_synthetic_scene(sp);
+  const SyntheticScene s = test::synthetic_scene(200, 150, 32);
   for (int variant = 0; variant < 4; ++variant) {
     StereoParams p;
     p.num_disp = 32;
@@ -287,11 +275,7 @@ TEST(DepthEdges, SameAsTheFloatReference) {
 // What it buys on exact ground truth: the synthetic scene's pixels more than
 // 1 px off, with the rule and without.
 TEST(DepthEdges, FewerBadPixelsOnTheSyntheticScene) {
-  SynthParams sp;
-  sp.width = 320;
-  sp.height = 240;
-  sp.num_disp = 48;
-  const SyntheticScene s = make_synthetic_scene(sp);
+  const SyntheticScene s = test::synthetic_scene(320, 240, 48);
   const auto bad = [&](int spread) {
     StereoParams p;
     p.num_disp = 48;

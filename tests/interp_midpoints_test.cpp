@@ -116,12 +116,9 @@ TEST_P(InterpolateMidpoints, RandomImagesSizesAndParameters) {
     for (const auto& wh : sizes) {
       const int w = round < 20 ? wh[0] : rng.uniform(3, 150), h = round < 20 ? wh[1] : rng.uniform(3, 150);
       if (round >= 20 && (wh[0] == 4096 || wh[1] == 4096)) continue;
-      const ImageU8 img = test::random_image(rng, w, h);
-      const TritreeParams tp = test::random_tritree_params(rng);
       Tritree tree;
-      tree.configure(w, h, tp);
-      Mesh m;
-      tree.build(img.view(), m);
+      TritreeParams tp;
+      const Mesh m = test::random_mesh(rng, w, h, tree, &tp);
       const std::vector<std::int16_t> vd = random_disparities(rng, m.vertices.size(), rng.uniform(0, 1) * 30);
       const int split = rng.uniform(0, tree.grid().layout.tiles_y);
       // Every other case with the confidence maps.

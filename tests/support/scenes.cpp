@@ -40,6 +40,24 @@ TritreeParams random_tritree_params(Rng& rng) {
   return tp;
 }
 
+SyntheticScene synthetic_scene(int width, int height, int num_disp) {
+  SynthParams sp;
+  sp.width = width;
+  sp.height = height;
+  sp.num_disp = num_disp;
+  return make_synthetic_scene(sp);
+}
+
+Mesh random_mesh(Rng& rng, int w, int h, Tritree& tree, TritreeParams* params) {
+  const ImageU8 img = random_image(rng, w, h);
+  const TritreeParams tp = random_tritree_params(rng);
+  if (params != nullptr) *params = tp;
+  tree.configure(w, h, tp);
+  Mesh m;
+  tree.build(img.view(), m);
+  return m;
+}
+
 ImageU8 random_image(Rng& rng, int w, int h) {
   ImageU8 img(w, h, 1);
   const int gx = rng.uniform(-8, 8), gy = rng.uniform(-8, 8), base = rng.uniform(0, 255);

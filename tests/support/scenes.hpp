@@ -10,6 +10,7 @@
 #include "tristereo/mesh.hpp"
 #include "tristereo/pipeline.hpp"
 #include "tristereo/params.hpp"
+#include "tristereo/synth.hpp"
 #include "support/data.hpp"
 
 namespace tristereo::test {
@@ -52,6 +53,13 @@ class Rng {
 // both splits and stops), and its right view shifted by `shift` with noise.
 ImageU8 random_image(Rng& rng, int w, int h);
 ImageU8 shifted_view(Rng& rng, const ImageU8& left, int shift, int noise);
+// The synthetic scene (make_synthetic_scene, seed 1) of width x height
+// with disparities below num_disp.
+SyntheticScene synthetic_scene(int width, int height, int num_disp);
+// The mesh of a random_image(rng, w, h) under random_tritree_params(rng),
+// built by `tree` (configured here; it keeps the build's grid); the
+// parameters go to *params when given.
+Mesh random_mesh(Rng& rng, int w, int h, Tritree& tree, TritreeParams* params = nullptr);
 // Any valid tritree parameters: A_max from 1 to 1024 px^2 (a few typical
 // values), any threshold and any minimum area A_max allows.
 TritreeParams random_tritree_params(Rng& rng);
